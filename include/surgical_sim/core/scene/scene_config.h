@@ -1,0 +1,102 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "surgical_sim/core/mesh/tet_mesh.h"
+#include "surgical_sim/core/tissue/material.h"
+
+namespace surgical_sim::core {
+
+/// Axis-aligned region in the tissue rest frame [m]; a node belongs to it when
+/// min <= p <= max component-wise (missing bounds are +-infinity in the YAML).
+struct Region {
+  Eigen::Vector3d min = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
+  Eigen::Vector3d max = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  bool contains(const Eigen::Vector3d& p) const {
+    return (p.array() >= min.array()).all() && (p.array() <= max.array()).all();
+  }
+};
+
+/// Where the mesh comes from. Exactly one generator; resolutions form a sweep.
+struct MeshSpec {
+  std::string generator;  ///< "box", "beam", "hex_beam", "organ_blob" or "file"
+  // box / beam / organ_blob
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();  ///< box/beam edge lengths, blob semi-axes [m]
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();///< box min corner [m]
+  // hex_beam
+  double hex_side = 0.0;    ///< side of the regular hexagon [m]
+  double hex_length = 0.0;  ///< beam length along x [m]
+  // file
+  std::string file;            ///< Gmsh .msh path (relative paths: to the scene file)
+  double metres_per_unit = 1;  ///< from mesh.unit ("m", "cm", "mm", "um")
+  /// Sweep of resolutions: cells along x,y,z (box/beam), {cells_along, rings, -} (hex_beam),
+  /// {cells_per_axis, -, -} (organ_blob); a file mesh has one implicit resolution.
+  std::vector<Eigen::Vector3i> resolutions;
+  std::vector<ElementType> element_types;  ///< sweep of element types (tet4, tet10)
+};
+
+/// A group of constrained DOFs: the listed components of every node in region.
+struct FixedBc {
+  Region region;
+  Eigen::Vector3i components = Eigen::Vector3i::Ones();  ///< 1 = constrained (x, y, z)
+};
+
+/// Nodes in region are displaced by `displacement` times the current load factor.
+struct PrescribedBc {
+  Region region;
+  Eigen::Vector3i components = Eigen::Vector3i::Ones();
+  Eigen::Vector3d displacement = Eigen::Vector3d::Zero();  ///< [m] at load factor 1
+};
+
+/// What error_rel is measured against.
+struct MeasureSpec {
+  /// "tip_displacement": mean displacement component of the nodes in region vs reference [m];
+  /// "uniaxial_svk_force": reaction force on the prescribed region along `component` at each
+  ///   stretch in load_factors vs (E S0/2) l (l^2 - 1); error = max relative over the path;
+  /// "self_reference": final positions vs a tight Newton + CHOLMOD run of the same mesh.
+  std::string type;
+  Region region;
+  int component = 0;                 ///< 0 = x, 1 = y, 2 = z
+  std::optional<double> reference;   ///< tip_displacement reference [m] (sign included)
+  std::string reference_formula;     ///< or: "euler_bernoulli_timoshenko", "axial_self_weight"
+  double face_area = 0.0;            ///< uniaxial_svk_force: S0 [m^2]
+  double rest_length = 0.0;          ///< uniaxial_svk_force: L0 [m]
+};
+
+/// A whole tissue scene, validated. Every physical key has a unit and no silent default.
+struct SceneConfig {
+  std::string name;
+  std::string path;  ///< file it was read from
+  MeshSpec mesh;
+  Material material;
+  std::vector<std::string> models;       ///< tissue models to sweep
+  std::vector<std::string> integrators;  ///< integrators to sweep
+  std::vector<std::string> solvers;      ///< linear solvers to sweep
+  double time_step = 0.0;                ///< dt [s], (0, 1]
+  int steps = 1;                         ///< steps per case (quasi_static: load increments)
+  std::vector<double> load_factors;      ///< load path (quasi-static stretch values etc.)
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  ///< body acceleration [m/s^2]
+  double damping_mass = 0.0;       ///< Rayleigh alpha [1/s]
+  double damping_stiffness = 0.0;  ///< Rayleigh beta [s]
+  int newton_max_iterations = 20;
+  double newton_tolerance = 1e-8;  ///< relative residual [-]
+  int pcg_max_iterations = 500;
+  double pcg_tolerance = 1e-6;     ///< relative residual [-]
+  int pcg_refresh_interval = 10;   ///< steps between preconditioner refreshes
+  std::vector<FixedBc> fixed;
+  std::vector<PrescribedBc> prescribed;
+  MeasureSpec measure;
+};
+
+/// Reads and validates a scene file. @throws std::invalid_argument whose message starts with
+/// "scene <path>: key '<dotted.key>': " and says what is wrong (missing, wrong type, out of range).
+SceneConfig loadSceneConfig(const std::string& path);
+
+/// Same from YAML text (path used in messages and to resolve relative mesh files).
+SceneConfig parseSceneConfig(const std::string& yaml_text, const std::string& path);
+
+}  // namespace surgical_sim::core

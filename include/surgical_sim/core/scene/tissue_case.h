@@ -1,0 +1,58 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "surgical_sim/core/common/status.h"
+#include "surgical_sim/core/mesh/tet_mesh.h"
+#include "surgical_sim/core/scene/scene_config.h"
+
+namespace surgical_sim::core {
+
+/// One point of a scene's sweep: resolution x element type x model x integrator x solver.
+struct CaseSpec {
+  Eigen::Vector3i resolution = Eigen::Vector3i::Zero();
+  ElementType element_type = ElementType::Tet4;
+  std::string model;
+  std::string integrator;
+  std::string solver;
+};
+
+/// Measured outcome of one case; one CSV row of tissue_bench.
+struct CaseResult {
+  CaseSpec spec;
+  int nodes = 0;
+  int elements = 0;
+  int dofs = 0;
+  double dt = 0.0;              ///< [s]
+  double ms_per_step = 0.0;     ///< mean wall time of one integrator step [ms]
+  int steps = 0;                ///< integrator steps taken
+  double measured = 0.0;        ///< measured quantity (tip displacement [m] or force [N])
+  double reference = 0.0;       ///< its reference value
+  double error_rel = 0.0;       ///< relative error [-] (NaN when the case failed)
+  StepStatus status = StepStatus::Ok;  ///< first non-Ok status, or Ok
+};
+
+/// All cases of a scene's sweep, in a stable order. Models that only support linear tets
+/// (mass_spring, ems) are skipped for tet10.
+std::vector<CaseSpec> expandSweep(const SceneConfig& scene);
+
+/// Builds the mesh of one resolution / element type of the scene (metres).
+/// @throws std::invalid_argument or std::runtime_error on bad generator arguments / files.
+TetMesh buildSceneMesh(const MeshSpec& spec, const Eigen::Vector3i& resolution, ElementType type);
+
+/// Node-major DOF indices of every node in `region` for the set components.
+std::vector<int> regionDofs(const TetMesh& mesh, const Region& region,
+                            const Eigen::Vector3i& components);
+
+/// Runs one case headless and measures it against the scene's reference.
+/// @throws std::invalid_argument when the scene and case do not fit (e.g. an empty BC region).
+CaseResult runTissueCase(const SceneConfig& scene, const CaseSpec& spec);
+
+/// CSV header of tissue_bench rows.
+const char* caseCsvHeader();
+/// One CSV row (no newline) for `result` of scene `scene_name`.
+std::string caseCsvRow(const std::string& scene_name, const CaseResult& result);
+
+}  // namespace surgical_sim::core

@@ -1,0 +1,32 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <string>
+
+namespace surgical_sim::core {
+
+/// Result of one linear solve.
+struct LinearSolveReport {
+  bool ok = false;
+  int iterations = 0;              ///< 1 for a direct solve
+  double relative_residual = 0.0;  ///< |b - A x| / |b|
+};
+
+/// Symmetric positive-definite sparse solver. Usage per topology: analyzePattern once; then per
+/// step factorize (numeric) and solve any number of right-hand sides.
+class LinearSolver {
+ public:
+  virtual ~LinearSolver() = default;
+  /// "cholmod", "pcg_jacobi", "pcg_block_jacobi", "pcg_ichol".
+  virtual std::string name() const = 0;
+  /// Symbolic analysis for A's pattern. Call again only when the pattern changes (topology).
+  virtual void analyzePattern(const Eigen::SparseMatrix<double>& A) = 0;
+  /// Numeric set-up (factorization or preconditioner) for A with the analysed pattern.
+  /// Returns false if A is not positive definite or set-up failed.
+  virtual bool factorize(const Eigen::SparseMatrix<double>& A) = 0;
+  /// Solves A x = b. For iterative solvers x on entry is the initial guess. Allocation-free.
+  virtual LinearSolveReport solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) = 0;
+};
+
+}  // namespace surgical_sim::core

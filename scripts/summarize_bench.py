@@ -1,0 +1,37 @@
+#!/usr/bin/env python3
+"""Prints a short human-readable summary of a *_bench CSV: per case the error and ms per step,
+and the best configuration (lowest error, then fastest)."""
+import csv
+import math
+import sys
+
+
+def main(path):
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    if not rows:
+        print("no rows in %s" % path)
+        return 1
+    print("%-42s %-14s %-26s %-18s %7s %10s %10s %s" % (
+        "case", "model", "integrator", "solver", "dofs", "ms/step", "error", "status"))
+    for r in rows:
+        print("%-42s %-14s %-26s %-18s %7s %10.3f %10.3g %s" % (
+            r["case"], r["model"], r["integrator"], r["solver"], r["dofs"],
+            float(r["ms_per_step"]), float(r["error_rel"]), r["status"]))
+    ok = [r for r in rows if math.isfinite(float(r["error_rel"]))]
+    failed = len(rows) - len(ok)
+    if ok:
+        best = min(ok, key=lambda r: (float(r["error_rel"]), float(r["ms_per_step"])))
+        fastest = min(ok, key=lambda r: float(r["ms_per_step"]))
+        print("most accurate: %s %s/%s/%s error %.3g at %.3f ms/step" % (
+            best["case"], best["model"], best["integrator"], best["solver"],
+            float(best["error_rel"]), float(best["ms_per_step"])))
+        print("fastest:       %s %s/%s/%s error %.3g at %.3f ms/step" % (
+            fastest["case"], fastest["model"], fastest["integrator"], fastest["solver"],
+            float(fastest["error_rel"]), float(fastest["ms_per_step"])))
+    print("%d cases, %d without a finite error" % (len(rows), failed))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1]))

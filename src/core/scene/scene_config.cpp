@@ -1,0 +1,355 @@
+#include "surgical_sim/core/scene/scene_config.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "surgical_sim/core/mesh/length_unit.h"
+
+namespace surgical_sim::core {
+namespace {
+
+/// Reads typed values from a YAML map and reports errors with the scene path and dotted key.
+class KeyReader {
+ public:
+  KeyReader(const YAML::Node& node, std::string prefix, std::string path)
+      : node_(node), prefix_(std::move(prefix)), path_(std::move(path)) {}
+
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
+    throw std::invalid_argument("scene " + path_ + ": key '" + dotted(key) + "': " + what);
+  }
+
+  std::string dotted(const std::string& key) const {
+    return prefix_.empty() ? key : prefix_ + "." + key;
+  }
+
+  bool has(const std::string& key) const { return node_[key].IsDefined() && !node_[key].IsNull(); }
+
+  YAML::Node required(const std::string& key) const {
+    if (!has(key)) fail(key, "missing required key");
+    return node_[key];
+  }
+
+  KeyReader child(const std::string& key) const {
+    YAML::Node c = required(key);
+    if (!c.IsMap()) fail(key, "expected a map");
+    return KeyReader(c, dotted(key), path_);
+  }
+
+  double number(const std::string& key) const { return toNumber(required(key), key); }
+  double number(const std::string& key, double fallback) const {
+    return has(key) ? number(key) : fallback;
+  }
+
+  int integer(const std::string& key, int lo, int hi) const {
+    const double v = number(key);
+    if (v != std::floor(v) || v < lo || v > hi)
+      fail(key, "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                    "], got " + required(key).as<std::string>());
+    return static_cast<int>(v);
+  }
+  int integer(const std::string& key, int lo, int hi, int fallback) const {
+    return has(key) ? integer(key, lo, hi) : fallback;
+  }
+
+  std::string text(const std::string& key) const {
+    YAML::Node n = required(key);
+    if (!n.IsScalar()) fail(key, "expected a string");
+    return n.as<std::string>();
+  }
+
+  std::string choice(const std::string& key, const std::set<std::string>& allowed) const {
+    const std::string v = text(key);
+    if (!allowed.count(v)) fail(key, "'" + v + "' is not one of " + join(allowed));
+    return v;
+  }
+
+  /// A string or a list of strings, each from `allowed`.
+  std::vector<std::string> choices(const std::string& key,
+                                   const std::set<std::string>& allowed) const {
+    YAML::Node n = required(key);
+    std::vector<std::string> out;
+    if (n.IsScalar()) {
+      out.push_back(n.as<std::string>());
+    } else if (n.IsSequence() && n.size() > 0) {
+      for (const auto& item : n) {
+        if (!item.IsScalar()) fail(key, "expected a list of strings");
+        out.push_back(item.as<std::string>());
+      }
+    } else {
+      fail(key, "expected a string or a non-empty list of strings");
+    }
+    for (const auto& v : out)
+      if (!allowed.count(v)) fail(key, "'" + v + "' is not one of " + join(allowed));
+    return out;
+  }
+
+  /// [a, b, c]; with allow_infinite, .inf / -.inf are accepted (open region bounds).
+  Eigen::Vector3d vector3(const std::string& key, bool allow_infinite = false) const {
+    YAML::Node n = required(key);
+    if (!n.IsSequence() || n.size() != 3) fail(key, "expected a list of 3 numbers");
+    Eigen::Vector3d v;
+    for (int i = 0; i < 3; ++i) v[i] = toNumber(n[i], key, allow_infinite);
+    return v;
+  }
+
+  std::vector<double> numbers(const std::string& key) const {
+    YAML::Node n = required(key);
+    if (!n.IsSequence() || n.size() == 0) fail(key, "expected a non-empty list of numbers");
+    std::vector<double> out;
+    for (const auto& item : n) out.push_back(toNumber(item, key));
+    return out;
+  }
+
+  /// Checks that the map holds no key outside `known` (catches typos such as "young_modulos").
+  void onlyKeys(const std::set<std::string>& known) const {
+    for (const auto& kv : node_) {
+      const std::string k = kv.first.as<std::string>();
+      if (!known.count(k)) fail(k, "unknown key (expected one of " + join(known) + ")");
+    }
+  }
+
+  const YAML::Node& node() const { return node_; }
+  const std::string& path() const { return path_; }
+
+ private:
+  double toNumber(const YAML::Node& n, const std::string& key, bool allow_infinite = false) const {
+    if (!n.IsScalar()) fail(key, "expected a number");
+    const std::string s = n.as<std::string>();
+    if (allow_infinite && (s == ".inf" || s == "+.inf")) return std::numeric_limits<double>::infinity();
+    if (allow_infinite && s == "-.inf") return -std::numeric_limits<double>::infinity();
+    std::size_t used = 0;
+    double v = 0.0;
+    try {
+      v = std::stod(s, &used);
+    } catch (const std::exception&) {
+      fail(key, "expected a number, got '" + s + "'");
+    }
+    if (used != s.size()) fail(key, "expected a number, got '" + s + "'");
+    if (!std::isfinite(v)) fail(key, "must be finite, got '" + s + "'");
+    return v;
+  }
+
+  static std::string join(const std::set<std::string>& items) {
+    std::string out;
+    for (const auto& s : items) out += (out.empty() ? "" : ", ") + s;
+    return out;
+  }
+
+  YAML::Node node_;
+  std::string prefix_;
+  std::string path_;
+};
+
+void checkRange(const KeyReader& r, const std::string& key, double v, double lo, double hi,
+                const std::string& unit) {
+  if (!(v >= lo && v <= hi)) {
+    std::ostringstream s;
+    s << v << " " << unit << " is out of range [" << lo << ", " << hi << "] " << unit;
+    r.fail(key, s.str());
+  }
+}
+
+Region readRegion(const KeyReader& parent, const std::string& key) {
+  const KeyReader r = parent.child(key);
+  r.onlyKeys({"min", "max"});
+  Region region;
+  if (r.has("min")) region.min = r.vector3("min", true);
+  if (r.has("max")) region.max = r.vector3("max", true);
+  if ((region.min.array() > region.max.array()).any()) r.fail("min", "min exceeds max");
+  return region;
+}
+
+Eigen::Vector3i readComponents(const KeyReader& r) {
+  if (!r.has("components")) return Eigen::Vector3i::Ones();
+  Eigen::Vector3i c = Eigen::Vector3i::Zero();
+  for (const auto& axis : r.choices("components", {"x", "y", "z"})) c[axis[0] - 'x'] = 1;
+  return c;
+}
+
+MeshSpec readMesh(const KeyReader& scene) {
+  const KeyReader r = scene.child("mesh");
+  r.onlyKeys({"generator", "size", "origin", "side", "length", "file", "unit", "resolutions",
+              "element_types"});
+  MeshSpec m;
+  m.generator = r.choice("generator", {"box", "beam", "hex_beam", "organ_blob", "file"});
+  if (m.generator == "file") {
+    std::filesystem::path file = r.text("file");
+    if (file.is_relative())
+      file = std::filesystem::path(r.path()).parent_path() / file;
+    m.file = file.lexically_normal().string();
+    try {
+      m.metres_per_unit = lengthUnitToMetres(r.text("unit"));
+    } catch (const std::invalid_argument& e) {
+      r.fail("unit", e.what());
+    }
+    m.resolutions = {Eigen::Vector3i::Zero()};
+  } else {
+    if (m.generator == "hex_beam") {
+      m.hex_side = r.number("side");
+      m.hex_length = r.number("length");
+      checkRange(r, "side", m.hex_side, 1e-6, 1e3, "m");
+      checkRange(r, "length", m.hex_length, 1e-6, 1e3, "m");
+    } else {
+      m.size = r.vector3("size");
+      for (int i = 0; i < 3; ++i) checkRange(r, "size", m.size[i], 1e-6, 1e3, "m");
+      if (r.has("origin")) m.origin = r.vector3("origin");
+    }
+    YAML::Node res = r.required("resolutions");
+    if (!res.IsSequence() || res.size() == 0)
+      r.fail("resolutions", "expected a non-empty list of [nx, ny, nz] cell counts");
+    for (const auto& item : res) {
+      if (!item.IsSequence() || item.size() != 3)
+        r.fail("resolutions", "each resolution is a list of 3 integers");
+      Eigen::Vector3i cells;
+      for (int i = 0; i < 3; ++i) {
+        const int c = item[i].as<int>();
+        if (c < 1 || c > 4096) r.fail("resolutions", "cell counts must be in [1, 4096]");
+        cells[i] = c;
+      }
+      m.resolutions.push_back(cells);
+    }
+  }
+  for (const auto& t : r.has("element_types") ? r.choices("element_types", {"tet4", "tet10"})
+                                              : std::vector<std::string>{"tet4"})
+    m.element_types.push_back(t == "tet4" ? ElementType::Tet4 : ElementType::Tet10);
+  return m;
+}
+
+MeasureSpec readMeasure(const KeyReader& scene) {
+  const KeyReader r = scene.child("measure");
+  r.onlyKeys({"type", "region", "component", "reference", "reference_formula", "face_area",
+              "rest_length"});
+  MeasureSpec m;
+  m.type = r.choice("type", {"tip_displacement", "uniaxial_svk_force", "self_reference"});
+  if (m.type == "self_reference") return m;
+  m.region = readRegion(r, "region");
+  m.component = r.choice("component", {"x", "y", "z"})[0] - 'x';
+  if (m.type == "tip_displacement") {
+    if (r.has("reference")) {
+      m.reference = r.number("reference");
+    } else {
+      m.reference_formula =
+          r.choice("reference_formula", {"euler_bernoulli_timoshenko", "axial_self_weight"});
+    }
+  } else {
+    m.face_area = r.number("face_area");
+    m.rest_length = r.number("rest_length");
+    checkRange(r, "face_area", m.face_area, 1e-12, 1e6, "m^2");
+    checkRange(r, "rest_length", m.rest_length, 1e-6, 1e3, "m");
+  }
+  return m;
+}
+
+SceneConfig parse(const YAML::Node& root, const std::string& path) {
+  if (!root.IsMap())
+    throw std::invalid_argument("scene " + path + ": the file is not a YAML map of keys");
+  const KeyReader r(root, "", path);
+  r.onlyKeys({"name", "description", "mesh", "material", "models", "integrators", "solvers",
+              "time_step", "steps", "load_factors", "gravity", "damping", "newton", "pcg",
+              "fixed", "prescribed", "measure"});
+  SceneConfig s;
+  s.path = path;
+  s.name = r.text("name");
+  s.mesh = readMesh(r);
+
+  const KeyReader mat = r.child("material");
+  mat.onlyKeys({"young_modulus", "poisson_ratio", "density"});
+  try {
+    s.material = Material::create(mat.number("young_modulus"), mat.number("poisson_ratio"),
+                                  mat.number("density"));
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument("scene " + path + ": " + e.what());
+  }
+
+  s.models = r.choices("models", {"mass_spring", "corotational", "svk", "ems", "neo_hookean"});
+  s.integrators = r.choices("integrators", {"symplectic_euler", "implicit_euler_linearized",
+                                            "implicit_euler_newton", "quasi_static"});
+  s.solvers = r.choices("solvers", {"cholmod", "pcg_jacobi", "pcg_block_jacobi", "pcg_ichol",
+                                    "pcg_cholesky_reuse"});
+  s.time_step = r.number("time_step");
+  checkRange(r, "time_step", s.time_step, 1e-7, 1.0, "s");
+  s.steps = r.integer("steps", 1, 1000000);
+  if (r.has("load_factors")) s.load_factors = r.numbers("load_factors");
+  if (r.has("gravity")) s.gravity = r.vector3("gravity");
+  checkRange(r, "gravity", s.gravity.norm(), 0.0, 1e4, "m/s^2");
+  if (r.has("damping")) {
+    const KeyReader d = r.child("damping");
+    d.onlyKeys({"mass", "stiffness"});
+    s.damping_mass = d.number("mass", 0.0);
+    s.damping_stiffness = d.number("stiffness", 0.0);
+    checkRange(d, "mass", s.damping_mass, 0.0, 1e6, "1/s");
+    checkRange(d, "stiffness", s.damping_stiffness, 0.0, 1e3, "s");
+  }
+  if (r.has("newton")) {
+    const KeyReader n = r.child("newton");
+    n.onlyKeys({"max_iterations", "tolerance"});
+    s.newton_max_iterations = n.integer("max_iterations", 1, 10000, s.newton_max_iterations);
+    s.newton_tolerance = n.number("tolerance", s.newton_tolerance);
+    checkRange(n, "tolerance", s.newton_tolerance, 1e-15, 1.0, "");
+  }
+  if (r.has("pcg")) {
+    const KeyReader p = r.child("pcg");
+    p.onlyKeys({"max_iterations", "tolerance", "refresh_interval"});
+    s.pcg_max_iterations = p.integer("max_iterations", 1, 100000, s.pcg_max_iterations);
+    s.pcg_tolerance = p.number("tolerance", s.pcg_tolerance);
+    checkRange(p, "tolerance", s.pcg_tolerance, 1e-15, 1.0, "");
+    s.pcg_refresh_interval = p.integer("refresh_interval", 1, 100000, s.pcg_refresh_interval);
+  }
+  const auto readList = [&](const std::string& key, auto&& readItem) {
+    if (!r.has(key)) return;
+    YAML::Node list = r.required(key);
+    if (!list.IsSequence()) r.fail(key, "expected a list");
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      if (!list[i].IsMap()) r.fail(key, "item " + std::to_string(i) + " is not a map");
+      readItem(KeyReader(list[i], key + "[" + std::to_string(i) + "]", path));
+    }
+  };
+  readList("fixed", [&](const KeyReader& item) {
+    item.onlyKeys({"region", "components"});
+    s.fixed.push_back({readRegion(item, "region"), readComponents(item)});
+  });
+  readList("prescribed", [&](const KeyReader& item) {
+    item.onlyKeys({"region", "components", "displacement"});
+    s.prescribed.push_back(
+        {readRegion(item, "region"), readComponents(item), item.vector3("displacement")});
+  });
+  s.measure = readMeasure(r);
+  if (s.measure.type == "uniaxial_svk_force" && (s.prescribed.empty() || s.load_factors.empty()))
+    r.fail("measure", "uniaxial_svk_force needs 'prescribed' and 'load_factors'");
+  return s;
+}
+
+}  // namespace
+
+SceneConfig parseSceneConfig(const std::string& yaml_text, const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw std::invalid_argument("scene " + path + ": malformed YAML at line " +
+                                std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  try {
+    return parse(root, path);
+  } catch (const YAML::Exception& e) {
+    throw std::invalid_argument("scene " + path + ": malformed value at line " +
+                                std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+}
+
+SceneConfig loadSceneConfig(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::invalid_argument("scene " + path + ": cannot open file");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return parseSceneConfig(buffer.str(), path);
+}
+
+}  // namespace surgical_sim::core

@@ -1,0 +1,56 @@
+#include "surgical_sim/ros/conversions.h"
+
+#include <cmath>
+
+namespace surgical_sim::ros_layer {
+
+Eigen::Vector3d toEigen(const geometry_msgs::Point& p) { return {p.x, p.y, p.z}; }
+
+Eigen::Vector3d toEigen(const geometry_msgs::Vector3& v) { return {v.x, v.y, v.z}; }
+
+Eigen::Isometry3d toEigen(const geometry_msgs::Pose& pose) {
+  const Eigen::Quaterniond q(pose.orientation.w, pose.orientation.x, pose.orientation.y,
+                             pose.orientation.z);
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = q.normalized().toRotationMatrix();
+  t.translation() = toEigen(pose.position);
+  return t;
+}
+
+geometry_msgs::Point toPointMsg(const Eigen::Vector3d& p) {
+  geometry_msgs::Point m;
+  m.x = p.x();
+  m.y = p.y();
+  m.z = p.z();
+  return m;
+}
+
+geometry_msgs::Vector3 toVector3Msg(const Eigen::Vector3d& v) {
+  geometry_msgs::Vector3 m;
+  m.x = v.x();
+  m.y = v.y();
+  m.z = v.z();
+  return m;
+}
+
+geometry_msgs::Pose toPoseMsg(const Eigen::Isometry3d& pose) {
+  geometry_msgs::Pose m;
+  m.position = toPointMsg(pose.translation());
+  const Eigen::Quaterniond q(pose.linear());
+  m.orientation.w = q.w();
+  m.orientation.x = q.x();
+  m.orientation.y = q.y();
+  m.orientation.z = q.z();
+  return m;
+}
+
+bool isUsablePose(const geometry_msgs::Pose& pose, double max_distance) {
+  const Eigen::Vector3d p = toEigen(pose.position);
+  const Eigen::Vector4d q(pose.orientation.w, pose.orientation.x, pose.orientation.y,
+                          pose.orientation.z);
+  if (!p.allFinite() || !q.allFinite()) return false;
+  const double qn = q.norm();
+  return qn >= 0.5 && qn <= 2.0 && p.norm() <= max_distance;
+}
+
+}  // namespace surgical_sim::ros_layer
