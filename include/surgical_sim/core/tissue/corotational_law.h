@@ -1,0 +1,36 @@
+#pragma once
+
+#include "surgical_sim/core/tissue/hyperelastic_law.h"
+#include "surgical_sim/core/tissue/material.h"
+
+namespace surgical_sim::core {
+
+/// Corotational linear elasticity:
+///   psi(F) = mu ||F - R||_F^2 + (lambda / 2) tr(R^T F - I)^2,
+///   P(F)   = 2 mu (F - R) + lambda tr(R^T F - I) R,
+/// with R = U V^T the rotation of the signed SVD F = U diag(s) V^T (see computeSignedSvd), so the
+/// law stays defined and restoring for inverted elements (det F <= 0).
+///
+/// Exact tangent (dR included): with q_ij = vec(u_i v_j^T - u_j v_i^T) (u, v columns of U, V),
+///   dP/dF = 2 mu I + lambda r r^T + (lambda (tr S - 3) - 2 mu) sum_{i<j} q_ij q_ij^T / (s_i +
+///   s_j),
+/// r = vec(R), tr S = s0 + s1 + s2; |s_i + s_j| is clamped below at 1e-8 (sign kept).
+/// Projected tangent: the fixed-R tangent dP = R (2 mu sym(R^T dF) + lambda tr(R^T dF) I), the
+/// classic R K0 R^T, which is positive semi-definite.
+class CorotationalLaw final : public HyperelasticLaw {
+ public:
+  /// @throws std::invalid_argument if the material is out of range (see Material::create).
+  explicit CorotationalLaw(const Material& material);
+
+  std::string name() const override { return "corotational"; }
+  double energyDensity(const Eigen::Matrix3d& F) const override;
+  Eigen::Matrix3d firstPiola(const Eigen::Matrix3d& F) const override;
+  Matrix9d firstPiolaDerivative(const Eigen::Matrix3d& F) const override;
+  Matrix9d projectedFirstPiolaDerivative(const Eigen::Matrix3d& F) const override;
+
+ private:
+  double mu_;      ///< shear modulus [Pa]
+  double lambda_;  ///< Lame's first parameter [Pa]
+};
+
+}  // namespace surgical_sim::core

@@ -1,0 +1,78 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "surgical_sim/core/mesh/tet_mesh.h"
+#include "surgical_sim/core/tissue/hyperelastic_law.h"
+#include "surgical_sim/core/tissue/material.h"
+#include "surgical_sim/core/tissue/tissue_model.h"
+
+namespace surgical_sim::core {
+
+/// Displacement-based hyperelastic finite elements on Tet4 (1 quadrature point, constant strain)
+/// or Tet10 (4-point degree-2 rule) meshes, with any HyperelasticLaw.
+///
+/// Precomputed in the constructor: rest gradients dN/dX and weight * det J per element and
+/// quadrature point, the lumped (HRZ) mass, the consistent body-force weights, the stiffness
+/// pattern and the element-to-nonzero scatter map. Energy, force and stiffness evaluation allocate
+/// nothing. Element stiffness K_e = sum_q w_q detJ_q G_q^T (dP/dF) G_q, G_q = d vec(F)/d x_e.
+///
+/// Masses: Tet4 rho V / 4 per node; Tet10 HRZ lumping (diagonal of the consistent mass scaled to
+/// the element mass, all positive). bodyForce is the consistent integral of rho N_a a (Tet10
+/// corner nodes get negative weights -rho V / 20 on affine elements, which is correct).
+class FeModel final : public TissueModel {
+ public:
+  /// @param mesh Tet4 or Tet10 mesh [m], corner tets positively oriented.
+  /// @param material validated material (E [Pa], nu [-], rho [kg/m^3]); only rho is used here,
+  ///        the elastic constants live in `law`.
+  /// @param law constitutive law (not null).
+  /// @throws std::invalid_argument for a null law, an invalid material, or a degenerate / inverted
+  ///         rest element (the message names "mesh.elements" and the element index).
+  FeModel(const TetMesh& mesh, const Material& material, std::unique_ptr<HyperelasticLaw> law);
+
+  std::string name() const override { return law_->name(); }
+  const Eigen::VectorXd& restPositions() const override { return rest_positions_; }
+  const Eigen::VectorXd& lumpedMass() const override { return lumped_mass_; }
+  Eigen::VectorXd bodyForce(const Eigen::Vector3d& a) const override;
+  double energy(const Eigen::VectorXd& x) const override;
+  void addInternalForce(const Eigen::VectorXd& x, Eigen::VectorXd& f) const override;
+  const Eigen::SparseMatrix<double>& stiffnessPattern() const override { return pattern_; }
+  /// @throws std::invalid_argument if K does not have stiffnessPattern()'s size and nonzero count.
+  void assembleStiffness(const Eigen::VectorXd& x, TangentMode mode,
+                         Eigen::SparseMatrix<double>& K) const override;
+  /// y = K(x) v [N], y resized to 3n.
+  void applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
+                      Eigen::VectorXd& y) const override;
+
+  /// The constitutive law.
+  const HyperelasticLaw& law() const { return *law_; }
+  /// Element type of the mesh.
+  ElementType elementType() const { return type_; }
+
+ private:
+  template <int NPE, int NQ>
+  double energyImpl(const Eigen::VectorXd& x) const;
+  template <int NPE, int NQ>
+  void forceImpl(const Eigen::VectorXd& x, Eigen::VectorXd& f) const;
+  template <int NPE, int NQ, typename Sink>
+  void stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Sink&& sink) const;
+
+  ElementType type_;
+  int nodes_per_element_;
+  int points_per_element_;
+  std::unique_ptr<HyperelasticLaw> law_;
+  Eigen::MatrixXi elements_;            ///< nodes_per_element x m
+  Eigen::VectorXd rest_positions_;      ///< 3n [m]
+  Eigen::VectorXd lumped_mass_;         ///< 3n [kg]
+  Eigen::VectorXd body_weight_;         ///< n, integral(rho N_a dV) [kg]
+  std::vector<double> rest_gradients_;  ///< per (element, point): dN/dX, npe x 3 col-major [1/m]
+  std::vector<double> weight_det_j_;    ///< per (element, point): w detJ [m^3]
+  Eigen::SparseMatrix<double> pattern_;
+  std::vector<int> scatter_;  ///< see makeScatterMap
+};
+
+}  // namespace surgical_sim::core

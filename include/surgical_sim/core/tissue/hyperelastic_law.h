@@ -1,0 +1,36 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+
+#include "surgical_sim/core/tissue/tissue_model.h"
+
+namespace surgical_sim::core {
+
+/// 9 x 9 tangent dP/dF [Pa]. Matrices are vectorised column-major: vec(F)[i + 3 j] = F(i, j), and
+/// dPdF(i + 3 j, k + 3 l) = dP_ij / dF_kl.
+using Matrix9d = Eigen::Matrix<double, 9, 9>;
+
+/// An isotropic hyperelastic constitutive law psi(F), evaluated per quadrature point.
+/// F is the deformation gradient dx/dX [-]; all methods are allocation-free and thread-safe.
+class HyperelasticLaw {
+ public:
+  virtual ~HyperelasticLaw() = default;
+
+  /// Short identifier used as the tissue model name ("corotational", "svk", "neo_hookean").
+  virtual std::string name() const = 0;
+
+  /// Strain energy density psi(F) [J/m^3] (per unit rest volume).
+  virtual double energyDensity(const Eigen::Matrix3d& F) const = 0;
+  /// First Piola-Kirchhoff stress P = dpsi/dF [Pa], 3 x 3.
+  virtual Eigen::Matrix3d firstPiola(const Eigen::Matrix3d& F) const = 0;
+  /// Exact tangent dP/dF [Pa], 9 x 9 symmetric, possibly indefinite.
+  virtual Matrix9d firstPiolaDerivative(const Eigen::Matrix3d& F) const = 0;
+  /// Positive semi-definite approximation of dP/dF [Pa], 9 x 9; equals the exact tangent at F = I.
+  virtual Matrix9d projectedFirstPiolaDerivative(const Eigen::Matrix3d& F) const = 0;
+
+  /// Dispatches to firstPiolaDerivative (Exact) or projectedFirstPiolaDerivative (ProjectedSpd).
+  Matrix9d tangent(const Eigen::Matrix3d& F, TangentMode mode) const;
+};
+
+}  // namespace surgical_sim::core

@@ -1,0 +1,81 @@
+#include "surgical_sim/core/tissue/corotational_law.h"
+
+#include <cmath>
+
+#include "surgical_sim/core/tissue/signed_svd.h"
+
+namespace surgical_sim::core {
+namespace {
+
+// Column-major vectorisation of a 3 x 3 matrix.
+Eigen::Matrix<double, 9, 1> vec(const Eigen::Matrix3d& A) {
+  return Eigen::Map<const Eigen::Matrix<double, 9, 1>>(A.data());
+}
+
+// Lower bound on |s_i + s_j| in the dR/dF term [-] (sign kept).
+constexpr double kMinPairSum = 1e-8;
+
+constexpr int kPairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+
+}  // namespace
+
+CorotationalLaw::CorotationalLaw(const Material& material) {
+  const Material m =
+      Material::create(material.young_modulus, material.poisson_ratio, material.density);
+  mu_ = m.mu();
+  lambda_ = m.lambda();
+}
+
+double CorotationalLaw::energyDensity(const Eigen::Matrix3d& F) const {
+  const SignedSvd svd = computeSignedSvd(F);
+  const double trace_strain = svd.s.sum() - 3.0;  // tr(R^T F - I)
+  return mu_ * (svd.s.array() - 1.0).square().sum() + 0.5 * lambda_ * trace_strain * trace_strain;
+}
+
+Eigen::Matrix3d CorotationalLaw::firstPiola(const Eigen::Matrix3d& F) const {
+  const SignedSvd svd = computeSignedSvd(F);
+  const double trace_strain = svd.s.sum() - 3.0;
+  const Eigen::Vector3d p = (2.0 * mu_ * (svd.s.array() - 1.0) + lambda_ * trace_strain).matrix();
+  return svd.U * p.asDiagonal() * svd.V.transpose();
+}
+
+Matrix9d CorotationalLaw::firstPiolaDerivative(const Eigen::Matrix3d& F) const {
+  const SignedSvd svd = computeSignedSvd(F);
+  const Eigen::Matrix3d R = svd.U * svd.V.transpose();
+  const Eigen::Matrix<double, 9, 1> r = vec(R);
+  const double c = lambda_ * (svd.s.sum() - 3.0) - 2.0 * mu_;
+  Matrix9d dPdF = 2.0 * mu_ * Matrix9d::Identity();
+  dPdF.noalias() += lambda_ * r * r.transpose();
+  for (const auto& pair : kPairs) {
+    const int i = pair[0];
+    const int j = pair[1];
+    double sum = svd.s(i) + svd.s(j);
+    if (std::abs(sum) < kMinPairSum) sum = sum < 0.0 ? -kMinPairSum : kMinPairSum;
+    const Eigen::Matrix3d Q =
+        svd.U.col(i) * svd.V.col(j).transpose() - svd.U.col(j) * svd.V.col(i).transpose();
+    const Eigen::Matrix<double, 9, 1> q = vec(Q);
+    dPdF.noalias() += (c / sum) * q * q.transpose();
+  }
+  return dPdF;
+}
+
+Matrix9d CorotationalLaw::projectedFirstPiolaDerivative(const Eigen::Matrix3d& F) const {
+  const SignedSvd svd = computeSignedSvd(F);
+  const Eigen::Matrix3d R = svd.U * svd.V.transpose();
+  const Eigen::Matrix<double, 9, 1> r = vec(R);
+  // R sym(R^T dF) = dF - sum_{i<j} k_ij <k_ij, dF>, k_ij = vec(R (e_i e_j^T - e_j e_i^T)) / sqrt 2.
+  Matrix9d dPdF = 2.0 * mu_ * Matrix9d::Identity();
+  dPdF.noalias() += lambda_ * r * r.transpose();
+  for (const auto& pair : kPairs) {
+    const int i = pair[0];
+    const int j = pair[1];
+    Eigen::Matrix3d K = Eigen::Matrix3d::Zero();
+    K.col(j) = R.col(i);
+    K.col(i) = -R.col(j);
+    const Eigen::Matrix<double, 9, 1> k = vec(K);
+    dPdF.noalias() -= mu_ * k * k.transpose();  // 2 mu * (1/sqrt2)^2
+  }
+  return dPdF;
+}
+
+}  // namespace surgical_sim::core

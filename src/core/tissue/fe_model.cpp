@@ -1,0 +1,259 @@
+#include "surgical_sim/core/tissue/fe_model.h"
+
+#include <algorithm>
+#include <sstream>
+#include <stdexcept>
+#include <utility>
+
+#include "surgical_sim/core/tissue/block_sparsity.h"
+#include "surgical_sim/core/tissue/element_basis.h"
+#include "surgical_sim/core/tissue/tissue_mesh_check.h"
+
+namespace surgical_sim::core {
+namespace {
+
+template <int NPE>
+using ElementMatrix = Eigen::Matrix<double, 3 * NPE, 3 * NPE>;
+template <int NPE>
+using Gradients = Eigen::Map<const Eigen::Matrix<double, NPE, 3>>;
+
+template <int NPE>
+Eigen::Matrix<double, 3, NPE> gatherNodes(const Eigen::VectorXd& x, const Eigen::MatrixXi& elements,
+                                          int e) {
+  Eigen::Matrix<double, 3, NPE> xe;
+  for (int a = 0; a < NPE; ++a) xe.col(a) = x.segment<3>(3 * elements(a, e));
+  return xe;
+}
+
+template <int NPE>
+Eigen::Matrix<double, 3 * NPE, 1> gatherDofs(const Eigen::VectorXd& v,
+                                             const Eigen::MatrixXi& elements, int e) {
+  Eigen::Matrix<double, 3 * NPE, 1> ve;
+  for (int a = 0; a < NPE; ++a) ve.template segment<3>(3 * a) = v.segment<3>(3 * elements(a, e));
+  return ve;
+}
+
+// Ke += w G^T A G with G = d vec(F) / d x_e, i.e. Ke(3a+i, 3b+j) += w sum_kl G(a,k) A(i+3k, j+3l)
+// G(b,l), computed block-wise without forming the 9 x 3NPE matrix G.
+template <int NPE>
+void addPointStiffness(const Matrix9d& A, const Gradients<NPE>& G, double w,
+                       ElementMatrix<NPE>& Ke) {
+  for (int b = 0; b < NPE; ++b) {
+    Eigen::Matrix<double, 9, 3> AG = (w * G(b, 0)) * A.template middleCols<3>(0);
+    AG.noalias() += (w * G(b, 1)) * A.template middleCols<3>(3);
+    AG.noalias() += (w * G(b, 2)) * A.template middleCols<3>(6);
+    for (int a = 0; a < NPE; ++a) {
+      Ke.template block<3, 3>(3 * a, 3 * b) += G(a, 0) * AG.template middleRows<3>(0) +
+                                               G(a, 1) * AG.template middleRows<3>(3) +
+                                               G(a, 2) * AG.template middleRows<3>(6);
+    }
+  }
+}
+
+// Tet4 specialisation of addPointStiffness: with one point and dN_0/dX = -(g1 + g2 + g3), only
+// the symmetric 3 x 3 blocks of nodes 1..3 are computed; node 0's blocks follow from the
+// row / column sums (rigid translations are in the null space).
+void tet4Stiffness(const Matrix9d& A, const Gradients<4>& G, double w, ElementMatrix<4>& Ke) {
+  Eigen::Matrix<double, 9, 3> AG[3];
+  for (int b = 0; b < 3; ++b) {
+    AG[b].noalias() = (w * G(b + 1, 0)) * A.middleCols<3>(0);
+    AG[b].noalias() += (w * G(b + 1, 1)) * A.middleCols<3>(3);
+    AG[b].noalias() += (w * G(b + 1, 2)) * A.middleCols<3>(6);
+  }
+  Eigen::Matrix3d column_sum[3];
+  for (int b = 0; b < 3; ++b) column_sum[b].setZero();
+  for (int a = 0; a < 3; ++a) {
+    for (int b = a; b < 3; ++b) {
+      const Eigen::Matrix3d Kab = G(a + 1, 0) * AG[b].middleRows<3>(0) +
+                                  G(a + 1, 1) * AG[b].middleRows<3>(3) +
+                                  G(a + 1, 2) * AG[b].middleRows<3>(6);
+      Ke.block<3, 3>(3 * (a + 1), 3 * (b + 1)) = Kab;
+      column_sum[b] += Kab;
+      if (b != a) {
+        Ke.block<3, 3>(3 * (b + 1), 3 * (a + 1)) = Kab.transpose();
+        column_sum[a] += Kab.transpose();
+      }
+    }
+  }
+  Eigen::Matrix3d corner = Eigen::Matrix3d::Zero();
+  for (int b = 0; b < 3; ++b) {
+    Ke.block<3, 3>(0, 3 * (b + 1)) = -column_sum[b];
+    Ke.block<3, 3>(3 * (b + 1), 0) = -column_sum[b].transpose();
+    corner += column_sum[b];
+  }
+  Ke.block<3, 3>(0, 0) = corner;
+}
+
+}  // namespace
+
+FeModel::FeModel(const TetMesh& mesh, const Material& material,
+                 std::unique_ptr<HyperelasticLaw> law)
+    : type_(mesh.type), law_(std::move(law)) {
+  if (!law_) throw std::invalid_argument("FeModel: law must not be null");
+  const Material mat =
+      Material::create(material.young_modulus, material.poisson_ratio, material.density);
+  checkTissueMesh(mesh, law_->name(), /*allow_tet10=*/true);
+
+  const ElementBasis basis(type_);
+  const QuadratureRule& rule = basis.stiffnessRule();
+  const QuadratureRule& mass_rule = basis.massRule();
+  nodes_per_element_ = basis.numNodes();
+  points_per_element_ = static_cast<int>(rule.weights.size());
+  const int npe = nodes_per_element_;
+  const int n = mesh.numNodes();
+  const int m = mesh.numElements();
+
+  elements_ = mesh.elements;
+  rest_positions_ = Eigen::Map<const Eigen::VectorXd>(mesh.nodes.data(), 3 * n);
+  rest_gradients_.resize(static_cast<size_t>(m) * points_per_element_ * npe * 3);
+  weight_det_j_.resize(static_cast<size_t>(m) * points_per_element_);
+  body_weight_ = Eigen::VectorXd::Zero(n);
+  lumped_mass_ = Eigen::VectorXd::Zero(3 * n);
+
+  const auto fail = [](int e, const char* where, double det) {
+    std::ostringstream msg;
+    msg << "mesh.elements: element " << e << " is inverted or degenerate at a " << where
+        << " quadrature point (det dX/dxi = " << det << " m^3, must be > 0)";
+    throw std::invalid_argument(msg.str());
+  };
+
+  Eigen::Matrix3Xd X_e(3, npe);
+  Eigen::MatrixXd dN_dX(npe, 3);
+  for (int e = 0; e < m; ++e) {
+    for (int a = 0; a < npe; ++a) X_e.col(a) = mesh.nodes.col(elements_(a, e));
+    for (int q = 0; q < points_per_element_; ++q) {
+      const double det = basis.restGradients(X_e, rule.points.col(q), dN_dX);
+      if (!(det > 0.0)) fail(e, "stiffness", det);
+      const size_t k = static_cast<size_t>(e) * points_per_element_ + q;
+      std::copy(dN_dX.data(), dN_dX.data() + npe * 3, rest_gradients_.begin() + k * npe * 3);
+      weight_det_j_[k] = rule.weights(q) * det;
+    }
+    // Consistent-mass diagonal and body-force weights; HRZ lumping scales the diagonal so that
+    // it sums to the element mass.
+    Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(npe);
+    double element_mass = 0.0;
+    for (int q = 0; q < mass_rule.weights.size(); ++q) {
+      const double det = basis.restGradients(X_e, mass_rule.points.col(q), dN_dX);
+      if (!(det > 0.0)) fail(e, "mass", det);
+      const Eigen::VectorXd N = basis.shapeValues(mass_rule.points.col(q));
+      const double rho_w = mat.density * mass_rule.weights(q) * det;
+      diagonal += rho_w * N.cwiseAbs2();
+      element_mass += rho_w;
+      for (int a = 0; a < npe; ++a) body_weight_(elements_(a, e)) += rho_w * N(a);
+    }
+    diagonal *= element_mass / diagonal.sum();
+    for (int a = 0; a < npe; ++a) {
+      lumped_mass_.segment<3>(3 * elements_(a, e)).array() += diagonal(a);
+    }
+  }
+  pattern_ = makeBlockPattern(n, elements_);
+  scatter_ = makeScatterMap(pattern_, elements_);
+}
+
+Eigen::VectorXd FeModel::bodyForce(const Eigen::Vector3d& a) const {
+  Eigen::VectorXd f(rest_positions_.size());
+  for (Eigen::Index i = 0; i < body_weight_.size(); ++i) f.segment<3>(3 * i) = body_weight_(i) * a;
+  return f;
+}
+
+template <int NPE, int NQ>
+double FeModel::energyImpl(const Eigen::VectorXd& x) const {
+  double energy = 0.0;
+  for (int e = 0; e < elements_.cols(); ++e) {
+    const Eigen::Matrix<double, 3, NPE> xe = gatherNodes<NPE>(x, elements_, e);
+    for (int q = 0; q < NQ; ++q) {
+      const size_t k = static_cast<size_t>(e) * NQ + q;
+      const Gradients<NPE> G(rest_gradients_.data() + k * NPE * 3);
+      const Eigen::Matrix3d F = xe * G;
+      energy += weight_det_j_[k] * law_->energyDensity(F);
+    }
+  }
+  return energy;
+}
+
+template <int NPE, int NQ>
+void FeModel::forceImpl(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
+  for (int e = 0; e < elements_.cols(); ++e) {
+    const Eigen::Matrix<double, 3, NPE> xe = gatherNodes<NPE>(x, elements_, e);
+    Eigen::Matrix<double, 3, NPE> fe = Eigen::Matrix<double, 3, NPE>::Zero();
+    for (int q = 0; q < NQ; ++q) {
+      const size_t k = static_cast<size_t>(e) * NQ + q;
+      const Gradients<NPE> G(rest_gradients_.data() + k * NPE * 3);
+      const Eigen::Matrix3d F = xe * G;
+      fe.noalias() -= (weight_det_j_[k] * law_->firstPiola(F)) * G.transpose();
+    }
+    for (int a = 0; a < NPE; ++a) f.segment<3>(3 * elements_(a, e)) += fe.col(a);
+  }
+}
+
+template <int NPE, int NQ, typename Sink>
+void FeModel::stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Sink&& sink) const {
+  ElementMatrix<NPE> Ke;
+  for (int e = 0; e < elements_.cols(); ++e) {
+    const Eigen::Matrix<double, 3, NPE> xe = gatherNodes<NPE>(x, elements_, e);
+    if constexpr (NPE == 4 && NQ == 1) {
+      const Gradients<4> G(rest_gradients_.data() + static_cast<size_t>(e) * 12);
+      tet4Stiffness(law_->tangent(xe * G, mode), G, weight_det_j_[e], Ke);
+    } else {
+      Ke.setZero();
+      for (int q = 0; q < NQ; ++q) {
+        const size_t k = static_cast<size_t>(e) * NQ + q;
+        const Gradients<NPE> G(rest_gradients_.data() + k * NPE * 3);
+        const Eigen::Matrix3d F = xe * G;
+        addPointStiffness<NPE>(law_->tangent(F, mode), G, weight_det_j_[k], Ke);
+      }
+    }
+    sink(e, Ke);
+  }
+}
+
+double FeModel::energy(const Eigen::VectorXd& x) const {
+  return type_ == ElementType::Tet4 ? energyImpl<4, 1>(x) : energyImpl<10, 4>(x);
+}
+
+void FeModel::addInternalForce(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
+  if (type_ == ElementType::Tet4) {
+    forceImpl<4, 1>(x, f);
+  } else {
+    forceImpl<10, 4>(x, f);
+  }
+}
+
+void FeModel::assembleStiffness(const Eigen::VectorXd& x, TangentMode mode,
+                                Eigen::SparseMatrix<double>& K) const {
+  if (K.rows() != pattern_.rows() || K.cols() != pattern_.cols() ||
+      K.nonZeros() != pattern_.nonZeros() || !K.isCompressed()) {
+    throw std::invalid_argument("FeModel::assembleStiffness: K must have stiffnessPattern()");
+  }
+  double* values = K.valuePtr();
+  std::fill(values, values + K.nonZeros(), 0.0);
+  const auto scatter = [&](int e, const auto& Ke) {
+    constexpr int kSize = static_cast<int>(std::decay_t<decltype(Ke)>::SizeAtCompileTime);
+    const int* map = scatter_.data() + static_cast<size_t>(e) * kSize;
+    const double* ke = Ke.data();
+    for (int i = 0; i < kSize; ++i) values[map[i]] += ke[i];
+  };
+  if (type_ == ElementType::Tet4) {
+    stiffnessImpl<4, 1>(x, mode, scatter);
+  } else {
+    stiffnessImpl<10, 4>(x, mode, scatter);
+  }
+}
+
+void FeModel::applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
+                             Eigen::VectorXd& y) const {
+  y.setZero(rest_positions_.size());
+  const auto multiply = [&](int e, const auto& Ke) {
+    constexpr int kNpe = static_cast<int>(std::decay_t<decltype(Ke)>::RowsAtCompileTime) / 3;
+    const Eigen::Matrix<double, 3 * kNpe, 1> ye = Ke * gatherDofs<kNpe>(v, elements_, e);
+    for (int a = 0; a < kNpe; ++a)
+      y.segment<3>(3 * elements_(a, e)) += ye.template segment<3>(3 * a);
+  };
+  if (type_ == ElementType::Tet4) {
+    stiffnessImpl<4, 1>(x, mode, multiply);
+  } else {
+    stiffnessImpl<10, 4>(x, mode, multiply);
+  }
+}
+
+}  // namespace surgical_sim::core

@@ -1,0 +1,9 @@
+#include "surgical_sim/core/tissue/hyperelastic_law.h"
+
+namespace surgical_sim::core {
+
+Matrix9d HyperelasticLaw::tangent(const Eigen::Matrix3d& F, TangentMode mode) const {
+  return mode == TangentMode::Exact ? firstPiolaDerivative(F) : projectedFirstPiolaDerivative(F);
+}
+
+}  // namespace surgical_sim::core
