@@ -1,0 +1,54 @@
+#pragma once
+
+#include <cholmod.h>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <string>
+
+#include "surgical_sim/core/solve/linear_solver.h"
+
+namespace surgical_sim::core {
+
+/// Direct sparse solver: CHOLMOD supernodal LL^T of a symmetric positive-definite matrix.
+///
+/// The fill-reducing ordering and symbolic factor are computed once per pattern in
+/// analyzePattern(); factorize() recomputes only the numeric factor. Only the lower triangle of
+/// the (full, symmetric) input matrix is read. solve() reuses CHOLMOD workspaces
+/// (cholmod_solve2), so after the first call it allocates nothing.
+/// Not copyable or movable (owns CHOLMOD state).
+class CholmodSolver final : public LinearSolver {
+ public:
+  CholmodSolver();
+  ~CholmodSolver() override;
+  CholmodSolver(const CholmodSolver&) = delete;
+  CholmodSolver& operator=(const CholmodSolver&) = delete;
+  CholmodSolver(CholmodSolver&&) = delete;
+  CholmodSolver& operator=(CholmodSolver&&) = delete;
+
+  /// Returns "cholmod".
+  std::string name() const override;
+  /// Symbolic analysis (ordering + supernodal structure) of A's pattern, A square n x n.
+  void analyzePattern(const Eigen::SparseMatrix<double>& A) override;
+  /// Numeric LL^T of A (same pattern as analysed). Returns false if A is not positive definite,
+  /// its pattern differs from the analysed one, or CHOLMOD reports an error.
+  bool factorize(const Eigen::SparseMatrix<double>& A) override;
+  /// Solves A x = b with the current factor (x on entry ignored), b and x of size n.
+  /// iterations = 1; relative_residual = |b - A x| / |b| (computed with the factorized matrix).
+  LinearSolveReport solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
+
+ private:
+  void releaseFactor();
+  cholmod_sparse viewOf(const Eigen::SparseMatrix<double>& A) const;
+
+  cholmod_common common_;
+  cholmod_factor* factor_ = nullptr;
+  cholmod_dense* solution_ = nullptr;     ///< X of cholmod_solve2, reused
+  cholmod_dense* workspace_y_ = nullptr;  ///< Y workspace of cholmod_solve2, reused
+  cholmod_dense* workspace_e_ = nullptr;  ///< E workspace of cholmod_solve2, reused
+  Eigen::SparseMatrix<double> matrix_;    ///< copy of the last factorized matrix (for residuals)
+  Eigen::VectorXd residual_;              ///< n, work vector
+  bool factorized_ = false;
+};
+
+}  // namespace surgical_sim::core

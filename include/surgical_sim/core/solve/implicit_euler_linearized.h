@@ -1,0 +1,46 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "surgical_sim/core/solve/integrator.h"
+#include "surgical_sim/core/solve/linear_solver.h"
+#include "surgical_sim/core/solve/system_matrix.h"
+
+namespace surgical_sim::core {
+
+/// Linearized implicit Euler (Baraff & Witkin 1998): one Newton step of backward Euler,
+///   (M + dt C + dt^2 K) dv = dt (f_int(x) + f_ext - C v - dt K v),  v += dv,  x += dt v,
+/// with K = K(x_n) (TangentMode::ProjectedSpd) and C = alpha M + beta K. Dirichlet DOFs get the
+/// velocity (target - x_d) / dt before the solve (dv_d = 0 by projection), so x_d = target.
+/// A is assembled into a fixed pattern (SystemMatrix); the solver analyses it once per topology.
+class ImplicitEulerLinearized final : public Integrator {
+ public:
+  /// @throws std::invalid_argument naming "solver" if linear_solver is null
+  explicit ImplicitEulerLinearized(std::unique_ptr<LinearSolver> linear_solver);
+
+  /// Returns "implicit_euler_linearized".
+  std::string name() const override;
+  /// One step of dt [s] (> 0). Never throws. SolverFailed (state restored) if the problem is
+  /// inconsistent or the linear solve fails; NonFinite (state restored) on NaN/Inf.
+  /// Report: newton_iterations = 1, residual = relative residual of the linear solve.
+  StepReport step(const DynamicsProblem& problem, double dt, SimulationState& state) override;
+  /// Forgets the pattern and buffers (next step re-analyses).
+  void reset() override;
+
+ private:
+  void setUp(const TissueModel& model);
+
+  std::unique_ptr<LinearSolver> solver_;
+  const TissueModel* model_ = nullptr;
+  SystemMatrix system_;
+  Eigen::SparseMatrix<double> stiffness_;
+  std::vector<std::uint8_t> mask_;
+  Eigen::VectorXd x0_, v0_, rhs_, dv_, product_;
+};
+
+}  // namespace surgical_sim::core

@@ -1,0 +1,99 @@
+#include "surgical_sim/core/solve/implicit_euler_linearized.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "surgical_sim/core/solve/dirichlet_projection.h"
+#include "surgical_sim/core/solve/dynamics_problem_check.h"
+#include "surgical_sim/core/solve/mechanical_energy.h"
+
+namespace surgical_sim::core {
+
+ImplicitEulerLinearized::ImplicitEulerLinearized(std::unique_ptr<LinearSolver> linear_solver)
+    : solver_(std::move(linear_solver)) {
+  if (!solver_) {
+    throw std::invalid_argument("solver: implicit_euler_linearized needs a linear solver (null)");
+  }
+}
+
+std::string ImplicitEulerLinearized::name() const { return "implicit_euler_linearized"; }
+
+void ImplicitEulerLinearized::reset() { model_ = nullptr; }
+
+void ImplicitEulerLinearized::setUp(const TissueModel& model) {
+  const Eigen::SparseMatrix<double>& pattern = model.stiffnessPattern();
+  const Eigen::Index size = pattern.rows();
+  model_ = &model;
+  stiffness_ = pattern;
+  stiffness_.makeCompressed();
+  system_.setPattern(stiffness_);
+  solver_->analyzePattern(system_.matrix());
+  mask_.assign(static_cast<size_t>(size), 0);
+  x0_.setZero(size);
+  v0_.setZero(size);
+  rhs_.setZero(size);
+  dv_.setZero(size);
+  product_.setZero(size);
+}
+
+StepReport ImplicitEulerLinearized::step(const DynamicsProblem& problem, double dt,
+                                         SimulationState& state) {
+  StepReport report;
+  if (findProblemError(problem, state) != nullptr || !std::isfinite(dt) || !(dt > 0.0)) {
+    report.status = StepStatus::SolverFailed;
+    return report;
+  }
+  const TissueModel& model = *problem.model;
+  if (model_ != &model || !system_.matchesPattern(model.stiffnessPattern())) setUp(model);
+  const Eigen::VectorXd& mass = model.lumpedMass();
+  const DirichletBc& bc = problem.dirichlet;
+  const double alpha = problem.damping.mass_coefficient;
+  const double beta = problem.damping.stiffness_coefficient;
+  markDirichletDofs(bc.dofs, mask_);
+  x0_ = state.x;
+  v0_ = state.v;
+  auto fail = [&](StepStatus status) {
+    state.x = x0_;
+    state.v = v0_;
+    report.status = status;
+    return report;
+  };
+
+  for (size_t k = 0; k < bc.dofs.size(); ++k) {
+    const int d = bc.dofs[k];
+    state.v[d] = (bc.positions[static_cast<Eigen::Index>(k)] - state.x[d]) / dt;
+  }
+  model.assembleStiffness(state.x, TangentMode::ProjectedSpd, stiffness_);
+  rhs_ = problem.external_force;
+  model.addInternalForce(state.x, rhs_);
+  if (alpha > 0.0) rhs_.array() -= alpha * mass.array() * state.v.array();
+  product_.noalias() = stiffness_ * state.v;
+  rhs_.noalias() -= (dt + beta) * product_;
+  rhs_ *= dt;
+  zeroDirichletEntries(bc.dofs, rhs_);
+  system_.assemble(mass, 1.0 + dt * alpha, stiffness_, dt * dt + dt * beta);
+  system_.projectDirichlet(mask_);
+  if (!rhs_.allFinite()) return fail(StepStatus::NonFinite);
+  if (!solver_->factorize(system_.matrix())) return fail(StepStatus::SolverFailed);
+  dv_.setZero();
+  const LinearSolveReport solve = solver_->solve(rhs_, dv_);
+  report.linear_iterations = solve.iterations;
+  if (!solve.ok) return fail(dv_.allFinite() ? StepStatus::SolverFailed : StepStatus::NonFinite);
+
+  state.v += dv_;
+  state.x.noalias() += dt * state.v;
+  for (size_t k = 0; k < bc.dofs.size(); ++k) {
+    state.x[bc.dofs[k]] = bc.positions[static_cast<Eigen::Index>(k)];
+  }
+  const double energy = mechanicalEnergy(model, state.x, state.v, problem.external_force);
+  if (!state.x.allFinite() || !state.v.allFinite() || !std::isfinite(energy)) {
+    return fail(StepStatus::NonFinite);
+  }
+  state.time += dt;
+  report.newton_iterations = 1;
+  report.residual = solve.relative_residual;
+  report.energy = energy;
+  return report;
+}
+
+}  // namespace surgical_sim::core

@@ -1,0 +1,145 @@
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <memory>
+#include <string>
+
+#include "solve_test_util.h"
+#include "surgical_sim/core/solve/cholmod_solver.h"
+#include "surgical_sim/core/solve/make_linear_solver.h"
+#include "surgical_sim/core/solve/pcg_solver.h"
+
+namespace surgical_sim::core::test {
+namespace {
+
+const char* const kSolverNames[] = {"cholmod", "pcg_jacobi", "pcg_block_jacobi", "pcg_ichol",
+                                    "pcg_cholesky_reuse"};
+
+PcgSettings tightPcg() {
+  PcgSettings pcg;
+  pcg.max_iterations = 2000;
+  pcg.relative_tolerance = 1e-13;
+  pcg.refresh_interval = 10;
+  return pcg;
+}
+
+class EverySolver : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(EverySolver, MatchesDenseCholesky) {
+  const Eigen::SparseMatrix<double> A = spdTestMatrix(1);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1.0, 2.0);
+  const Eigen::VectorXd expected = Eigen::MatrixXd(A).llt().solve(b);
+  std::unique_ptr<LinearSolver> solver = makeLinearSolver(GetParam(), tightPcg());
+  EXPECT_EQ(solver->name(), GetParam());
+  solver->analyzePattern(A);
+  ASSERT_TRUE(solver->factorize(A));
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(A.rows());
+  const LinearSolveReport report = solver->solve(b, x);
+  EXPECT_TRUE(report.ok);
+  EXPECT_GE(report.iterations, 1);
+  EXPECT_LT(report.relative_residual, 1e-10);
+  EXPECT_LT((x - expected).norm(), 1e-8 * expected.norm());
+  // Second factorization with new values on the same pattern.
+  const Eigen::SparseMatrix<double> A2 = spdTestMatrix(2);
+  ASSERT_TRUE(solver->factorize(A2));
+  solver->solve(b, x);
+  EXPECT_LT((x - Eigen::MatrixXd(A2).llt().solve(b)).norm(), 1e-8 * x.norm());
+}
+
+INSTANTIATE_TEST_SUITE_P(LinearSolvers, EverySolver, ::testing::ValuesIn(kSolverNames));
+
+TEST(CholmodSolver, FactorizeFailsOnIndefiniteMatrix) {
+  Eigen::SparseMatrix<double> A = spdTestMatrix(3);
+  CholmodSolver solver;
+  solver.analyzePattern(A);
+  ASSERT_TRUE(solver.factorize(A));
+  A.coeffRef(5, 5) = -50.0;
+  EXPECT_FALSE(solver.factorize(A));
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(A.rows());
+  EXPECT_FALSE(solver.solve(Eigen::VectorXd::Ones(A.rows()), x).ok);
+}
+
+TEST(CholmodSolver, FactorizeFailsOnPatternChange) {
+  const Eigen::SparseMatrix<double> A = spdTestMatrix(3);
+  CholmodSolver solver;
+  solver.analyzePattern(A);
+  Eigen::SparseMatrix<double> diagonal(A.rows(), A.cols());
+  diagonal.setIdentity();
+  EXPECT_FALSE(solver.factorize(diagonal));
+}
+
+TEST(PcgSolver, JacobiFailsOnNegativeDiagonal) {
+  Eigen::SparseMatrix<double> A = spdTestMatrix(3);
+  A.coeffRef(0, 0) = -1.0;
+  PcgSolver solver(PcgPreconditioner::Jacobi, tightPcg());
+  solver.analyzePattern(A);
+  EXPECT_FALSE(solver.factorize(A));
+}
+
+TEST(PcgSolver, CholeskyReuseNeedsFewIterationsAfterSmallChange) {
+  const Eigen::SparseMatrix<double> A0 = spdTestMatrix(4);
+  // The same kind of change as between two time steps: a slightly different deformation.
+  Eigen::SparseMatrix<double> A1 = A0;
+  const Eigen::SparseMatrix<double> other = spdTestMatrix(5);
+  A1 = 0.98 * A0 + 0.02 * other;
+  A1.makeCompressed();
+  const Eigen::VectorXd b = Eigen::VectorXd::Ones(A0.rows());
+  PcgSettings pcg;
+  pcg.relative_tolerance = 1e-10;
+  pcg.max_iterations = 1000;
+  pcg.refresh_interval = 5;
+
+  PcgSolver reuse(PcgPreconditioner::CholeskyReuse, pcg);
+  reuse.analyzePattern(A0);
+  ASSERT_TRUE(reuse.factorize(A0));
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(A0.rows());
+  EXPECT_EQ(reuse.solve(b, x).iterations, 1);  // exact factor: one iteration
+  ASSERT_TRUE(reuse.factorize(A1));            // factor of A0 reused as preconditioner
+  x.setZero();
+  const LinearSolveReport reused = reuse.solve(b, x);
+  EXPECT_TRUE(reused.ok);
+  EXPECT_LE(reused.iterations, 8);
+  EXPECT_LT((x - Eigen::MatrixXd(A1).llt().solve(b)).norm(), 1e-8 * x.norm());
+
+  PcgSolver jacobi(PcgPreconditioner::Jacobi, pcg);
+  jacobi.analyzePattern(A1);
+  ASSERT_TRUE(jacobi.factorize(A1));
+  x.setZero();
+  EXPECT_GT(jacobi.solve(b, x).iterations, 2 * reused.iterations);
+}
+
+TEST(PcgSolver, CholeskyReuseRefreshesAfterInterval) {
+  const Eigen::SparseMatrix<double> A0 = spdTestMatrix(4);
+  Eigen::SparseMatrix<double> A1 = 0.5 * A0 + 0.5 * spdTestMatrix(6);
+  A1.makeCompressed();
+  const Eigen::VectorXd b = Eigen::VectorXd::Ones(A0.rows());
+  PcgSettings pcg;
+  pcg.refresh_interval = 2;
+  PcgSolver solver(PcgPreconditioner::CholeskyReuse, pcg);
+  solver.analyzePattern(A0);
+  ASSERT_TRUE(solver.factorize(A0));  // call 1: factor of A0
+  ASSERT_TRUE(solver.factorize(A1));  // call 2: reuse
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(A0.rows());
+  EXPECT_GT(solver.solve(b, x).iterations, 1);
+  ASSERT_TRUE(solver.factorize(A1));  // call 3: refresh -> exact factor of A1
+  x.setZero();
+  EXPECT_EQ(solver.solve(b, x).iterations, 1);
+}
+
+TEST(LinearSolverSettings, InvalidSettingsThrowNamingTheParameter) {
+  PcgSettings pcg;
+  pcg.relative_tolerance = -1e-8;
+  expectInvalidArgumentNaming([&] { makeLinearSolver("pcg_jacobi", pcg); },
+                              "solver.relative_tolerance");
+  pcg = PcgSettings();
+  pcg.max_iterations = 0;
+  expectInvalidArgumentNaming([&] { PcgSolver(PcgPreconditioner::Jacobi, pcg); },
+                              "solver.max_iterations");
+  pcg = PcgSettings();
+  pcg.refresh_interval = 0;
+  expectInvalidArgumentNaming([&] { validatePcgSettings(pcg); }, "solver.refresh_interval");
+  expectInvalidArgumentNaming([&] { makeLinearSolver("superlu", PcgSettings()); }, "solver.type");
+}
+
+}  // namespace
+}  // namespace surgical_sim::core::test
