@@ -30,8 +30,8 @@ struct TetMesh {
 
 /// A triangle surface in metres, outward-oriented (counter-clockwise seen from outside).
 struct TriMesh {
-  Eigen::Matrix3Xd vertices;  ///< [m], shape 3 x n
-  Eigen::Matrix3Xi triangles; ///< vertex indices, shape 3 x m
+  Eigen::Matrix3Xd vertices;   ///< [m], shape 3 x n
+  Eigen::Matrix3Xi triangles;  ///< vertex indices, shape 3 x m
 };
 
 }  // namespace surgical_sim::core
