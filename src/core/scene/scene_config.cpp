@@ -122,7 +122,8 @@ class KeyReader {
   double toNumber(const YAML::Node& n, const std::string& key, bool allow_infinite = false) const {
     if (!n.IsScalar()) fail(key, "expected a number");
     const std::string s = n.as<std::string>();
-    if (allow_infinite && (s == ".inf" || s == "+.inf")) return std::numeric_limits<double>::infinity();
+    if (allow_infinite && (s == ".inf" || s == "+.inf"))
+      return std::numeric_limits<double>::infinity();
     if (allow_infinite && s == "-.inf") return -std::numeric_limits<double>::infinity();
     std::size_t used = 0;
     double v = 0.0;
@@ -181,8 +182,7 @@ MeshSpec readMesh(const KeyReader& scene) {
   m.generator = r.choice("generator", {"box", "beam", "hex_beam", "organ_blob", "file"});
   if (m.generator == "file") {
     std::filesystem::path file = r.text("file");
-    if (file.is_relative())
-      file = std::filesystem::path(r.path()).parent_path() / file;
+    if (file.is_relative()) file = std::filesystem::path(r.path()).parent_path() / file;
     m.file = file.lexically_normal().string();
     try {
       m.metres_per_unit = lengthUnitToMetres(r.text("unit"));
@@ -207,10 +207,14 @@ MeshSpec readMesh(const KeyReader& scene) {
     for (const auto& item : res) {
       if (!item.IsSequence() || item.size() != 3)
         r.fail("resolutions", "each resolution is a list of 3 integers");
+      // box/beam use all three counts; hex_beam [along, rings, -]; organ_blob [per_axis, -, -].
+      const int used = m.generator == "hex_beam" ? 2 : m.generator == "organ_blob" ? 1 : 3;
       Eigen::Vector3i cells;
       for (int i = 0; i < 3; ++i) {
         const int c = item[i].as<int>();
-        if (c < 1 || c > 4096) r.fail("resolutions", "cell counts must be in [1, 4096]");
+        if (c < (i < used ? 1 : 0) || c > 4096)
+          r.fail("resolutions", "cell count " + std::to_string(c) + " must be in [" +
+                                    (i < used ? "1" : "0") + ", 4096]");
         cells[i] = c;
       }
       m.resolutions.push_back(cells);
@@ -252,8 +256,8 @@ SceneConfig parse(const YAML::Node& root, const std::string& path) {
     throw std::invalid_argument("scene " + path + ": the file is not a YAML map of keys");
   const KeyReader r(root, "", path);
   r.onlyKeys({"name", "description", "mesh", "material", "models", "integrators", "solvers",
-              "time_step", "steps", "load_factors", "gravity", "damping", "newton", "pcg",
-              "fixed", "prescribed", "measure"});
+              "time_step", "steps", "load_factors", "gravity", "damping", "newton", "pcg", "fixed",
+              "prescribed", "measure"});
   SceneConfig s;
   s.path = path;
   s.name = r.text("name");
@@ -271,8 +275,8 @@ SceneConfig parse(const YAML::Node& root, const std::string& path) {
   s.models = r.choices("models", {"mass_spring", "corotational", "svk", "ems", "neo_hookean"});
   s.integrators = r.choices("integrators", {"symplectic_euler", "implicit_euler_linearized",
                                             "implicit_euler_newton", "quasi_static"});
-  s.solvers = r.choices("solvers", {"cholmod", "pcg_jacobi", "pcg_block_jacobi", "pcg_ichol",
-                                    "pcg_cholesky_reuse"});
+  s.solvers = r.choices(
+      "solvers", {"cholmod", "pcg_jacobi", "pcg_block_jacobi", "pcg_ichol", "pcg_cholesky_reuse"});
   s.time_step = r.number("time_step");
   checkRange(r, "time_step", s.time_step, 1e-7, 1.0, "s");
   s.steps = r.integer("steps", 1, 1000000);

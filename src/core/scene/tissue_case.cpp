@@ -10,8 +10,8 @@
 #include "surgical_sim/core/mesh/generators.h"
 #include "surgical_sim/core/mesh/gmsh_reader.h"
 #include "surgical_sim/core/mesh/mesh_check.h"
-#include "surgical_sim/core/solve/integrator_factory.h"
-#include "surgical_sim/core/solve/linear_solver_factory.h"
+#include "surgical_sim/core/solve/make_integrator.h"
+#include "surgical_sim/core/solve/make_linear_solver.h"
 #include "surgical_sim/core/tissue/model_factory.h"
 
 namespace surgical_sim::core {
@@ -40,7 +40,7 @@ BeamSection beamSection(const SceneConfig& scene, int bending_component) {
     s.length = m.hex_length;
   } else if (m.generator == "beam" || m.generator == "box") {
     const double b = m.size[bending_component == 1 ? 2 : 1];  // width across the bending plane
-    const double h = m.size[bending_component];                // depth in the bending plane
+    const double h = m.size[bending_component];               // depth in the bending plane
     s.area = b * h;
     s.inertia = b * h * h * h / 12.0;
     s.shear_coefficient = 10.0 * (1.0 + nu) / (12.0 + 11.0 * nu);  // rectangle
@@ -116,8 +116,8 @@ CaseSetup setUp(const SceneConfig& scene, const CaseSpec& spec) {
     const PrescribedBc& bc = scene.prescribed[i];
     const auto dofs = regionDofs(c.mesh, bc.region, bc.components);
     if (dofs.empty())
-      throw std::invalid_argument("scene " + scene.path + ": key 'prescribed[" +
-                                  std::to_string(i) + "].region' contains no mesh node");
+      throw std::invalid_argument("scene " + scene.path + ": key 'prescribed[" + std::to_string(i) +
+                                  "].region' contains no mesh node");
     for (int d : dofs)
       if (!taken[d]) {
         taken[d] = true;
@@ -253,7 +253,8 @@ TetMesh buildSceneMesh(const MeshSpec& spec, const Eigen::Vector3i& res, Element
     return mesh;
   }
   if (spec.generator == "box") return makeBox(spec.origin, spec.size, res, type);
-  if (spec.generator == "beam") return makeBeam(spec.size[0], spec.size[1], spec.size[2], res, type);
+  if (spec.generator == "beam")
+    return makeBeam(spec.size[0], spec.size[1], spec.size[2], res, type);
   if (spec.generator == "hex_beam")
     return makeHexagonalBeam(spec.hex_side, spec.hex_length, res[0], res[1], type);
   return makeOrganBlob(spec.size, res[0], type);
@@ -278,8 +279,7 @@ CaseResult runTissueCase(const SceneConfig& scene, const CaseSpec& spec) {
   result.dofs = 3 * result.nodes;
   result.dt = scene.time_step;
 
-  auto integrator = makeCaseIntegrator(scene, spec.integrator, spec.solver,
-                                       scene.newton_tolerance);
+  auto integrator = makeCaseIntegrator(scene, spec.integrator, spec.solver, scene.newton_tolerance);
   const RunOutcome run = runLoading(scene, c, *integrator);
   result.steps = run.steps;
   result.ms_per_step = run.steps > 0 ? 1e3 * run.seconds / run.steps : 0.0;
@@ -307,7 +307,11 @@ CaseResult runTissueCase(const SceneConfig& scene, const CaseSpec& spec) {
     for (std::size_t i = 0; i < run.path_factors.size(); ++i) {
       const double l = 1.0 + run.path_factors[i] * unit / m.rest_length;
       const double exact = 0.5 * es0 * l * (l * l - 1.0);
-      const double err = std::abs(run.path_values[i] - exact) / (exact != 0.0 ? std::abs(exact) : f_peak);
+      const double err =
+          std::abs(run.path_values[i] - exact) / (exact != 0.0 ? std::abs(exact) : f_peak);
+      result.path_stretch.push_back(l);
+      result.path_force.push_back(run.path_values[i]);
+      result.path_exact.push_back(exact);
       if (err >= worst) {
         worst = err;
         result.measured = run.path_values[i];
@@ -340,8 +344,8 @@ std::string caseCsvRow(const std::string& scene_name, const CaseResult& r) {
   row << scene_name << "_" << toString(r.spec.element_type) << "_" << r.spec.resolution[0] << "x"
       << r.spec.resolution[1] << "x" << r.spec.resolution[2] << "," << r.spec.model << ","
       << r.spec.integrator << "," << r.spec.solver << "," << r.nodes << "," << r.elements << ","
-      << r.dofs << "," << r.dt << "," << r.ms_per_step << "," << r.steps << ","
-      << r.error_rel << "," << toString(r.status);
+      << r.dofs << "," << r.dt << "," << r.ms_per_step << "," << r.steps << "," << r.error_rel
+      << "," << toString(r.status);
   return row.str();
 }
 

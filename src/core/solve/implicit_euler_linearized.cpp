@@ -9,8 +9,9 @@
 
 namespace surgical_sim::core {
 
-ImplicitEulerLinearized::ImplicitEulerLinearized(std::unique_ptr<LinearSolver> linear_solver)
-    : solver_(std::move(linear_solver)) {
+ImplicitEulerLinearized::ImplicitEulerLinearized(std::unique_ptr<LinearSolver> linear_solver,
+                                                 int max_halvings)
+    : solver_(std::move(linear_solver)), max_halvings_(max_halvings) {
   if (!solver_) {
     throw std::invalid_argument("solver: implicit_euler_linearized needs a linear solver (null)");
   }
@@ -34,6 +35,27 @@ void ImplicitEulerLinearized::setUp(const TissueModel& model) {
   rhs_.setZero(size);
   dv_.setZero(size);
   product_.setZero(size);
+  start_.setZero(size);
+  direction_.setZero(size);
+  offset_.setZero(size);
+  last_x_.resize(0);
+}
+
+double ImplicitEulerLinearized::incrementalPotential(const DynamicsProblem& problem, double dt,
+                                                     const Eigen::VectorXd& x,
+                                                     double elastic_energy) {
+  const Eigen::VectorXd& mass = problem.model->lumpedMass();
+  const double alpha = problem.damping.mass_coefficient;
+  const double beta = problem.damping.stiffness_coefficient;
+  offset_ = x - x0_;  // x - x_n
+  double phi = elastic_energy - problem.external_force.dot(x);
+  phi += 0.5 * (mass.array() * (offset_ - dt * v0_).array().square()).sum() / (dt * dt);
+  if (alpha > 0.0) phi += 0.5 * alpha * (mass.array() * offset_.array().square()).sum() / dt;
+  if (beta > 0.0) {
+    product_.noalias() = stiffness_ * offset_;
+    phi += 0.5 * beta * offset_.dot(product_) / dt;
+  }
+  return phi;
 }
 
 StepReport ImplicitEulerLinearized::step(const DynamicsProblem& problem, double dt,
@@ -80,15 +102,38 @@ StepReport ImplicitEulerLinearized::step(const DynamicsProblem& problem, double 
   report.linear_iterations = solve.iterations;
   if (!solve.ok) return fail(dv_.allFinite() ? StepStatus::SolverFailed : StepStatus::NonFinite);
 
-  state.v += dv_;
-  state.x.noalias() += dt * state.v;
+  // Start point: x_n with the Dirichlet DOFs at their targets; direction: the Newton step.
+  start_ = x0_;
   for (size_t k = 0; k < bc.dofs.size(); ++k) {
-    state.x[bc.dofs[k]] = bc.positions[static_cast<Eigen::Index>(k)];
+    start_[bc.dofs[k]] = bc.positions[static_cast<Eigen::Index>(k)];
   }
-  const double energy = mechanicalEnergy(model, state.x, state.v, problem.external_force);
+  direction_ = x0_ + dt * (state.v + dv_) - start_;
+  for (int d : bc.dofs) direction_[d] = 0.0;
+  const double w_start = (last_x_.size() == start_.size() && last_x_ == start_)
+                             ? last_elastic_energy_
+                             : model.energy(start_);
+  const double phi_start = incrementalPotential(problem, dt, start_, w_start);
+  double step_length = 1.0;
+  double w_new = 0.0;
+  for (int halving = 0;; ++halving) {
+    state.x = start_ + step_length * direction_;
+    w_new = model.energy(state.x);
+    const double phi = incrementalPotential(problem, dt, state.x, w_new);
+    if (!std::isfinite(phi)) return fail(StepStatus::NonFinite);
+    if (phi <= phi_start + 1e-12 * (std::abs(phi_start) + std::abs(phi))) break;
+    if (halving >= max_halvings_) {
+      report.status = StepStatus::NotConverged;
+      break;
+    }
+    step_length *= 0.5;
+  }
+  state.v = (state.x - x0_) / dt;
+  const double energy = kineticEnergy(mass, state.v) + w_new - problem.external_force.dot(state.x);
   if (!state.x.allFinite() || !state.v.allFinite() || !std::isfinite(energy)) {
     return fail(StepStatus::NonFinite);
   }
+  last_x_ = state.x;
+  last_elastic_energy_ = w_new;
   state.time += dt;
   report.newton_iterations = 1;
   report.residual = solve.relative_residual;

@@ -17,7 +17,8 @@ std::unique_ptr<Integrator> makeIntegrator(const std::string& name,
     return std::make_unique<SymplecticEuler>(settings.blow_up_energy_ratio);
   }
   if (name == "implicit_euler_linearized") {
-    return std::make_unique<ImplicitEulerLinearized>(std::move(linear_solver));
+    return std::make_unique<ImplicitEulerLinearized>(std::move(linear_solver),
+                                                     settings.max_line_search_halvings);
   }
   if (name == "implicit_euler_newton") {
     return std::make_unique<ImplicitEulerNewton>(settings, std::move(linear_solver));

@@ -99,9 +99,9 @@ TEST(SceneConfig, UnknownChoicesAreNamed) {
 TEST(SceneConfig, BadResolutionsAndRegionsAreNamed) {
   expectRejected(replaced(kValidScene, "[[1, 1, 1]]", "[[0, 1, 1]]"), {"mesh.resolutions"});
   expectRejected(replaced(kValidScene, "[[1, 1, 1]]", "[[1, 1]]"), {"mesh.resolutions"});
-  expectRejected(replaced(kValidScene, "{max: [.inf, .inf, 1.0e-9]}",
-                          "{min: [1, 1, 1], max: [0, 0, 0]}"),
-                 {"fixed[0].region.min", "min exceeds max"});
+  expectRejected(
+      replaced(kValidScene, "{max: [.inf, .inf, 1.0e-9]}", "{min: [1, 1, 1], max: [0, 0, 0]}"),
+      {"fixed[0].region.min", "min exceeds max"});
 }
 
 TEST(SceneConfig, UniaxialMeasureNeedsPrescribedMotion) {
@@ -130,8 +130,8 @@ TEST(SceneConfig, MissingFileIsNamed) {
 
 TEST(SceneConfig, EveryShippedSceneLoads) {
   int count = 0;
-  for (const auto& entry :
-       std::filesystem::directory_iterator(std::string(SURGICAL_SIM_SOURCE_DIR) + "/config/scenes")) {
+  for (const auto& entry : std::filesystem::directory_iterator(
+           std::string(SURGICAL_SIM_SOURCE_DIR) + "/config/scenes")) {
     if (entry.path().extension() != ".yaml") continue;
     SCOPED_TRACE(entry.path().string());
     EXPECT_NO_THROW(loadSceneConfig(entry.path().string()));

@@ -25,8 +25,8 @@ struct Region {
 struct MeshSpec {
   std::string generator;  ///< "box", "beam", "hex_beam", "organ_blob" or "file"
   // box / beam / organ_blob
-  Eigen::Vector3d size = Eigen::Vector3d::Zero();  ///< box/beam edge lengths, blob semi-axes [m]
-  Eigen::Vector3d origin = Eigen::Vector3d::Zero();///< box min corner [m]
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();    ///< box/beam edge lengths, blob semi-axes [m]
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();  ///< box min corner [m]
   // hex_beam
   double hex_side = 0.0;    ///< side of the regular hexagon [m]
   double hex_length = 0.0;  ///< beam length along x [m]
@@ -60,11 +60,11 @@ struct MeasureSpec {
   /// "self_reference": final positions vs a tight Newton + CHOLMOD run of the same mesh.
   std::string type;
   Region region;
-  int component = 0;                 ///< 0 = x, 1 = y, 2 = z
-  std::optional<double> reference;   ///< tip_displacement reference [m] (sign included)
-  std::string reference_formula;     ///< or: "euler_bernoulli_timoshenko", "axial_self_weight"
-  double face_area = 0.0;            ///< uniaxial_svk_force: S0 [m^2]
-  double rest_length = 0.0;          ///< uniaxial_svk_force: L0 [m]
+  int component = 0;                ///< 0 = x, 1 = y, 2 = z
+  std::optional<double> reference;  ///< tip_displacement reference [m] (sign included)
+  std::string reference_formula;    ///< or: "euler_bernoulli_timoshenko", "axial_self_weight"
+  double face_area = 0.0;           ///< uniaxial_svk_force: S0 [m^2]
+  double rest_length = 0.0;         ///< uniaxial_svk_force: L0 [m]
 };
 
 /// A whole tissue scene, validated. Every physical key has a unit and no silent default.
@@ -80,13 +80,13 @@ struct SceneConfig {
   int steps = 1;                         ///< steps per case (quasi_static: load increments)
   std::vector<double> load_factors;      ///< load path (quasi-static stretch values etc.)
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  ///< body acceleration [m/s^2]
-  double damping_mass = 0.0;       ///< Rayleigh alpha [1/s]
-  double damping_stiffness = 0.0;  ///< Rayleigh beta [s]
+  double damping_mass = 0.0;                          ///< Rayleigh alpha [1/s]
+  double damping_stiffness = 0.0;                     ///< Rayleigh beta [s]
   int newton_max_iterations = 20;
   double newton_tolerance = 1e-8;  ///< relative residual [-]
   int pcg_max_iterations = 500;
-  double pcg_tolerance = 1e-6;     ///< relative residual [-]
-  int pcg_refresh_interval = 10;   ///< steps between preconditioner refreshes
+  double pcg_tolerance = 1e-6;    ///< relative residual [-]
+  int pcg_refresh_interval = 10;  ///< steps between preconditioner refreshes
   std::vector<FixedBc> fixed;
   std::vector<PrescribedBc> prescribed;
   MeasureSpec measure;

@@ -25,13 +25,15 @@ struct CaseResult {
   int nodes = 0;
   int elements = 0;
   int dofs = 0;
-  double dt = 0.0;              ///< [s]
-  double ms_per_step = 0.0;     ///< mean wall time of one integrator step [ms]
-  int steps = 0;                ///< integrator steps taken
-  double measured = 0.0;        ///< measured quantity (tip displacement [m] or force [N])
-  double reference = 0.0;       ///< its reference value
-  double error_rel = 0.0;       ///< relative error [-] (NaN when the case failed)
+  double dt = 0.0;                     ///< [s]
+  double ms_per_step = 0.0;            ///< mean wall time of one integrator step [ms]
+  int steps = 0;                       ///< integrator steps taken
+  double measured = 0.0;               ///< measured quantity (tip displacement [m] or force [N])
+  double reference = 0.0;              ///< its reference value
+  double error_rel = 0.0;              ///< relative error [-] (NaN when the case failed)
   StepStatus status = StepStatus::Ok;  ///< first non-Ok status, or Ok
+  /// uniaxial_svk_force only: stretch l [-], measured and exact force [N] at each load factor.
+  std::vector<double> path_stretch, path_force, path_exact;
 };
 
 /// All cases of a scene's sweep, in a stable order. Models that only support linear tets

@@ -17,8 +17,8 @@ struct RayleighDamping {
 /// Dirichlet boundary condition: listed DOFs (index into the 3n vector) follow prescribed
 /// positions. Imposed by projection (rows/columns of the system zeroed, unit diagonal).
 struct DirichletBc {
-  std::vector<int> dofs;     ///< constrained DOF indices, each in [0, 3n)
-  Eigen::VectorXd positions; ///< prescribed positions [m], same length as dofs
+  std::vector<int> dofs;      ///< constrained DOF indices, each in [0, 3n)
+  Eigen::VectorXd positions;  ///< prescribed positions [m], same length as dofs
 };
 
 /// Everything an integrator needs besides the state. Non-owning reference to the model.

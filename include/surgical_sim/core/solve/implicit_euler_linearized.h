@@ -18,10 +18,20 @@ namespace surgical_sim::core {
 /// with K = K(x_n) (TangentMode::ProjectedSpd) and C = alpha M + beta K. Dirichlet DOFs get the
 /// velocity (target - x_d) / dt before the solve (dv_d = 0 by projection), so x_d = target.
 /// A is assembled into a fixed pattern (SystemMatrix); the solver analyses it once per topology.
+///
+/// Energy safeguard: the step is the Newton step of the incremental potential
+///   Phi(x) = |x - x_n - dt v_n|_M^2 / (2 dt^2) + W(x) - f_ext.x + (x - x_n)^T C (x - x_n) / (2
+///   dt).
+/// If the full step raises Phi (a single linearization overshooting on a stiff or strongly
+/// nonlinear step), it is halved until Phi does not increase (at most max_line_search_halvings
+/// times; then the smallest step is kept and NotConverged returned). This keeps the scheme from
+/// creating energy; in ordinary steps the full step passes and costs one energy evaluation,
+/// which is reused for the report.
 class ImplicitEulerLinearized final : public Integrator {
  public:
   /// @throws std::invalid_argument naming "solver" if linear_solver is null
-  explicit ImplicitEulerLinearized(std::unique_ptr<LinearSolver> linear_solver);
+  /// @param max_halvings energy-safeguard halvings per step [-], >= 0
+  ImplicitEulerLinearized(std::unique_ptr<LinearSolver> linear_solver, int max_halvings);
 
   /// Returns "implicit_euler_linearized".
   std::string name() const override;
@@ -34,13 +44,21 @@ class ImplicitEulerLinearized final : public Integrator {
 
  private:
   void setUp(const TissueModel& model);
+  /// Phi at `x` (see the class comment), given W(x) [J].
+  double incrementalPotential(const DynamicsProblem& problem, double dt, const Eigen::VectorXd& x,
+                              double elastic_energy);
 
   std::unique_ptr<LinearSolver> solver_;
   const TissueModel* model_ = nullptr;
   SystemMatrix system_;
   Eigen::SparseMatrix<double> stiffness_;
   std::vector<std::uint8_t> mask_;
-  Eigen::VectorXd x0_, v0_, rhs_, dv_, product_;
+  int max_halvings_;
+  Eigen::VectorXd x0_, v0_, rhs_, dv_, product_, start_, direction_, offset_;
+  /// W at the end of the last step and where it was evaluated (reused when the next step starts
+  /// from the same positions, i.e. nothing moved the state in between).
+  Eigen::VectorXd last_x_;
+  double last_elastic_energy_ = 0.0;
 };
 
 }  // namespace surgical_sim::core
