@@ -19,7 +19,10 @@ ImplicitEulerLinearized::ImplicitEulerLinearized(std::unique_ptr<LinearSolver> l
 
 std::string ImplicitEulerLinearized::name() const { return "implicit_euler_linearized"; }
 
-void ImplicitEulerLinearized::reset() { model_ = nullptr; }
+void ImplicitEulerLinearized::reset() {
+  model_ = nullptr;
+  compliance_ready_ = false;
+}
 
 void ImplicitEulerLinearized::setUp(const TissueModel& model) {
   const Eigen::SparseMatrix<double>& pattern = model.stiffnessPattern();
@@ -38,6 +41,7 @@ void ImplicitEulerLinearized::setUp(const TissueModel& model) {
   start_.setZero(size);
   direction_.setZero(size);
   offset_.setZero(size);
+  compliance_rhs_.setZero(size);
   last_x_.resize(0);
 }
 
@@ -61,6 +65,7 @@ double ImplicitEulerLinearized::incrementalPotential(const DynamicsProblem& prob
 StepReport ImplicitEulerLinearized::step(const DynamicsProblem& problem, double dt,
                                          SimulationState& state) {
   StepReport report;
+  compliance_ready_ = false;
   if (findProblemError(problem, state) != nullptr || !std::isfinite(dt) || !(dt > 0.0)) {
     report.status = StepStatus::SolverFailed;
     return report;
@@ -134,11 +139,24 @@ StepReport ImplicitEulerLinearized::step(const DynamicsProblem& problem, double 
   }
   last_x_ = state.x;
   last_elastic_energy_ = w_new;
+  last_dt_ = dt;
+  compliance_ready_ = true;
   state.time += dt;
   report.newton_iterations = 1;
   report.residual = solve.relative_residual;
   report.energy = energy;
   return report;
+}
+
+bool ImplicitEulerLinearized::applyStepCompliance(const Eigen::VectorXd& f, Eigen::VectorXd& dx) {
+  if (!compliance_ready_ || f.size() != compliance_rhs_.size()) return false;
+  compliance_rhs_ = (last_dt_ * last_dt_) * f;
+  for (Eigen::Index i = 0; i < f.size(); ++i) {
+    if (mask_[static_cast<size_t>(i)] != 0) compliance_rhs_[i] = 0.0;
+  }
+  dx.setZero(f.size());
+  const LinearSolveReport solve = solver_->solve(compliance_rhs_, dx);
+  return solve.ok && dx.allFinite();
 }
 
 }  // namespace surgical_sim::core

@@ -32,7 +32,10 @@ ImplicitEulerNewton::ImplicitEulerNewton(const IntegratorSettings& settings,
 
 std::string ImplicitEulerNewton::name() const { return "implicit_euler_newton"; }
 
-void ImplicitEulerNewton::reset() { model_ = nullptr; }
+void ImplicitEulerNewton::reset() {
+  model_ = nullptr;
+  compliance_ = Compliance::Unavailable;
+}
 
 void ImplicitEulerNewton::setUp(const TissueModel& model) {
   const Eigen::SparseMatrix<double>& pattern = model.stiffnessPattern();
@@ -44,10 +47,12 @@ void ImplicitEulerNewton::setUp(const TissueModel& model) {
   system_.setPattern(stiffness_);
   solver_->analyzePattern(system_.matrix());
   mask_.assign(static_cast<size_t>(size), 0);
-  for (Eigen::VectorXd* v : {&x0_, &v0_, &x_hat_, &force_, &residual_, &rhs_, &dx_, &trial_,
-                             &offset_, &damping_product_, &work_}) {
+  for (Eigen::VectorXd* v :
+       {&x0_, &v0_, &x_hat_, &force_, &residual_, &rhs_, &dx_, &trial_, &offset_, &damping_product_,
+        &work_, &compliance_x_, &compliance_rhs_}) {
     v->setZero(size);
   }
+  compliance_ = Compliance::Unavailable;
 }
 
 void ImplicitEulerNewton::applyFrozenDamping(const DynamicsProblem& problem,
@@ -122,6 +127,7 @@ bool ImplicitEulerNewton::newtonDirection(const DynamicsProblem& problem, double
 StepReport ImplicitEulerNewton::step(const DynamicsProblem& problem, double dt,
                                      SimulationState& state) {
   StepReport report;
+  compliance_ = Compliance::Unavailable;
   if (findProblemError(problem, state) != nullptr || !std::isfinite(dt) || !(dt > 0.0)) {
     report.status = StepStatus::SolverFailed;
     return report;
@@ -194,8 +200,45 @@ StepReport ImplicitEulerNewton::step(const DynamicsProblem& problem, double dt,
     return fail(StepStatus::NonFinite);
   }
   state.time += dt;
+  compliance_x_ = state.x;
+  last_dt_ = dt;
+  last_damping_ = problem.damping;
+  compliance_ = Compliance::Stale;
   report.energy = energy;
   return report;
+}
+
+bool ImplicitEulerNewton::factorizeCompliance() {
+  const double dt = last_dt_;
+  for (const TangentMode mode : {TangentMode::Exact, TangentMode::ProjectedSpd}) {
+    model_->assembleStiffness(compliance_x_, mode, stiffness_);
+    system_.assemble(model_->lumpedMass(), 1.0 + dt * last_damping_.mass_coefficient, stiffness_,
+                     dt * dt);
+    if (last_damping_.stiffness_coefficient > 0.0) {
+      system_.addStiffness(damping_stiffness_, dt * last_damping_.stiffness_coefficient);
+    }
+    system_.projectDirichlet(mask_);
+    if (solver_->factorize(system_.matrix())) return true;
+  }
+  return false;
+}
+
+bool ImplicitEulerNewton::applyStepCompliance(const Eigen::VectorXd& f, Eigen::VectorXd& dx) {
+  if (compliance_ == Compliance::Unavailable || f.size() != compliance_x_.size()) return false;
+  if (compliance_ == Compliance::Stale) {
+    if (!factorizeCompliance()) {
+      compliance_ = Compliance::Unavailable;
+      return false;
+    }
+    compliance_ = Compliance::Factorized;
+  }
+  compliance_rhs_ = (last_dt_ * last_dt_) * f;
+  for (Eigen::Index i = 0; i < f.size(); ++i) {
+    if (mask_[static_cast<size_t>(i)] != 0) compliance_rhs_[i] = 0.0;
+  }
+  dx.setZero(f.size());
+  const LinearSolveReport solve = solver_->solve(compliance_rhs_, dx);
+  return solve.ok && dx.allFinite();
 }
 
 }  // namespace surgical_sim::core

@@ -30,7 +30,10 @@ QuasiStaticNewton::QuasiStaticNewton(const IntegratorSettings& settings,
 
 std::string QuasiStaticNewton::name() const { return "quasi_static"; }
 
-void QuasiStaticNewton::reset() { model_ = nullptr; }
+void QuasiStaticNewton::reset() {
+  model_ = nullptr;
+  compliance_ = Compliance::Unavailable;
+}
 
 void QuasiStaticNewton::setUp(const TissueModel& model) {
   const Eigen::SparseMatrix<double>& pattern = model.stiffnessPattern();
@@ -42,9 +45,10 @@ void QuasiStaticNewton::setUp(const TissueModel& model) {
   solver_->analyzePattern(system_.matrix());
   mask_.assign(static_cast<size_t>(size), 0);
   for (Eigen::VectorXd* v : {&x0_, &v0_, &previous_load_, &load_, &targets_, &internal_, &residual_,
-                             &rhs_, &dx_, &trial_, &work_}) {
+                             &rhs_, &dx_, &trial_, &work_, &compliance_x_, &compliance_rhs_}) {
     v->setZero(size);
   }
+  compliance_ = Compliance::Unavailable;
 }
 
 double QuasiStaticNewton::computeResidual(const DynamicsProblem& problem, const Eigen::VectorXd& x,
@@ -124,6 +128,7 @@ StepStatus QuasiStaticNewton::solveIncrement(const DynamicsProblem& problem, Eig
 StepReport QuasiStaticNewton::step(const DynamicsProblem& problem, double dt,
                                    SimulationState& state) {
   StepReport report;
+  compliance_ = Compliance::Unavailable;
   if (findProblemError(problem, state) != nullptr || !std::isfinite(dt)) {
     report.status = StepStatus::SolverFailed;
     return report;
@@ -175,9 +180,39 @@ StepReport QuasiStaticNewton::step(const DynamicsProblem& problem, double dt,
   }
   if (status == StepStatus::Ok) previous_load_ = problem.external_force;
   state.time += dt;
+  compliance_x_ = state.x;
+  compliance_ = Compliance::Stale;
   report.status = status;
   report.energy = energy;
   return report;
+}
+
+bool QuasiStaticNewton::factorizeCompliance() {
+  for (const TangentMode mode : {TangentMode::Exact, TangentMode::ProjectedSpd}) {
+    model_->assembleStiffness(compliance_x_, mode, stiffness_);
+    system_.assemble(model_->lumpedMass(), 0.0, stiffness_, 1.0);
+    system_.projectDirichlet(mask_);
+    if (solver_->factorize(system_.matrix())) return true;
+  }
+  return false;
+}
+
+bool QuasiStaticNewton::applyStepCompliance(const Eigen::VectorXd& f, Eigen::VectorXd& dx) {
+  if (compliance_ == Compliance::Unavailable || f.size() != compliance_x_.size()) return false;
+  if (compliance_ == Compliance::Stale) {
+    if (!factorizeCompliance()) {
+      compliance_ = Compliance::Unavailable;
+      return false;
+    }
+    compliance_ = Compliance::Factorized;
+  }
+  compliance_rhs_ = f;
+  for (Eigen::Index i = 0; i < f.size(); ++i) {
+    if (mask_[static_cast<size_t>(i)] != 0) compliance_rhs_[i] = 0.0;
+  }
+  dx.setZero(f.size());
+  const LinearSolveReport solve = solver_->solve(compliance_rhs_, dx);
+  return solve.ok && dx.allFinite();
 }
 
 }  // namespace surgical_sim::core

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "surgical_sim/core/common/validate.h"
+#include "surgical_sim/core/solve/dirichlet_projection.h"
 #include "surgical_sim/core/solve/dynamics_problem_check.h"
 #include "surgical_sim/core/solve/mechanical_energy.h"
 
@@ -19,6 +20,7 @@ std::string SymplecticEuler::name() const { return "symplectic_euler"; }
 void SymplecticEuler::reset() {
   model_ = nullptr;
   energy_initialized_ = false;
+  compliance_ready_ = false;
 }
 
 void SymplecticEuler::setUp(const TissueModel& model) {
@@ -33,6 +35,8 @@ void SymplecticEuler::setUp(const TissueModel& model) {
   split_.setZero(size);
   last_x_.setZero(size);
   last_v_.setZero(size);
+  mask_.assign(static_cast<size_t>(size), 0);
+  compliance_ready_ = false;
   energy_scale_ = 0.0;
   Eigen::Vector3d lower = Eigen::Vector3d::Constant(0.0);
   Eigen::Vector3d upper = Eigen::Vector3d::Constant(0.0);
@@ -48,12 +52,14 @@ void SymplecticEuler::setUp(const TissueModel& model) {
 StepReport SymplecticEuler::step(const DynamicsProblem& problem, double dt,
                                  SimulationState& state) {
   StepReport report;
+  compliance_ready_ = false;
   if (findProblemError(problem, state) != nullptr || !std::isfinite(dt) || !(dt > 0.0)) {
     report.status = StepStatus::SolverFailed;
     return report;
   }
   const TissueModel& model = *problem.model;
   if (model_ != &model || x0_.size() != state.x.size()) setUp(model);
+  markDirichletDofs(problem.dirichlet.dofs, mask_);
   const Eigen::VectorXd& mass = model.lumpedMass();
   const Eigen::VectorXd& f_ext = problem.external_force;
   const DirichletBc& bc = problem.dirichlet;
@@ -131,8 +137,20 @@ StepReport SymplecticEuler::step(const DynamicsProblem& problem, double dt,
   last_x_ = state.x;
   last_v_ = state.v;
   state.time += dt;
+  last_dt_ = dt;
+  compliance_ready_ = true;
   report.energy = energy;
   return report;
+}
+
+bool SymplecticEuler::applyStepCompliance(const Eigen::VectorXd& f, Eigen::VectorXd& dx) {
+  if (!compliance_ready_ || f.size() != x0_.size()) return false;
+  dx.resize(f.size());
+  dx.array() = (last_dt_ * last_dt_) * f.array() / model_->lumpedMass().array();
+  for (Eigen::Index i = 0; i < dx.size(); ++i) {
+    if (mask_[static_cast<size_t>(i)] != 0) dx[i] = 0.0;
+  }
+  return true;
 }
 
 }  // namespace surgical_sim::core

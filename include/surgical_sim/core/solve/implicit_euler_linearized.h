@@ -41,6 +41,10 @@ class ImplicitEulerLinearized final : public Integrator {
   StepReport step(const DynamicsProblem& problem, double dt, SimulationState& state) override;
   /// Forgets the pattern and buffers (next step re-analyses).
   void reset() override;
+  /// dx = dt^2 A^-1 f with the last step's projected system matrix A = M + dt C + dt^2 K(x_n)
+  /// (its factorization is reused: one solve, no assembly). 0 on the last step's Dirichlet DOFs.
+  /// When the energy safeguard shortened the last step, this is the response of the full step.
+  bool applyStepCompliance(const Eigen::VectorXd& f, Eigen::VectorXd& dx) override;
 
  private:
   void setUp(const TissueModel& model);
@@ -59,6 +63,9 @@ class ImplicitEulerLinearized final : public Integrator {
   /// from the same positions, i.e. nothing moved the state in between).
   Eigen::VectorXd last_x_;
   double last_elastic_energy_ = 0.0;
+  Eigen::VectorXd compliance_rhs_;  ///< dt^2 f, projected (applyStepCompliance work vector)
+  double last_dt_ = 0.0;            ///< dt of the last successful step [s]
+  bool compliance_ready_ = false;   ///< the factorization belongs to a successful last step
 };
 
 }  // namespace surgical_sim::core

@@ -42,6 +42,11 @@ class ImplicitEulerNewton final : public Integrator {
   StepReport step(const DynamicsProblem& problem, double dt, SimulationState& state) override;
   /// Forgets the pattern and buffers (next step re-analyses).
   void reset() override;
+  /// dx = dt^2 A^-1 f with A = (1 + dt alpha) M + dt^2 K(x_{n+1}) + dt beta K(x_n) at the last
+  /// iterate x_{n+1} (Exact tangent, ProjectedSpd if that is not positive definite), projected.
+  /// The first call after a step assembles and factorizes A once; later calls only solve.
+  /// 0 on the last step's Dirichlet DOFs. Available after Ok and NotConverged steps.
+  bool applyStepCompliance(const Eigen::VectorXd& f, Eigen::VectorXd& dx) override;
 
  private:
   void setUp(const TissueModel& model);
@@ -68,6 +73,20 @@ class ImplicitEulerNewton final : public Integrator {
   Eigen::VectorXd x0_, v0_, x_hat_, force_, residual_, rhs_, dx_, trial_, offset_, damping_product_,
       work_;
   double stiffness_round_off_ = 0.0;  ///< || |K| |x| || of the last assembly [N]
+
+  /// State of the step compliance operator.
+  enum class Compliance {
+    Unavailable,  ///< no usable step since setUp / reset, or the last step failed
+    Stale,        ///< a step finished; the factorization is not yet the one at its end point
+    Factorized,   ///< the solver holds the factorization of the compliance matrix
+  };
+  /// Assembles and factorizes the compliance matrix at compliance_x_. Returns false on failure.
+  bool factorizeCompliance();
+  Compliance compliance_ = Compliance::Unavailable;
+  Eigen::VectorXd compliance_x_;    ///< end point of the last step [m], size 3n
+  Eigen::VectorXd compliance_rhs_;  ///< projected right-hand side (work vector), size 3n
+  double last_dt_ = 0.0;            ///< dt of the last usable step [s]
+  RayleighDamping last_damping_;    ///< damping of the last usable step
 };
 
 }  // namespace surgical_sim::core

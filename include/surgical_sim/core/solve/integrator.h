@@ -1,5 +1,6 @@
 #pragma once
 
+#include <Eigen/Core>
 #include <string>
 
 #include "surgical_sim/core/common/status.h"
@@ -20,6 +21,18 @@ class Integrator {
   virtual StepReport step(const DynamicsProblem& problem, double dt, SimulationState& state) = 0;
   /// Forget cached factorizations / patterns (call after a topology change).
   virtual void reset() = 0;
+  /// Step compliance: after a successful step(), dx = d(x_{n+1}) / d(f_ext) f, the position
+  /// response of the last step to an extra constant nodal force f added to f_ext [m per N].
+  /// Exact forms: symplectic Euler dt^2 M^-1 f; linearized implicit Euler dt^2 A^-1 f with
+  /// A = M + dt C + dt^2 K(x_n) the step's system matrix; Newton implicit Euler dt^2 A^-1 f with A
+  /// at the last iterate; quasi-static K^-1 f with the tangent at the equilibrium found.
+  /// Dirichlet DOFs of the last step get 0. This is the operator S of the contact
+  /// (free-motion / correction) loop: W = H S H^T.
+  /// @param f extra nodal force [N], size 3n, in the tissue frame
+  /// @param dx position response [m], resized to 3n (allocation-free once it has that size)
+  /// @return false (dx then unspecified) if unavailable: no usable step since construction or
+  ///         reset(), a failed last step, a size mismatch, or a failed solve. Never throws.
+  virtual bool applyStepCompliance(const Eigen::VectorXd& f, Eigen::VectorXd& dx) = 0;
 };
 
 }  // namespace surgical_sim::core

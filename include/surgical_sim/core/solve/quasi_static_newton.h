@@ -45,6 +45,11 @@ class QuasiStaticNewton final : public Integrator {
   StepReport step(const DynamicsProblem& problem, double dt, SimulationState& state) override;
   /// Forgets pattern, buffers and the previous load (taken as zero again).
   void reset() override;
+  /// dx = K^-1 f with the tangent K at the equilibrium found by the last step (Exact tangent,
+  /// ProjectedSpd if that is not positive definite), projected. The first call after a step
+  /// assembles and factorizes K once; later calls only solve. 0 on the last step's Dirichlet
+  /// DOFs. Available after Ok and NotConverged steps.
+  bool applyStepCompliance(const Eigen::VectorXd& f, Eigen::VectorXd& dx) override;
 
  private:
   void setUp(const TissueModel& model);
@@ -69,6 +74,18 @@ class QuasiStaticNewton final : public Integrator {
   Eigen::VectorXd x0_, v0_, previous_load_, load_, targets_, internal_, residual_, rhs_, dx_,
       trial_, work_;
   double stiffness_round_off_ = 0.0;  ///< || |K| |x| || of the last assembly [N]
+
+  /// State of the step compliance operator.
+  enum class Compliance {
+    Unavailable,  ///< no usable step since setUp / reset, or the last step failed
+    Stale,        ///< a step finished; the factorization is not yet the one at its end point
+    Factorized,   ///< the solver holds the factorization of the compliance matrix
+  };
+  /// Assembles and factorizes the compliance matrix at compliance_x_. Returns false on failure.
+  bool factorizeCompliance();
+  Compliance compliance_ = Compliance::Unavailable;
+  Eigen::VectorXd compliance_x_;    ///< end point of the last step [m], size 3n
+  Eigen::VectorXd compliance_rhs_;  ///< projected right-hand side (work vector), size 3n
 };
 
 }  // namespace surgical_sim::core

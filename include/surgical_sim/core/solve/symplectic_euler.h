@@ -1,7 +1,9 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "surgical_sim/core/solve/integrator.h"
 
@@ -31,6 +33,8 @@ class SymplecticEuler final : public Integrator {
   StepReport step(const DynamicsProblem& problem, double dt, SimulationState& state) override;
   /// Forgets buffers and the energy reference (the next step re-initializes them).
   void reset() override;
+  /// dx = dt^2 M^-1 f (the explicit step's exact response), 0 on the last step's Dirichlet DOFs.
+  bool applyStepCompliance(const Eigen::VectorXd& f, Eigen::VectorXd& dx) override;
 
  private:
   void setUp(const TissueModel& model);
@@ -43,6 +47,9 @@ class SymplecticEuler final : public Integrator {
   double energy_budget_ = 0.0;          ///< upper bound of the total energy [J]
   double energy_scale_ = 0.0;           ///< largest energy magnitude seen [J]
   bool energy_initialized_ = false;
+  std::vector<std::uint8_t> mask_;  ///< Dirichlet mask of the last step, size 3n
+  double last_dt_ = 0.0;            ///< dt of the last successful step [s]
+  bool compliance_ready_ = false;   ///< a step succeeded since setUp / reset
 };
 
 }  // namespace surgical_sim::core

@@ -1,0 +1,118 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "surgical_sim/core/common/status.h"
+#include "surgical_sim/core/contact/contact_detector.h"
+#include "surgical_sim/core/contact/contact_point.h"
+#include "surgical_sim/core/contact/contact_solver.h"
+#include "surgical_sim/core/contact/grasp_constraint.h"
+#include "surgical_sim/core/contact/proxy_contact.h"
+#include "surgical_sim/core/contact/surface_bvh.h"
+#include "surgical_sim/core/contact/tool_capsule.h"
+#include "surgical_sim/core/mesh/surface.h"
+#include "surgical_sim/core/solve/dynamics_problem.h"
+#include "surgical_sim/core/solve/integrator.h"
+#include "surgical_sim/core/tissue/tissue_model.h"
+
+namespace surgical_sim::core {
+
+/// How a tool's contact is answered.
+enum class ContactResponse {
+  Constraint,  ///< unilateral constraints through the step compliance (ContactSolver)
+  Proxy,       ///< god-object proxy spring (ProxyContact)
+};
+
+/// One tool of a scene. Physical parameters have no defaults (NaN fails validation).
+struct ToolSettings {
+  double radius = std::numeric_limits<double>::quiet_NaN();        ///< [m], > 0
+  double shaft_length = std::numeric_limits<double>::quiet_NaN();  ///< [m], >= 0
+  ContactResponse response = ContactResponse::Constraint;
+  double proxy_stiffness = std::numeric_limits<double>::quiet_NaN();  ///< Proxy only [N/m], > 0
+  double grasp_radius = std::numeric_limits<double>::quiet_NaN();     ///< [m], > 0
+};
+
+/// Settings of the contact phase.
+struct ContactPhaseSettings {
+  std::vector<ToolSettings> tools;  ///< at least one
+  ContactDetectorSettings detector;
+  ContactSolverSettings solver;
+};
+
+/// Wall time of the contact phase of the last step [ms].
+struct ContactTimings {
+  double collision_ms = 0.0;  ///< BVH refit + narrow phase
+  double contact_ms = 0.0;    ///< constraint solve / proxy update, correction, linearization
+};
+
+/// Contact facade used by the simulator; construct it only when the scene has tools (a tool-less
+/// scene builds nothing and its contact phase costs zero). Per step:
+///   contact.setToolPose(i, X_ST); contact.setGrasp(i, closed);        // inputs, any time
+///   contact.prepareStep(state.x, f_base, bc_base, problem.external_force, problem.dirichlet);
+///   integrator.step(problem, dt, state);                               // free motion
+///   contact.finishStep(integrator, model, dt, state);                  // detect, solve, correct
+///   contact.linearization(i), contact.timings()                        // outputs
+/// All quantities in the tissue frame S. prepareStep/finishStep never throw and allocate nothing
+/// in steady state (buffers grow only when more contacts or grasped nodes appear than before).
+class ContactPhase {
+ public:
+  /// @param surface the tissue surface (volume node indices)
+  /// @param rest rest positions [m], size 3n, in S (BVH construction)
+  /// @param update_velocity false for quasi-static integrators
+  /// @throws std::invalid_argument naming "contact.tools" (empty), "tool.*" or "contact.*"
+  ContactPhase(const SurfaceMesh& surface, const Eigen::VectorXd& rest,
+               const ContactPhaseSettings& settings, bool update_velocity);
+
+  int numTools() const { return static_cast<int>(tools_.size()); }
+  /// Sets tool `tool`'s tip pose X_ST. Returns false (pose kept) for a bad index or NaN/Inf.
+  bool setToolPose(int tool, const Eigen::Isometry3d& X_ST);
+  /// Requests the jaws of tool `tool` closed or open (applied at the next prepareStep).
+  void setGrasp(int tool, bool closed);
+
+  /// Before Integrator::step: updates grasps at positions x; writes
+  /// external_force = base_force + carried constraint force + proxy forces and
+  /// dirichlet = base_dirichlet + grasped nodes at their targets.
+  void prepareStep(const Eigen::VectorXd& x, const Eigen::VectorXd& base_force,
+                   const DirichletBc& base_dirichlet, Eigen::VectorXd& external_force,
+                   DirichletBc& dirichlet);
+  /// After Integrator::step (state = free motion): refits the BVH, detects, solves the
+  /// constraints and corrects state, updates proxies and the per-tool linearizations.
+  /// Returns the contact solver's status (Ok when no constraint tool touches).
+  StepStatus finishStep(Integrator& integrator, const TissueModel& model, double dt,
+                        SimulationState& state);
+
+  const ContactLinearization& linearization(int tool) const;
+  const ContactTimings& timings() const { return timings_; }
+  /// Contacts of the constraint tools found in the last step.
+  const std::vector<ContactPoint>& contacts() const { return contacts_; }
+  const ContactSolver& solver() const { return solver_; }
+
+ private:
+  struct Tool {
+    ToolCapsule capsule;
+    ContactResponse response;
+    std::optional<ProxyContact> proxy;
+    GraspConstraint grasp;
+    bool grasp_requested = false;
+    ContactLinearization linearization;
+  };
+
+  Eigen::Matrix3Xi triangles_;
+  std::vector<int> surface_nodes_;
+  bool update_velocity_;
+  SurfaceBvh bvh_;
+  ContactDetector detector_;
+  ContactSolver solver_;
+  std::vector<Tool> tools_;
+  std::vector<ContactPoint> contacts_;
+  std::vector<std::uint8_t> fixed_mask_;
+  Eigen::VectorXd applied_force_;   ///< constraint force applied in the current free step [N]
+  Eigen::VectorXd internal_force_;  ///< work vector for grasp forces [N]
+  ContactTimings timings_;
+};
+
+}  // namespace surgical_sim::core

@@ -1,0 +1,100 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "surgical_sim/core/common/status.h"
+#include "surgical_sim/core/contact/contact_point.h"
+#include "surgical_sim/core/contact/projected_gauss_seidel.h"
+#include "surgical_sim/core/solve/dynamics_problem.h"
+#include "surgical_sim/core/solve/integrator.h"
+
+namespace surgical_sim::core {
+
+/// Settings of ContactSolver. Numerical choices with documented defaults.
+struct ContactSolverSettings {
+  int max_iterations = 200;  ///< projected Gauss-Seidel sweeps per step [-], in [1, 100000]
+  /// Converged when the LCP min-map residual is below relative_tolerance x max_i |q_i|
+  /// (q: free gaps) [-], in (0, 1).
+  double relative_tolerance = 1e-8;
+};
+
+/// @throws std::invalid_argument naming "contact.solver.max_iterations" or
+///         "contact.solver.relative_tolerance"
+void validateContactSolverSettings(const ContactSolverSettings& settings);
+
+/// Unilateral contact constraints solved through the compliance of the implicit step, in the
+/// spirit of SOFA's free-motion / correction loop:
+///  1. the integrator takes the free step x_free, with the contact force of the previous step F_a
+///     (applied_force, may be zero) already in its external force;
+///  2. H has one row per contact, n^T times the barycentric weights on the triangle's 3 nodes;
+///     S = Integrator::applyStepCompliance (one call per contact column), W = H S H^T [m/N];
+///  3. the LCP 0 <= lambda _|_ q + W lambda >= 0 with q = g_free - H S F_a is solved by
+///     projected Gauss-Seidel (lambda [N]: the new contact force replaces F_a);
+///  4. correction dx = S (H^T lambda - F_a): x += dx, v += dx / dt.
+/// tissueForce() = H^T lambda is the force on the tissue to carry into the next free step; the
+/// force of the tissue on tool t is -sum_{i of t} lambda_i n_i.
+///
+/// Friction (not implemented): two tangent rows per contact with the same node weights and
+/// Coulomb cone projection in the Gauss-Seidel sweep fit this row structure unchanged.
+class ContactSolver {
+ public:
+  /// @param max_contacts largest number of contacts solve() will see (all tools), >= 1
+  /// @throws std::invalid_argument (validateContactSolverSettings) or naming
+  ///         "contact.max_contacts"
+  ContactSolver(const ContactSolverSettings& settings, int max_contacts);
+
+  /// Solves the contacts (gaps measured at the free positions state.x) and corrects state.
+  /// @param integrator integrator that just took the free step (its step compliance is used)
+  /// @param contacts at most max_contacts contacts, in S
+  /// @param applied_force contact force already applied during the free step [N], size 3n
+  /// @param dt step [s] (> 0) for the velocity correction
+  /// @param update_velocity false for quasi-static integrators (v stays 0)
+  /// @return Ok; NotConverged (state corrected with the last iterate) if the Gauss-Seidel
+  ///         iteration limit was reached; SolverFailed (state untouched, zero force) if the step
+  ///         compliance is unavailable or contacts exceed max_contacts. Never throws;
+  ///         allocation-free after the first call with a given size 3n.
+  StepStatus solve(Integrator& integrator, const std::vector<ContactPoint>& contacts,
+                   const Eigen::VectorXd& applied_force, double dt, bool update_velocity,
+                   SimulationState& state);
+
+  /// H^T lambda of the last solve [N], size 3n, in S (zero before the first solve).
+  const Eigen::VectorXd& tissueForce() const { return tissue_force_; }
+  /// Force of the tissue on tool `tool` [N], in S: -sum lambda_i n_i over its contacts.
+  Eigen::Vector3d toolForce(int tool) const;
+  /// Local linearization of tool `tool` at tip p0_S [m]: f0 = toolForce(tool) and
+  /// K = -N_t [W_AA^-1]_tt N_t^T on the active set A = {lambda_i > 0} (other tools held fixed);
+  /// pushing the tool along a contact normal n (further in) changes the force by -n/W per metre.
+  /// Allocation-free. out.in_contact is false (f0 = 0, K = 0) without an active contact.
+  void linearize(int tool, const Eigen::Vector3d& p0_S, ContactLinearization& out);
+  /// Multipliers lambda [N] of the last solve, one per contact.
+  Eigen::Ref<const Eigen::VectorXd> multipliers() const { return lambda_.head(count_); }
+  /// Delassus operator W = H S H^T [m/N] of the last solve, count x count.
+  Eigen::Ref<const Eigen::MatrixXd> delassus() const { return W_.topLeftCorner(count_, count_); }
+  /// Free gaps with the carried force removed, q [m], of the last solve.
+  Eigen::Ref<const Eigen::VectorXd> freeGaps() const { return q_.head(count_); }
+  /// Report of the last Gauss-Seidel solve.
+  const PgsReport& report() const { return report_; }
+
+ private:
+  void resize(Eigen::Index size);
+  /// h_i^T v for contact i.
+  double rowDot(const ContactPoint& contact, const Eigen::VectorXd& v) const;
+  /// v += scale h_i.
+  static void addColumn(const ContactPoint& contact, double scale, Eigen::VectorXd& v);
+
+  ContactSolverSettings settings_;
+  int max_contacts_;
+  Eigen::Index count_ = 0;
+  Eigen::MatrixXd W_;                  ///< max x max, top-left count x count used
+  Eigen::MatrixXd factor_;             ///< max x max, W_AA factorization work space
+  Eigen::MatrixXd normals_;            ///< max x 3, rows n_i^T of the tool being linearized
+  Eigen::VectorXd q_, lambda_, work_;  ///< max
+  std::vector<int> active_;            ///< active contact indices (capacity max)
+  std::vector<int> tools_;             ///< tool of each contact of the last solve
+  Eigen::Matrix3Xd contact_normals_;   ///< 3 x max, n_i of the last solve
+  Eigen::VectorXd tissue_force_, column_, response_, carried_, correction_;  ///< 3n
+  PgsReport report_;
+};
+
+}  // namespace surgical_sim::core

@@ -1,0 +1,141 @@
+#include "surgical_sim/core/contact/contact_phase.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "surgical_sim/core/common/stopwatch.h"
+#include "surgical_sim/core/common/validate.h"
+#include "surgical_sim/core/solve/dirichlet_projection.h"
+
+namespace surgical_sim::core {
+namespace {
+
+/// BVH leaf inflation as a fraction of the mean surface edge length [-].
+constexpr double kFatMarginPerEdge = 0.1;
+
+double meanEdgeLength(const Eigen::Matrix3Xi& triangles, const Eigen::VectorXd& x) {
+  double sum = 0.0;
+  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      sum +=
+          (x.segment<3>(3 * triangles(k, t)) - x.segment<3>(3 * triangles((k + 1) % 3, t))).norm();
+    }
+  }
+  return triangles.cols() > 0 ? sum / (3.0 * static_cast<double>(triangles.cols())) : 0.0;
+}
+
+int checkedToolCount(const ContactPhaseSettings& settings) {
+  if (settings.tools.empty()) {
+    throw std::invalid_argument(
+        "contact.tools: a contact phase needs at least one tool (build none for a tool-less "
+        "scene)");
+  }
+  return static_cast<int>(settings.tools.size());
+}
+
+}  // namespace
+
+ContactPhase::ContactPhase(const SurfaceMesh& surface, const Eigen::VectorXd& rest,
+                           const ContactPhaseSettings& settings, bool update_velocity)
+    : triangles_(surface.triangles),
+      surface_nodes_(surface.nodes),
+      update_velocity_(update_velocity),
+      bvh_(surface.triangles, rest, kFatMarginPerEdge * meanEdgeLength(surface.triangles, rest)),
+      detector_(settings.detector),
+      solver_(settings.solver, checkedToolCount(settings) * settings.detector.max_contacts) {
+  for (const ToolSettings& tool : settings.tools) {
+    Tool entry{ToolCapsule(tool.radius, tool.shaft_length), tool.response, std::nullopt,
+               GraspConstraint(tool.grasp_radius),          false,         ContactLinearization()};
+    if (tool.response == ContactResponse::Proxy) entry.proxy.emplace(tool.proxy_stiffness);
+    tools_.push_back(std::move(entry));
+  }
+  contacts_.reserve(static_cast<size_t>(numTools() * settings.detector.max_contacts));
+  fixed_mask_.assign(static_cast<size_t>(rest.size()), 0);
+  applied_force_.setZero(rest.size());
+  internal_force_.setZero(rest.size());
+}
+
+bool ContactPhase::setToolPose(int tool, const Eigen::Isometry3d& X_ST) {
+  if (tool < 0 || tool >= numTools()) return false;
+  return tools_[static_cast<size_t>(tool)].capsule.setPose(X_ST);
+}
+
+void ContactPhase::setGrasp(int tool, bool closed) {
+  if (tool < 0 || tool >= numTools()) return;
+  tools_[static_cast<size_t>(tool)].grasp_requested = closed;
+}
+
+const ContactLinearization& ContactPhase::linearization(int tool) const {
+  return tools_[static_cast<size_t>(std::clamp(tool, 0, numTools() - 1))].linearization;
+}
+
+void ContactPhase::prepareStep(const Eigen::VectorXd& x, const Eigen::VectorXd& base_force,
+                               const DirichletBc& base_dirichlet, Eigen::VectorXd& external_force,
+                               DirichletBc& dirichlet) {
+  markDirichletDofs(base_dirichlet.dofs, fixed_mask_);
+  dirichlet.dofs.assign(base_dirichlet.dofs.begin(), base_dirichlet.dofs.end());
+  for (Tool& tool : tools_) {
+    tool.grasp.update(tool.grasp_requested, tool.capsule.pose(), surface_nodes_, x, fixed_mask_);
+    tool.grasp.appendDofs(dirichlet.dofs);
+  }
+  const auto total = static_cast<Eigen::Index>(dirichlet.dofs.size());
+  if (dirichlet.positions.size() != total) dirichlet.positions.resize(total);
+  Eigen::Index offset = base_dirichlet.positions.size();
+  dirichlet.positions.head(offset) = base_dirichlet.positions;
+  for (const Tool& tool : tools_) {
+    tool.grasp.writeTargets(tool.capsule.pose(),
+                            dirichlet.positions.segment(offset, tool.grasp.numDofs()));
+    offset += tool.grasp.numDofs();
+  }
+  external_force = base_force;
+  if (solver_.tissueForce().size() == base_force.size()) {
+    applied_force_ = solver_.tissueForce();  // carried into the free step
+    external_force += applied_force_;
+  } else {
+    applied_force_.setZero(base_force.size());
+  }
+  for (const Tool& tool : tools_) {
+    if (tool.proxy) tool.proxy->addTissueForce(external_force);
+  }
+}
+
+StepStatus ContactPhase::finishStep(Integrator& integrator, const TissueModel& model, double dt,
+                                    SimulationState& state) {
+  Stopwatch watch;
+  bvh_.refit(state.x);
+  contacts_.clear();
+  for (size_t t = 0; t < tools_.size(); ++t) {
+    if (tools_[t].response == ContactResponse::Constraint && !tools_[t].grasp.active()) {
+      detector_.detect(static_cast<int>(t), tools_[t].capsule, triangles_, state.x, bvh_,
+                       contacts_);
+    }
+  }
+  timings_.collision_ms = watch.milliseconds();
+  watch.restart();
+  const StepStatus status =
+      solver_.solve(integrator, contacts_, applied_force_, dt, update_velocity_, state);
+  bool grasping = false;
+  for (size_t t = 0; t < tools_.size(); ++t) {
+    Tool& tool = tools_[t];
+    if (tool.proxy) {
+      tool.proxy->update(tool.capsule.tip(), tool.capsule.radius(), triangles_, state.x, bvh_);
+      tool.linearization = tool.proxy->linearization();
+    } else {
+      solver_.linearize(static_cast<int>(t), tool.capsule.tip(), tool.linearization);
+    }
+    grasping = grasping || tool.grasp.active();
+  }
+  if (grasping) {
+    internal_force_.setZero();
+    model.addInternalForce(state.x, internal_force_);
+    for (Tool& tool : tools_) {
+      if (!tool.grasp.active()) continue;
+      tool.linearization.in_contact = true;
+      tool.linearization.f0_S += tool.grasp.toolForce(internal_force_);
+    }
+  }
+  timings_.contact_ms = watch.milliseconds();
+  return status;
+}
+
+}  // namespace surgical_sim::core

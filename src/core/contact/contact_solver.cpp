@@ -1,0 +1,174 @@
+#include "surgical_sim/core/contact/contact_solver.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+
+#include "surgical_sim/core/common/validate.h"
+
+namespace surgical_sim::core {
+namespace {
+
+/// Relative diagonal regularization of W_AA before its factorization (redundant contacts, e.g.
+/// several triangles around one tip, make W_AA singular) [-].
+constexpr double kDelassusRegularization = 1e-10;
+
+}  // namespace
+
+void validateContactSolverSettings(const ContactSolverSettings& settings) {
+  requireInRange("contact.solver.max_iterations", settings.max_iterations, 1, 100000, "");
+  requirePositive("contact.solver.relative_tolerance", settings.relative_tolerance, "");
+  requireInHalfOpenRange("contact.solver.relative_tolerance", settings.relative_tolerance, 0.0, 1.0,
+                         "");
+}
+
+ContactSolver::ContactSolver(const ContactSolverSettings& settings, int max_contacts)
+    : settings_(settings), max_contacts_(max_contacts) {
+  validateContactSolverSettings(settings);
+  requireInRange("contact.max_contacts", max_contacts, 1, 4096, "");
+  W_.setZero(max_contacts, max_contacts);
+  factor_.setZero(max_contacts, max_contacts);
+  normals_.setZero(max_contacts, 3);
+  q_.setZero(max_contacts);
+  lambda_.setZero(max_contacts);
+  work_.setZero(max_contacts);
+  active_.reserve(static_cast<size_t>(max_contacts));
+  tools_.assign(static_cast<size_t>(max_contacts), 0);
+  contact_normals_.setZero(3, max_contacts);
+}
+
+void ContactSolver::resize(Eigen::Index size) {
+  for (Eigen::VectorXd* v : {&tissue_force_, &column_, &response_, &carried_, &correction_}) {
+    v->setZero(size);
+  }
+}
+
+double ContactSolver::rowDot(const ContactPoint& contact, const Eigen::VectorXd& v) const {
+  double sum = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    sum += contact.weights[k] * contact.n_S.dot(v.segment<3>(3 * contact.nodes[k]));
+  }
+  return sum;
+}
+
+void ContactSolver::addColumn(const ContactPoint& contact, double scale, Eigen::VectorXd& v) {
+  for (int k = 0; k < 3; ++k) {
+    v.segment<3>(3 * contact.nodes[k]) += (scale * contact.weights[k]) * contact.n_S;
+  }
+}
+
+StepStatus ContactSolver::solve(Integrator& integrator, const std::vector<ContactPoint>& contacts,
+                                const Eigen::VectorXd& applied_force, double dt,
+                                bool update_velocity, SimulationState& state) {
+  const Eigen::Index size = state.x.size();
+  if (tissue_force_.size() != size) resize(size);
+  count_ = 0;
+  tissue_force_.setZero();
+  if (contacts.size() > static_cast<size_t>(max_contacts_) || applied_force.size() != size) {
+    return StepStatus::SolverFailed;
+  }
+  const bool carried = applied_force.squaredNorm() > 0.0;
+  if (contacts.empty() && !carried) return StepStatus::Ok;
+  if (carried) {
+    if (!integrator.applyStepCompliance(applied_force, carried_)) return StepStatus::SolverFailed;
+  } else {
+    carried_.setZero();
+  }
+
+  const auto m = static_cast<Eigen::Index>(contacts.size());
+  double q_scale = 0.0;
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const ContactPoint& contact = contacts[static_cast<size_t>(i)];
+    q_[i] = contact.gap - rowDot(contact, carried_);
+    q_scale = std::max(q_scale, std::abs(q_[i]));
+    tools_[static_cast<size_t>(i)] = contact.tool;
+    contact_normals_.col(i) = contact.n_S;
+  }
+  for (Eigen::Index j = 0; j < m; ++j) {
+    const ContactPoint& contact = contacts[static_cast<size_t>(j)];
+    addColumn(contact, 1.0, column_);
+    const bool ok = integrator.applyStepCompliance(column_, response_);
+    addColumn(contact, -1.0, column_);
+    for (int k = 0; k < 3; ++k) column_.segment<3>(3 * contact.nodes[k]).setZero();
+    if (!ok) return StepStatus::SolverFailed;
+    for (Eigen::Index i = 0; i < m; ++i) {
+      W_(i, j) = rowDot(contacts[static_cast<size_t>(i)], response_);
+    }
+  }
+  auto W = W_.topLeftCorner(m, m);
+  W = 0.5 * (W + W.transpose()).eval();
+  count_ = m;
+
+  auto lambda = lambda_.head(m);
+  lambda.setZero();
+  report_ = solveLcpProjectedGaussSeidel(W, q_.head(m), settings_.max_iterations,
+                                         settings_.relative_tolerance * q_scale, lambda);
+  for (Eigen::Index i = 0; i < m; ++i) {
+    addColumn(contacts[static_cast<size_t>(i)], lambda[i], tissue_force_);
+  }
+  correction_ = tissue_force_ - applied_force;
+  if (correction_.squaredNorm() > 0.0) {
+    if (!integrator.applyStepCompliance(correction_, response_)) {
+      tissue_force_.setZero();
+      count_ = 0;
+      return StepStatus::SolverFailed;
+    }
+    state.x += response_;
+    if (update_velocity) state.v += response_ / dt;
+  }
+  return report_.converged || m == 0 ? StepStatus::Ok : StepStatus::NotConverged;
+}
+
+Eigen::Vector3d ContactSolver::toolForce(int tool) const {
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  for (Eigen::Index i = 0; i < count_; ++i) {
+    if (tools_[static_cast<size_t>(i)] == tool) force -= lambda_[i] * contact_normals_.col(i);
+  }
+  return force;
+}
+
+void ContactSolver::linearize(int tool, const Eigen::Vector3d& p0_S, ContactLinearization& out) {
+  out = ContactLinearization();
+  out.p0_S = p0_S;
+  active_.clear();
+  for (Eigen::Index i = 0; i < count_; ++i) {
+    if (lambda_[i] > 0.0) active_.push_back(static_cast<int>(i));
+  }
+  const auto a = static_cast<Eigen::Index>(active_.size());
+  for (Eigen::Index r = 0; r < a; ++r) {
+    const int i = active_[static_cast<size_t>(r)];
+    if (tools_[static_cast<size_t>(i)] == tool) ++out.contacts;
+  }
+  if (out.contacts == 0) return;
+  out.in_contact = true;
+  out.f0_S = toolForce(tool);
+
+  // W_AA (regularized) and E (rows n_i^T for the tool's active contacts, 0 for other tools).
+  Eigen::Ref<Eigen::MatrixXd> Waa = factor_.topLeftCorner(a, a);
+  Eigen::Ref<Eigen::MatrixXd> E = normals_.topRows(a);
+  double trace = 0.0;
+  for (Eigen::Index r = 0; r < a; ++r) {
+    const int i = active_[static_cast<size_t>(r)];
+    for (Eigen::Index c = 0; c < a; ++c) Waa(r, c) = W_(i, active_[static_cast<size_t>(c)]);
+    trace += W_(i, i);
+    if (tools_[static_cast<size_t>(i)] == tool) {
+      E.row(r) = contact_normals_.col(i).transpose();
+    } else {
+      E.row(r).setZero();
+    }
+  }
+  Waa.diagonal().array() += kDelassusRegularization * trace / static_cast<double>(a);
+  Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(Waa);
+  if (llt.info() != Eigen::Success) return;  // K stays 0: no usable stiffness
+  // K = -E^T W_AA^-1 E, column by column.
+  Eigen::Matrix3d product = Eigen::Matrix3d::Zero();
+  for (int c = 0; c < 3; ++c) {
+    auto solved = work_.head(a);
+    solved = E.col(c);
+    llt.solveInPlace(solved);
+    for (int r = 0; r < 3; ++r) product(r, c) = E.col(r).dot(solved);
+  }
+  out.K_S = -0.5 * (product + product.transpose());
+}
+
+}  // namespace surgical_sim::core

@@ -1,0 +1,38 @@
+#include "surgical_sim/core/contact/projected_gauss_seidel.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace surgical_sim::core {
+
+PgsReport solveLcpProjectedGaussSeidel(const Eigen::Ref<const Eigen::MatrixXd>& W,
+                                       const Eigen::Ref<const Eigen::VectorXd>& q,
+                                       int max_iterations, double tolerance,
+                                       Eigen::Ref<Eigen::VectorXd> lambda) {
+  PgsReport report;
+  const Eigen::Index m = q.size();
+  for (Eigen::Index i = 0; i < m; ++i) {
+    if (!(W(i, i) > 0.0) || !(lambda[i] > 0.0)) lambda[i] = 0.0;
+  }
+  for (int sweep = 1; sweep <= max_iterations; ++sweep) {
+    for (Eigen::Index i = 0; i < m; ++i) {
+      if (!(W(i, i) > 0.0)) continue;
+      const double w = q[i] + W.col(i).dot(lambda);  // W symmetric: column = row
+      lambda[i] = std::max(0.0, lambda[i] - w / W(i, i));
+    }
+    report.iterations = sweep;
+    report.residual = 0.0;
+    for (Eigen::Index i = 0; i < m; ++i) {
+      if (!(W(i, i) > 0.0)) continue;
+      const double w = q[i] + W.col(i).dot(lambda);
+      report.residual = std::max(report.residual, std::abs(std::min(lambda[i] * W(i, i), w)));
+    }
+    if (report.residual <= tolerance) {
+      report.converged = true;
+      break;
+    }
+  }
+  return report;
+}
+
+}  // namespace surgical_sim::core

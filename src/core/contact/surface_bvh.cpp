@@ -1,0 +1,101 @@
+#include "surgical_sim/core/contact/surface_bvh.h"
+
+#include <BulletCollision/BroadphaseCollision/btDbvt.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "surgical_sim/core/common/validate.h"
+
+namespace surgical_sim::core {
+namespace {
+
+/// The float nearest to value rounded towards -inf (down = true) or +inf.
+btScalar roundOutward(double value, bool down) {
+  auto result = static_cast<btScalar>(value);
+  const double back = static_cast<double>(result);
+  if (down && back > value) result = std::nextafter(result, -std::numeric_limits<btScalar>::max());
+  if (!down && back < value) result = std::nextafter(result, std::numeric_limits<btScalar>::max());
+  return result;
+}
+
+/// Fat Bullet volume containing box inflated by margin.
+btDbvtVolume fatVolume(const Eigen::AlignedBox3d& box, double margin) {
+  const btVector3 lower(roundOutward(box.min().x() - margin, true),
+                        roundOutward(box.min().y() - margin, true),
+                        roundOutward(box.min().z() - margin, true));
+  const btVector3 upper(roundOutward(box.max().x() + margin, false),
+                        roundOutward(box.max().y() + margin, false),
+                        roundOutward(box.max().z() + margin, false));
+  return btDbvtVolume::FromMM(lower, upper);
+}
+
+}  // namespace
+
+/// Traversal stack and policy collecting leaves whose tight box overlaps the query box.
+struct SurfaceBvh::Traversal : btDbvt::ICollide {
+  void Process(const btDbvtNode* leaf) override {
+    const auto index = static_cast<int>(reinterpret_cast<std::intptr_t>(leaf->data));
+    if ((*boxes)[static_cast<size_t>(index)].intersects(query)) out->push_back(index);
+  }
+  const std::vector<Eigen::AlignedBox3d>* boxes = nullptr;
+  btNodeStack stack;
+  Eigen::AlignedBox3d query;
+  std::vector<int>* out = nullptr;
+};
+
+SurfaceBvh::SurfaceBvh(const Eigen::Matrix3Xi& triangles, const Eigen::VectorXd& x,
+                       double fat_margin)
+    : triangles_(triangles), fat_margin_(fat_margin), tree_(std::make_unique<btDbvt>()) {
+  requireNonNegative("bvh.fat_margin", fat_margin, "m");
+  const auto nodes = static_cast<int>(x.size() / 3);
+  if (triangles.size() > 0 && (triangles.minCoeff() < 0 || triangles.maxCoeff() >= nodes)) {
+    throw std::invalid_argument("bvh.triangles: node index out of range [0, " +
+                                std::to_string(nodes) + ")");
+  }
+  const auto count = static_cast<size_t>(triangles.cols());
+  boxes_.resize(count);
+  leaves_.resize(count);
+  traversal_ = std::make_unique<Traversal>();
+  for (int i = 0; i < static_cast<int>(count); ++i) {
+    computeTightBox(i, x);
+    leaves_[static_cast<size_t>(i)] =
+        tree_->insert(fatVolume(boxes_[static_cast<size_t>(i)], fat_margin_),
+                      reinterpret_cast<void*>(static_cast<std::intptr_t>(i)));
+  }
+  tree_->optimizeTopDown();
+}
+
+SurfaceBvh::~SurfaceBvh() = default;
+SurfaceBvh::SurfaceBvh(SurfaceBvh&&) noexcept = default;
+SurfaceBvh& SurfaceBvh::operator=(SurfaceBvh&&) noexcept = default;
+
+void SurfaceBvh::computeTightBox(int i, const Eigen::VectorXd& x) {
+  Eigen::AlignedBox3d& box = boxes_[static_cast<size_t>(i)];
+  box.setEmpty();
+  for (int k = 0; k < 3; ++k) box.extend(x.segment<3>(3 * triangles_(k, i)));
+}
+
+void SurfaceBvh::refit(const Eigen::VectorXd& x) {
+  for (int i = 0; i < numTriangles(); ++i) {
+    computeTightBox(i, x);
+    btDbvtVolume volume = fatVolume(boxes_[static_cast<size_t>(i)], 0.0);
+    // Re-inserts (with the fat margin) only if the tight box left the stored fat box.
+    tree_->update(leaves_[static_cast<size_t>(i)], volume, static_cast<btScalar>(fat_margin_));
+  }
+}
+
+void SurfaceBvh::query(const Eigen::AlignedBox3d& box, std::vector<int>& out) {
+  out.clear();
+  if (tree_->m_root == nullptr || box.isEmpty()) return;
+  traversal_->query = box;
+  traversal_->boxes = &boxes_;
+  traversal_->out = &out;
+  tree_->collideTVNoStackAlloc(tree_->m_root, fatVolume(box, 0.0), traversal_->stack, *traversal_);
+  traversal_->out = nullptr;
+}
+
+}  // namespace surgical_sim::core
