@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Plots relative error against ms per step from one or more tissue_bench / *_bench CSV files.
 
 usage: plot_error_vs_time.py CSV [CSV ...] OUT.png TITLE

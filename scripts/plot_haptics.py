@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Plots the H1 rendered-force error against the tissue update rate from a trocar_bench CSV.
 
 usage: plot_haptics.py CSV OUT.png

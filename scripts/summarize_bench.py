@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Prints a short human-readable summary of a *_bench CSV: per case the error and ms per step,
 and the best configuration (lowest error, then fastest)."""
 import csv

@@ -10,8 +10,8 @@ namespace {
 [[noreturn]] void fail(const std::string& name, double value, const std::string& unit,
                        const std::string& rule) {
   std::ostringstream msg;
-  msg << name << " = " << value << (unit.empty() ? "" : " ") << unit
-      << " is out of range: must be " << rule;
+  msg << name << " = " << value << (unit.empty() ? "" : " ") << unit << " is out of range: must be "
+      << rule;
   throw std::invalid_argument(msg.str());
 }
 

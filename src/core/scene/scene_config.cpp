@@ -251,13 +251,51 @@ MeasureSpec readMeasure(const KeyReader& scene) {
   return m;
 }
 
+ToolSpec readTool(const KeyReader& r) {
+  r.onlyKeys({"name", "pose_topic", "grasp_topic", "wrench_topic", "contact_model_topic", "radius",
+              "shaft_length", "contact", "proxy_stiffness", "grasp_radius"});
+  ToolSpec t;
+  t.name = r.text("name");
+  if (r.has("pose_topic")) t.pose_topic = r.text("pose_topic");
+  if (r.has("grasp_topic")) t.grasp_topic = r.text("grasp_topic");
+  if (r.has("wrench_topic")) t.wrench_topic = r.text("wrench_topic");
+  if (r.has("contact_model_topic")) t.contact_model_topic = r.text("contact_model_topic");
+  t.radius = r.number("radius");
+  checkRange(r, "radius", t.radius, 1e-5, 0.05, "m");
+  t.shaft_length = r.number("shaft_length");
+  checkRange(r, "shaft_length", t.shaft_length, 0.0, 1.0, "m");
+  t.contact = r.choice("contact", {"constraint", "proxy"});
+  if (t.contact == "proxy") {
+    t.proxy_stiffness = r.number("proxy_stiffness");
+    checkRange(r, "proxy_stiffness", t.proxy_stiffness, 1e-6, 1e6, "N/m");
+  }
+  t.grasp_radius = r.number("grasp_radius", 0.0);
+  checkRange(r, "grasp_radius", t.grasp_radius, 0.0, 0.05, "m");
+  return t;
+}
+
+Eigen::Isometry3d readPose(const KeyReader& parent, const std::string& key) {
+  const KeyReader r = parent.child(key);
+  r.onlyKeys({"position", "rpy"});
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  if (r.has("position")) X.translation() = r.vector3("position");
+  if (r.has("rpy")) {
+    const Eigen::Vector3d rpy = r.vector3("rpy");
+    X.linear() = (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
+                  Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
+                  Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
+                     .toRotationMatrix();
+  }
+  return X;
+}
+
 SceneConfig parse(const YAML::Node& root, const std::string& path) {
   if (!root.IsMap())
     throw std::invalid_argument("scene " + path + ": the file is not a YAML map of keys");
   const KeyReader r(root, "", path);
   r.onlyKeys({"name", "description", "mesh", "material", "models", "integrators", "solvers",
               "time_step", "steps", "load_factors", "gravity", "damping", "newton", "pcg", "fixed",
-              "prescribed", "measure"});
+              "prescribed", "measure", "tools", "tissue_pose"});
   SceneConfig s;
   s.path = path;
   s.name = r.text("name");
@@ -325,6 +363,14 @@ SceneConfig parse(const YAML::Node& root, const std::string& path) {
         {readRegion(item, "region"), readComponents(item), item.vector3("displacement")});
   });
   s.measure = readMeasure(r);
+  readList("tools", [&](const KeyReader& item) {
+    s.tools.push_back(readTool(item));
+    for (std::size_t i = 0; i + 1 < s.tools.size(); ++i)
+      if (s.tools[i].name == s.tools.back().name)
+        item.fail("name", "duplicate tool name '" + s.tools.back().name + "'");
+  });
+  if (s.tools.size() > 4) r.fail("tools", "at most 4 tools are supported");
+  if (r.has("tissue_pose")) s.tissue_pose = readPose(r, "tissue_pose");
   if (s.measure.type == "uniaxial_svk_force" && (s.prescribed.empty() || s.load_factors.empty()))
     r.fail("measure", "uniaxial_svk_force needs 'prescribed' and 'load_factors'");
   return s;

@@ -1,11 +1,14 @@
 #include "surgical_sim/core/solve/cholmod_solver.h"
 
+#include "surgical_sim/core/solve/single_thread_blas.h"
+
 #include <algorithm>
 #include <cmath>
 
 namespace surgical_sim::core {
 
 CholmodSolver::CholmodSolver() {
+  useSingleThreadBlas();
   cholmod_start(&common_);
   common_.print = 0;  // the library reports through return values, never prints
   common_.supernodal = CHOLMOD_SUPERNODAL;

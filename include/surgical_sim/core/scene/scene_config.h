@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <limits>
 #include <optional>
 #include <string>
@@ -67,6 +68,21 @@ struct MeasureSpec {
   double rest_length = 0.0;         ///< uniaxial_svk_force: L0 [m]
 };
 
+/// A surgical instrument touching the tissue (tissue_simulator). The tool is a capsule: the tip
+/// pose comes from pose_topic; the shaft runs back from the tip along the tool's -z axis.
+struct ToolSpec {
+  std::string name;                                          ///< unique, e.g. "tool" or "trocar_0"
+  std::string pose_topic = "tool/pose";                      ///< geometry_msgs/PoseStamped (tip)
+  std::string grasp_topic;                                   ///< std_msgs/Bool jaws; empty: none
+  std::string wrench_topic = "tissue/wrench";                ///< WrenchStamped output
+  std::string contact_model_topic = "tissue/contact_model";  ///< ContactModel output
+  double radius = 0.0;                                       ///< capsule radius [m], (0, 0.05]
+  double shaft_length = 0.0;     ///< capsule length behind the tip [m], [0, 1]
+  std::string contact;           ///< "constraint" (Lagrange multipliers, PGS) or "proxy"
+  double proxy_stiffness = 0.0;  ///< proxy spring [N/m], (0, 1e6] (contact: proxy)
+  double grasp_radius = 0.0;     ///< nodes within this distance of the tip are grasped [m]
+};
+
 /// A whole tissue scene, validated. Every physical key has a unit and no silent default.
 struct SceneConfig {
   std::string name;
@@ -90,6 +106,9 @@ struct SceneConfig {
   std::vector<FixedBc> fixed;
   std::vector<PrescribedBc> prescribed;
   MeasureSpec measure;
+  std::vector<ToolSpec> tools;  ///< empty: no contact structures are built
+  /// Pose of the tissue rest frame in the world frame (tf world -> tissue).
+  Eigen::Isometry3d tissue_pose = Eigen::Isometry3d::Identity();
 };
 
 /// Reads and validates a scene file. @throws std::invalid_argument whose message starts with

@@ -8,8 +8,8 @@ namespace surgical_sim::core {
 
 /// How the tangent stiffness is assembled.
 enum class TangentMode {
-  Exact,        ///< K = -df/dx exactly (may be indefinite under compression / inversion)
-  ProjectedSpd, ///< each element's contribution projected to positive semi-definite (for solvers)
+  Exact,         ///< K = -df/dx exactly (may be indefinite under compression / inversion)
+  ProjectedSpd,  ///< each element's contribution projected to positive semi-definite (for solvers)
 };
 
 /// Common interface of every tissue model (mass-spring, FEM laws, EMS, later meshless / 6-DoF).
@@ -51,8 +51,8 @@ class TissueModel {
                                  Eigen::SparseMatrix<double>& K) const = 0;
 
   /// Operator form: y = K(x) v without assembling a global matrix (element by element).
-  virtual void applyStiffness(const Eigen::VectorXd& x, TangentMode mode,
-                              const Eigen::VectorXd& v, Eigen::VectorXd& y) const = 0;
+  virtual void applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
+                              Eigen::VectorXd& y) const = 0;
 };
 
 }  // namespace surgical_sim::core

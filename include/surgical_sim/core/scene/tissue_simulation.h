@@ -1,0 +1,82 @@
+#pragma once
+
+#include <Eigen/Geometry>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "surgical_sim/core/common/status.h"
+#include "surgical_sim/core/contact/contact_point.h"
+#include "surgical_sim/core/mesh/surface.h"
+#include "surgical_sim/core/mesh/tet_mesh.h"
+#include "surgical_sim/core/scene/scene_config.h"
+#include "surgical_sim/core/solve/dynamics_problem.h"
+#include "surgical_sim/core/solve/integrator.h"
+#include "surgical_sim/core/tissue/tissue_model.h"
+
+namespace surgical_sim::core {
+
+class ContactPhase;
+
+/// Wall-clock phase times of one step [s] and the integrator's report. A phase the scene does
+/// not use is never built and reads exactly 0.
+struct SimulationStepStats {
+  StepReport report;
+  double step_seconds = 0.0;
+  double collision_seconds = 0.0;
+  double integrate_seconds = 0.0;
+  double contact_seconds = 0.0;
+  int contacts = 0;
+};
+
+/// One running tissue scene: the first entry of each of the scene's sweeps (resolution, element
+/// type, model, integrator, solver), its boundary conditions and loads, and its tools. Builds
+/// only what the scene needs: no contact structures without tools, no damping work without
+/// damping. step() never throws.
+class TissueSimulation {
+ public:
+  /// @throws std::invalid_argument / std::runtime_error naming the scene key on bad input.
+  explicit TissueSimulation(const SceneConfig& scene);
+  ~TissueSimulation();
+  TissueSimulation(const TissueSimulation&) = delete;
+  TissueSimulation& operator=(const TissueSimulation&) = delete;
+
+  /// Advances by the scene's time step.
+  SimulationStepStats step();
+  /// Back to the rest state, time 0, tools released.
+  void reset();
+
+  /// Tool tip pose X_ST of tool `tool` in the tissue frame (validated by the caller).
+  void setToolPose(int tool, const Eigen::Isometry3d& X_ST);
+  /// Closes (true) or opens the tool's jaws: closing attaches the nearby surface nodes.
+  void setGrasp(int tool, bool closed);
+
+  int numTools() const { return static_cast<int>(scene_.tools.size()); }
+  const SceneConfig& scene() const { return scene_; }
+  double timeStep() const { return scene_.time_step; }
+  const TetMesh& mesh() const { return mesh_; }
+  const SurfaceMesh& surface() const { return surface_; }
+  const SimulationState& state() const { return state_; }
+  const TissueModel& model() const { return *model_; }
+  /// Contact model of tool `tool` after the last step (zero when not in contact / no tools).
+  ContactLinearization toolContact(int tool) const;
+  /// Surface nodes touched by any tool in the last step (volume node indices, may repeat).
+  const std::vector<int>& contactNodes() const { return contact_nodes_; }
+  /// Structures this scene built, e.g. {"model", "integrator", "contact", "damping"}.
+  std::vector<std::string> components() const;
+
+ private:
+  SceneConfig scene_;
+  TetMesh mesh_;
+  SurfaceMesh surface_;
+  std::unique_ptr<TissueModel> model_;
+  std::unique_ptr<Integrator> integrator_;
+  DynamicsProblem problem_;
+  SimulationState state_;
+  Eigen::VectorXd base_force_;  ///< body force [N], before contact forces
+  DirichletBc base_dirichlet_;  ///< the scene's fixed DOFs, before grasps
+  std::unique_ptr<ContactPhase> contact_;  ///< null for a scene without tools
+  std::vector<int> contact_nodes_;
+};
+
+}  // namespace surgical_sim::core

@@ -1,0 +1,78 @@
+#pragma once
+
+#include <geometry_msgs/PoseStamped.h>
+#include <ros/ros.h>
+#include <std_msgs/Bool.h>
+#include <std_srvs/Empty.h>
+#include <std_srvs/SetBool.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/static_transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
+
+#include <Eigen/Geometry>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "surgical_sim/StepTissue.h"
+#include "surgical_sim/core/scene/tissue_simulation.h"
+
+namespace surgical_sim::ros_layer {
+
+/// ROS wrapper of core::TissueSimulation (node `tissue_simulator`). Parameters (private):
+///   ~scene (string, required)      scene YAML path
+///   ~realtime (bool, true)         true: step on a wall-clock timer at the scene's dt;
+///                                  false: lockstep, steps_per_pose steps per received tool pose
+///                                  (deterministic replay), or free-running without tools
+///   ~steps_per_pose (int, 1)       lockstep steps per tool pose, [1, 1000]
+///   ~world_frame (string, world)   frame of the wrench / contact-model outputs
+///   ~tissue_frame (string, tissue) rest frame of the organ (tf world -> tissue published)
+///   ~surface_rate (double, 30 Hz)  rate of tissue/surface in realtime mode, (0, 1000]
+///   ~max_tool_distance (double, 5 m) poses farther than this from the world origin are rejected
+/// Scene errors throw std::invalid_argument from the constructor (main exits naming the key).
+class TissueSimulatorNode {
+ public:
+  TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& pnh);
+
+ private:
+  struct ToolIo {
+    ros::Subscriber pose_sub, grasp_sub;
+    ros::Publisher wrench_pub, contact_pub;
+    bool has_pose = false;
+  };
+
+  void onPose(const geometry_msgs::PoseStamped::ConstPtr& msg, int tool);
+  void onGrasp(const std_msgs::Bool::ConstPtr& msg, int tool);
+  void onTimer();
+  /// Steps once and publishes everything stamped `stamp`; returns false on a failed step.
+  bool stepAndPublish(const ros::Time& stamp, bool publish_surface);
+  void publishSurface(const ros::Time& stamp);
+  void publishTool(int tool, const ros::Time& stamp);
+  /// Resolves a pose to the tissue frame; false (with a throttled warning) if impossible.
+  bool toTissueFrame(const geometry_msgs::PoseStamped& msg, Eigen::Isometry3d& X_ST);
+  bool onReset(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
+  bool onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res);
+  bool onStep(surgical_sim::StepTissue::Request& req, surgical_sim::StepTissue::Response& res);
+
+  std::unique_ptr<core::TissueSimulation> sim_;
+  Eigen::Isometry3d X_WS_ = Eigen::Isometry3d::Identity();
+  std::string world_frame_, tissue_frame_;
+  bool realtime_ = true;
+  bool paused_ = false;
+  int steps_per_pose_ = 1;
+  double max_tool_distance_ = 5.0;
+  double surface_period_ = 1.0 / 30.0;
+  double last_surface_wall_ = -1e9;
+  double last_publish_seconds_ = 0.0;
+  unsigned step_count_ = 0;
+
+  std::vector<ToolIo> tools_;
+  ros::Publisher surface_pub_, stats_pub_;
+  ros::ServiceServer reset_srv_, pause_srv_, step_srv_;
+  ros::WallTimer timer_;
+  tf2_ros::Buffer tf_buffer_;
+  tf2_ros::TransformListener tf_listener_;
+  tf2_ros::StaticTransformBroadcaster static_broadcaster_;
+};
+
+}  // namespace surgical_sim::ros_layer

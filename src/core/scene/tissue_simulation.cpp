@@ -1,0 +1,130 @@
+#include "surgical_sim/core/scene/tissue_simulation.h"
+
+#include <stdexcept>
+
+#include "surgical_sim/core/common/stopwatch.h"
+#include "surgical_sim/core/contact/contact_phase.h"
+#include "surgical_sim/core/mesh/mesh_check.h"
+#include "surgical_sim/core/scene/tissue_case.h"
+#include "surgical_sim/core/solve/make_integrator.h"
+#include "surgical_sim/core/solve/make_linear_solver.h"
+#include "surgical_sim/core/tissue/model_factory.h"
+
+namespace surgical_sim::core {
+
+TissueSimulation::TissueSimulation(const SceneConfig& scene) : scene_(scene) {
+  mesh_ = buildSceneMesh(scene_.mesh, scene_.mesh.resolutions.front(),
+                         scene_.mesh.element_types.front());
+  requireValidMesh(mesh_);
+  surface_ = extractSurface(mesh_);
+  model_ = makeTissueModel(scene_.models.front(), mesh_, scene_.material);
+
+  PcgSettings pcg;
+  pcg.max_iterations = scene_.pcg_max_iterations;
+  pcg.relative_tolerance = scene_.pcg_tolerance;
+  pcg.refresh_interval = scene_.pcg_refresh_interval;
+  IntegratorSettings settings;
+  settings.max_iterations = scene_.newton_max_iterations;
+  settings.relative_tolerance = scene_.newton_tolerance;
+  integrator_ = makeIntegrator(scene_.integrators.front(), settings,
+                               makeLinearSolver(scene_.solvers.front(), pcg));
+
+  problem_.model = model_.get();
+  base_force_ = model_->bodyForce(scene_.gravity);
+  problem_.external_force = base_force_;
+  problem_.damping.mass_coefficient = scene_.damping_mass;
+  problem_.damping.stiffness_coefficient = scene_.damping_stiffness;
+  std::vector<bool> taken(static_cast<std::size_t>(3 * mesh_.numNodes()), false);
+  for (std::size_t i = 0; i < scene_.fixed.size(); ++i) {
+    const auto dofs = regionDofs(mesh_, scene_.fixed[i].region, scene_.fixed[i].components);
+    if (dofs.empty())
+      throw std::invalid_argument("scene " + scene_.path + ": key 'fixed[" + std::to_string(i) +
+                                  "].region' contains no mesh node");
+    for (int d : dofs)
+      if (!taken[static_cast<std::size_t>(d)]) {
+        taken[static_cast<std::size_t>(d)] = true;
+        problem_.dirichlet.dofs.push_back(d);
+      }
+  }
+  DirichletBc& bc = problem_.dirichlet;
+  bc.positions.resize(static_cast<Eigen::Index>(bc.dofs.size()));
+  for (std::size_t i = 0; i < bc.dofs.size(); ++i)
+    bc.positions[static_cast<Eigen::Index>(i)] = model_->restPositions()[bc.dofs[i]];
+  base_dirichlet_ = bc;
+  if (!scene_.tools.empty()) {
+    ContactPhaseSettings settings;
+    settings.solver.max_iterations = 500;
+    settings.solver.relative_tolerance = 1e-6;
+    for (const ToolSpec& t : scene_.tools) {
+      ToolSettings tool;
+      tool.radius = t.radius;
+      tool.shaft_length = t.shaft_length;
+      tool.response = t.contact == "proxy" ? ContactResponse::Proxy : ContactResponse::Constraint;
+      tool.proxy_stiffness = t.contact == "proxy" ? t.proxy_stiffness : 1.0;
+      tool.grasp_radius = t.grasp_radius > 0.0 ? t.grasp_radius : 1e-9;
+      settings.tools.push_back(tool);
+    }
+    contact_ = std::make_unique<ContactPhase>(surface_, model_->restPositions(), settings,
+                                              integrator_->name() != "quasi_static");
+  }
+  reset();
+}
+
+TissueSimulation::~TissueSimulation() = default;
+
+void TissueSimulation::reset() {
+  state_.x = model_->restPositions();
+  state_.v = Eigen::VectorXd::Zero(state_.x.size());
+  state_.time = 0.0;
+  problem_.external_force = base_force_;
+  problem_.dirichlet = base_dirichlet_;
+  contact_nodes_.clear();
+  integrator_->reset();
+  for (int i = 0; i < numTools(); ++i) setGrasp(i, false);
+}
+
+void TissueSimulation::setToolPose(int tool, const Eigen::Isometry3d& X_ST) {
+  if (contact_) contact_->setToolPose(tool, X_ST);
+}
+
+void TissueSimulation::setGrasp(int tool, bool closed) {
+  if (contact_ && tool >= 0 && tool < numTools()) contact_->setGrasp(tool, closed);
+}
+
+SimulationStepStats TissueSimulation::step() {
+  SimulationStepStats stats;
+  Stopwatch step_watch;
+  if (contact_)
+    contact_->prepareStep(state_.x, base_force_, base_dirichlet_, problem_.external_force,
+                          problem_.dirichlet);
+  Stopwatch phase;
+  stats.report = integrator_->step(problem_, scene_.time_step, state_);
+  stats.integrate_seconds = phase.seconds();
+  if (contact_) {
+    const StepStatus s = contact_->finishStep(*integrator_, *model_, scene_.time_step, state_);
+    if (stats.report.status == StepStatus::Ok) stats.report.status = s;
+    stats.collision_seconds = 1e-3 * contact_->timings().collision_ms;
+    stats.contact_seconds = 1e-3 * contact_->timings().contact_ms;
+    stats.contacts = static_cast<int>(contact_->contacts().size());
+    contact_nodes_.clear();
+    for (const ContactPoint& c : contact_->contacts())
+      for (int k = 0; k < 3; ++k) contact_nodes_.push_back(c.nodes[k]);
+  }
+  stats.step_seconds = step_watch.seconds();
+  return stats;
+}
+
+ContactLinearization TissueSimulation::toolContact(int tool) const {
+  if (!contact_ || tool < 0 || tool >= numTools()) return {};
+  return contact_->linearization(tool);
+}
+
+std::vector<std::string> TissueSimulation::components() const {
+  std::vector<std::string> c = {"mesh", "model:" + model_->name(),
+                                "integrator:" + integrator_->name()};
+  if (problem_.damping.active()) c.push_back("damping");
+  if (contact_) c.push_back("contact");
+  return c;
+}
+
+}  // namespace surgical_sim::core

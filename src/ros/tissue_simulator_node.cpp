@@ -1,0 +1,288 @@
+#include "surgical_sim/ros/tissue_simulator_node.h"
+
+#include <geometry_msgs/TransformStamped.h>
+#include <geometry_msgs/WrenchStamped.h>
+#include <tf2_eigen/tf2_eigen.h>
+#include <visualization_msgs/Marker.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "surgical_sim/ContactModel.h"
+#include "surgical_sim/TissueStats.h"
+#include "surgical_sim/core/common/stopwatch.h"
+#include "surgical_sim/core/scene/scene_config.h"
+#include "surgical_sim/ros/conversions.h"
+
+namespace surgical_sim::ros_layer {
+namespace {
+
+template <class T>
+T param(const ros::NodeHandle& pnh, const std::string& name, const T& fallback) {
+  T value = fallback;
+  pnh.param(name, value, fallback);
+  return value;
+}
+
+void requireParam(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument(what);
+}
+
+}  // namespace
+
+TissueSimulatorNode::TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
+    : tf_listener_(tf_buffer_) {
+  std::string scene_path;
+  requireParam(pnh.getParam("scene", scene_path),
+               "parameter ~scene (path of a scene YAML file) is required");
+  realtime_ = param(pnh, "realtime", true);
+  steps_per_pose_ = param(pnh, "steps_per_pose", 1);
+  world_frame_ = param<std::string>(pnh, "world_frame", "world");
+  tissue_frame_ = param<std::string>(pnh, "tissue_frame", "tissue");
+  max_tool_distance_ = param(pnh, "max_tool_distance", 5.0);
+  const double surface_rate = param(pnh, "surface_rate", 30.0);
+  requireParam(steps_per_pose_ >= 1 && steps_per_pose_ <= 1000,
+               "~steps_per_pose = " + std::to_string(steps_per_pose_) + " must be in [1, 1000]");
+  requireParam(surface_rate > 0.0 && surface_rate <= 1000.0,
+               "~surface_rate must be in (0, 1000] Hz");
+  requireParam(max_tool_distance_ > 0.0, "~max_tool_distance must be > 0 m");
+  surface_period_ = 1.0 / surface_rate;
+
+  sim_ = std::make_unique<core::TissueSimulation>(core::loadSceneConfig(scene_path));
+  X_WS_ = sim_->scene().tissue_pose;
+
+  geometry_msgs::TransformStamped t = tf2::eigenToTransform(X_WS_);
+  t.header.stamp = ros::Time::now();
+  t.header.frame_id = world_frame_;
+  t.child_frame_id = tissue_frame_;
+  static_broadcaster_.sendTransform(t);
+
+  surface_pub_ = nh.advertise<visualization_msgs::Marker>("tissue/surface", 2, true);
+  stats_pub_ = nh.advertise<surgical_sim::TissueStats>("tissue/stats", 100);
+  tools_.resize(static_cast<std::size_t>(sim_->numTools()));
+  for (int i = 0; i < sim_->numTools(); ++i) {
+    const core::ToolSpec& spec = sim_->scene().tools[static_cast<std::size_t>(i)];
+    ToolIo& io = tools_[static_cast<std::size_t>(i)];
+    io.pose_sub = nh.subscribe<geometry_msgs::PoseStamped>(
+        spec.pose_topic, 1000, [this, i](const auto& msg) { onPose(msg, i); });
+    if (!spec.grasp_topic.empty())
+      io.grasp_sub = nh.subscribe<std_msgs::Bool>(
+          spec.grasp_topic, 100, [this, i](const auto& msg) { onGrasp(msg, i); });
+    io.wrench_pub = nh.advertise<geometry_msgs::WrenchStamped>(spec.wrench_topic, 1000);
+    io.contact_pub = nh.advertise<surgical_sim::ContactModel>(spec.contact_model_topic, 1000);
+  }
+  reset_srv_ = nh.advertiseService("tissue/reset", &TissueSimulatorNode::onReset, this);
+  pause_srv_ = nh.advertiseService("tissue/pause", &TissueSimulatorNode::onPause, this);
+  step_srv_ = nh.advertiseService("tissue/step", &TissueSimulatorNode::onStep, this);
+
+  // Realtime: wall-clock paced at dt. Lockstep with tools: driven by poses. Lockstep without
+  // tools: free-running as fast as possible.
+  if (realtime_ || sim_->numTools() == 0) {
+    const double period = realtime_ ? sim_->timeStep() : 1e-6;
+    timer_ = nh.createWallTimer(ros::WallDuration(period), [this](const auto&) { onTimer(); });
+  }
+  ROS_INFO_NAMED("tissue_simulator",
+                 "scene '%s': %d nodes, %d elements, model %s, %s mode, %d tool(s), components:",
+                 sim_->scene().name.c_str(), sim_->mesh().numNodes(),
+                 sim_->mesh().numElements(), sim_->model().name().c_str(),
+                 realtime_ ? "realtime" : "lockstep", sim_->numTools());
+  for (const auto& c : sim_->components()) ROS_INFO_NAMED("tissue_simulator", "  %s", c.c_str());
+}
+
+bool TissueSimulatorNode::toTissueFrame(const geometry_msgs::PoseStamped& msg,
+                                        Eigen::Isometry3d& X_ST) {
+  if (!isUsablePose(msg.pose, max_tool_distance_)) {
+    ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator",
+                            "rejected tool pose: NaN/Inf, zero quaternion or farther than %.3g m "
+                            "(~max_tool_distance) from the origin",
+                            max_tool_distance_);
+    return false;
+  }
+  const Eigen::Isometry3d X_FT = toEigen(msg.pose);
+  const std::string& frame = msg.header.frame_id;
+  if (frame == tissue_frame_) {
+    X_ST = X_FT;
+  } else if (frame == world_frame_ || frame.empty()) {
+    X_ST = X_WS_.inverse() * X_FT;
+  } else {
+    try {
+      const auto t = tf_buffer_.lookupTransform(tissue_frame_, frame, ros::Time(0));
+      X_ST = tf2::transformToEigen(t) * X_FT;
+    } catch (const tf2::TransformException& e) {
+      ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator",
+                              "rejected tool pose in unknown frame '%s': %s", frame.c_str(),
+                              e.what());
+      return false;
+    }
+  }
+  return true;
+}
+
+void TissueSimulatorNode::onPose(const geometry_msgs::PoseStamped::ConstPtr& msg, int tool) {
+  Eigen::Isometry3d X_ST;
+  if (!toTissueFrame(*msg, X_ST)) return;
+  sim_->setToolPose(tool, X_ST);
+  tools_[static_cast<std::size_t>(tool)].has_pose = true;
+  if (realtime_ || paused_) return;
+  for (int k = 0; k < steps_per_pose_; ++k)
+    if (!stepAndPublish(msg->header.stamp, k + 1 == steps_per_pose_)) break;
+}
+
+void TissueSimulatorNode::onGrasp(const std_msgs::Bool::ConstPtr& msg, int tool) {
+  sim_->setGrasp(tool, msg->data);
+}
+
+void TissueSimulatorNode::onTimer() {
+  if (paused_) return;
+  const double now = ros::WallTime::now().toSec();
+  const bool surface = !realtime_ || now - last_surface_wall_ >= surface_period_;
+  if (surface) last_surface_wall_ = now;
+  stepAndPublish(ros::Time::now(), surface);
+}
+
+bool TissueSimulatorNode::stepAndPublish(const ros::Time& stamp, bool publish_surface) {
+  const core::SimulationStepStats s = sim_->step();
+  ++step_count_;
+  core::Stopwatch publish_watch;
+  for (int i = 0; i < sim_->numTools(); ++i) publishTool(i, stamp);
+  if (publish_surface) publishSurface(stamp);
+
+  surgical_sim::TissueStats stats;
+  stats.header.stamp = stamp;
+  stats.header.frame_id = tissue_frame_;
+  stats.step = step_count_;
+  stats.sim_time = sim_->state().time;
+  stats.step_time = s.step_seconds;
+  stats.collision_time = s.collision_seconds;
+  stats.integrate_time = s.integrate_seconds;
+  stats.contact_time = s.contact_seconds;
+  stats.publish_time = last_publish_seconds_;
+  stats.newton_iterations = static_cast<unsigned>(s.report.newton_iterations);
+  stats.linear_iterations = static_cast<unsigned>(s.report.linear_iterations);
+  stats.residual = s.report.residual;
+  stats.energy = s.report.energy;
+  stats.contacts = static_cast<unsigned>(s.contacts);
+  stats.status = core::toString(s.report.status);
+  stats.components = sim_->components();
+  stats_pub_.publish(stats);
+  last_publish_seconds_ = publish_watch.seconds();
+
+  const bool failed = s.report.status == core::StepStatus::SolverFailed ||
+                      s.report.status == core::StepStatus::NonFinite ||
+                      s.report.status == core::StepStatus::BlowUp;
+  if (failed)
+    ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator", "step %u failed: %s (state kept finite)",
+                            step_count_, stats.status.c_str());
+  return !failed;
+}
+
+void TissueSimulatorNode::publishTool(int tool, const ros::Time& stamp) {
+  const core::ContactLinearization c = sim_->toolContact(tool);
+  const Eigen::Matrix3d R_WS = X_WS_.linear();
+  const Eigen::Vector3d f_W = R_WS * c.f0_S;
+  const Eigen::Matrix3d K_W = R_WS * c.K_S * R_WS.transpose();
+  const core::ToolSpec& spec = sim_->scene().tools[static_cast<std::size_t>(tool)];
+  ToolIo& io = tools_[static_cast<std::size_t>(tool)];
+
+  geometry_msgs::WrenchStamped wrench;
+  wrench.header.stamp = stamp;
+  wrench.header.frame_id = world_frame_;
+  wrench.wrench.force = toVector3Msg(f_W);
+  io.wrench_pub.publish(wrench);
+
+  surgical_sim::ContactModel model;
+  model.header = wrench.header;
+  model.tool = spec.name;
+  model.in_contact = c.in_contact;
+  model.point = toPointMsg(X_WS_ * c.p0_S);
+  model.force = wrench.wrench.force;
+  for (int r = 0; r < 3; ++r)
+    for (int col = 0; col < 3; ++col) model.stiffness[3 * r + col] = K_W(r, col);
+  model.contacts = static_cast<unsigned>(c.contacts);
+  io.contact_pub.publish(model);
+}
+
+void TissueSimulatorNode::publishSurface(const ros::Time& stamp) {
+  if (surface_pub_.getNumSubscribers() == 0 && step_count_ > 1) return;
+  const core::SurfaceMesh& surface = sim_->surface();
+  const Eigen::VectorXd& x = sim_->state().x;
+  std::vector<char> in_contact(static_cast<std::size_t>(sim_->mesh().numNodes()), 0);
+  for (int n : sim_->contactNodes()) in_contact[static_cast<std::size_t>(n)] = 1;
+
+  visualization_msgs::Marker m;
+  m.header.stamp = stamp;
+  m.header.frame_id = tissue_frame_;
+  m.ns = "tissue";
+  m.type = visualization_msgs::Marker::TRIANGLE_LIST;
+  m.action = visualization_msgs::Marker::ADD;
+  m.pose.orientation.w = 1.0;
+  m.scale.x = m.scale.y = m.scale.z = 1.0;
+  m.color.a = 1.0;
+  const auto n_tri = static_cast<std::size_t>(surface.triangles.cols());
+  m.points.resize(3 * n_tri);
+  m.colors.resize(3 * n_tri);
+  const Eigen::VectorXd& x0 = sim_->model().restPositions();
+  for (std::size_t t = 0; t < n_tri; ++t)
+    for (int c = 0; c < 3; ++c) {
+      const int node = surface.triangles(c, static_cast<Eigen::Index>(t));
+      const Eigen::Vector3d p = x.segment<3>(3 * node);
+      m.points[3 * t + c] = toPointMsg(p);
+      // Tissue pink, darkening with displacement; contact nodes red.
+      const double d = std::min(1.0, (p - x0.segment<3>(3 * node)).norm() / 0.02);
+      auto& col = m.colors[3 * t + c];
+      col.a = 1.0;
+      if (in_contact[static_cast<std::size_t>(node)]) {
+        col.r = 1.0f;
+        col.g = 0.1f;
+        col.b = 0.1f;
+      } else {
+        col.r = static_cast<float>(0.95 - 0.35 * d);
+        col.g = static_cast<float>(0.65 - 0.35 * d);
+        col.b = static_cast<float>(0.65 - 0.25 * d);
+      }
+    }
+  surface_pub_.publish(m);
+}
+
+bool TissueSimulatorNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  sim_->reset();
+  step_count_ = 0;
+  ROS_INFO_NAMED("tissue_simulator", "reset to the rest state");
+  return true;
+}
+
+bool TissueSimulatorNode::onPause(std_srvs::SetBool::Request& req,
+                                  std_srvs::SetBool::Response& res) {
+  paused_ = req.data;
+  res.success = true;
+  res.message = paused_ ? "paused" : "running";
+  return true;
+}
+
+bool TissueSimulatorNode::onStep(surgical_sim::StepTissue::Request& req,
+                                 surgical_sim::StepTissue::Response& res) {
+  res.steps_done = 0;
+  if (!paused_) {
+    res.success = false;
+    res.message = "tissue/step needs the simulator paused (call tissue/pause with data: true)";
+    return true;
+  }
+  if (req.steps < 1 || req.steps > 10000) {
+    res.success = false;
+    res.message = "steps = " + std::to_string(req.steps) + " must be in [1, 10000]";
+    return true;
+  }
+  for (unsigned k = 0; k < req.steps; ++k) {
+    if (!stepAndPublish(ros::Time::now(), k + 1 == req.steps)) {
+      res.message = "step failed after " + std::to_string(res.steps_done) + " steps";
+      res.success = false;
+      return true;
+    }
+    ++res.steps_done;
+  }
+  res.success = true;
+  res.message = "advanced " + std::to_string(res.steps_done) + " steps";
+  return true;
+}
+
+}  // namespace surgical_sim::ros_layer

@@ -1,0 +1,215 @@
+// Benchmark R1 / R2 (BENCHMARKS.md): inverse control of continuum robots. No ROS.
+//
+// Usage: robot_bench [config/continuum_robot.yaml] [output_dir]
+// Writes <output_dir>/robot_bench.csv (one row per control step), robot_summary.csv (effector
+// error vs solve time as the iteration caps vary) and robot_bench.png (scripts/plot_robot.py).
+//
+// Plane choice: the backbone is +x of robot_base, so the tip moves across the y-z plane; the
+// paths lie in the plane x = x_tip_rest + dx (dx = +10 mm for the pressure trunk, which always
+// extends when pressurized; -5 mm for the cable robot, which shortens when cables are pulled).
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "surgical_sim/core/common/stopwatch.h"
+#include "surgical_sim/core/robot/compliance_cache.h"
+#include "surgical_sim/core/robot/continuum_robot_loader.h"
+#include "surgical_sim/core/robot/full_fe_plant.h"
+#include "surgical_sim/core/robot/inverse_controller.h"
+
+namespace ss = surgical_sim::core;
+
+namespace {
+
+struct PathPoint {
+  Eigen::Vector3d p;
+};
+
+/// Circle of radius r [m] in the plane x = center.x, sampled every speed*dt along the arc.
+std::vector<Eigen::Vector3d> circlePath(const Eigen::Vector3d& center, double r, double speed,
+                                        double dt) {
+  const int n = static_cast<int>(std::ceil(2.0 * M_PI * r / (speed * dt)));
+  std::vector<Eigen::Vector3d> out;
+  for (int i = 0; i <= n; ++i) {
+    const double a = 2.0 * M_PI * i / n;
+    out.push_back(center + Eigen::Vector3d(0.0, r * std::cos(a), r * std::sin(a)));
+  }
+  return out;
+}
+
+/// Square of side a [m] centred on center in its y-z plane.
+std::vector<Eigen::Vector3d> squarePath(const Eigen::Vector3d& center, double a, double speed,
+                                        double dt) {
+  const double h = 0.5 * a;
+  const Eigen::Vector2d corners[5] = {{h, h}, {-h, h}, {-h, -h}, {h, -h}, {h, h}};
+  const int per_side = static_cast<int>(std::ceil(a / (speed * dt)));
+  std::vector<Eigen::Vector3d> out;
+  for (int s = 0; s < 4; ++s)
+    for (int i = 0; i < per_side + (s == 3 ? 1 : 0); ++i) {
+      const Eigen::Vector2d q = corners[s] + (corners[s + 1] - corners[s]) * i / per_side;
+      out.push_back(center + Eigen::Vector3d(0.0, q.x(), q.y()));
+    }
+  return out;
+}
+
+struct Robot {
+  ss::ContinuumRobotDescription description;
+  std::unique_ptr<ss::ContinuumRobotModel> model;
+  std::unique_ptr<ss::FullFePlant> plant;
+};
+
+Robot makeRobot(const std::string& config, const std::string& name) {
+  Robot r;
+  r.description = ss::loadContinuumRobot(config, name);
+  const ss::SectionCompliances c =
+      ss::computeSectionCompliances(r.description, ss::ComplianceCache::defaultDirectory());
+  std::fprintf(stderr, "%s: %d sections condensed in %.2f s (%d cache hits)\n", name.c_str(),
+               r.description.num_vertebrae, c.seconds, c.cache_hits);
+  r.model = std::make_unique<ss::ContinuumRobotModel>(r.description, c);
+  ss::FullFePlantSettings ps;
+  ps.newton.max_iterations = 30;
+  ps.follower_tolerance = 1e-5;
+  r.plant = std::make_unique<ss::FullFePlant>(*r.model, ps);
+  std::fprintf(stderr, "%s: FE plant with %d nodes\n", name.c_str(), r.plant->numNodes());
+  return r;
+}
+
+struct RunStats {
+  double error_sum = 0.0, error_max = 0.0, ms_sum = 0.0, ms_max = 0.0;
+  double plant_sum = 0.0, plant_max = 0.0;
+  int steps = 0, plant_steps = 0;
+};
+
+/// Follows `path`; evaluates the FE plant every plant_stride steps (0: never). Rows go to csv.
+RunStats follow(Robot& robot, const std::string& case_name, const std::string& path_name,
+                const std::vector<Eigen::Vector3d>& path, double tolerance, int max_iterations,
+                const ss::ModelSolveSettings& model_settings, int plant_stride, FILE* csv) {
+  ss::InverseControllerSettings cs;
+  cs.model = model_settings;
+  ss::InverseController controller(*robot.model, cs);
+  robot.plant->reset();
+  ss::InverseResult result;
+  result.actuation = controller.actuation();
+  RunStats st;
+  for (size_t i = 0; i < path.size(); ++i) {
+    const ss::Stopwatch clock;
+    controller.solveTarget(path[i], tolerance, max_iterations, result);
+    const double ms = clock.milliseconds();
+    double plant_error = NAN;
+    if (plant_stride > 0 && (i % plant_stride == 0 || i + 1 == path.size())) {
+      robot.plant->solve(result.actuation);
+      plant_error = (robot.plant->tipPosition() - path[i]).norm();
+      st.plant_sum += plant_error;
+      st.plant_max = std::max(st.plant_max, plant_error);
+      ++st.plant_steps;
+    }
+    if (i > 0) {  // the first step moves from rest onto the path; not a tracking step
+      st.error_sum += result.effector_error;
+      st.error_max = std::max(st.error_max, result.effector_error);
+      st.ms_sum += ms;
+      st.ms_max = std::max(st.ms_max, ms);
+      ++st.steps;
+    }
+    if (csv)
+      std::fprintf(csv, "%s,%s,%s,%zu,%.6f,%.6f,%.6f,%.6e,%.6e,%.3f,%d,%s\n", case_name.c_str(),
+                   robot.description.name.c_str(), path_name.c_str(), i, path[i].x(), path[i].y(),
+                   path[i].z(), result.effector_error, plant_error, ms, result.qp_iterations,
+                   ss::toString(result.status));
+  }
+  return st;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string config =
+      argc > 1 ? argv[1]
+               : std::string(SURGICAL_SIM_SCRIPTS_DIR) + "/../config/continuum_robot.yaml";
+  const std::string out_dir = argc > 2 ? argv[2] : "robot_bench_out";
+  std::system(("mkdir -p '" + out_dir + "'").c_str());
+  FILE* csv = std::fopen((out_dir + "/robot_bench.csv").c_str(), "w");
+  FILE* summary = std::fopen((out_dir + "/robot_summary.csv").c_str(), "w");
+  if (!csv || !summary) {
+    std::fprintf(stderr, "cannot write to %s\n", out_dir.c_str());
+    return 1;
+  }
+  std::fprintf(csv,
+               "case,robot,path,step,target_x,target_y,target_z,model_error_m,plant_error_m,"
+               "solve_ms,qp_iterations,status\n");
+  std::fprintf(summary,
+               "case,robot,path,max_iterations,newton_iterations,mean_error_m,max_error_m,"
+               "mean_solve_ms,max_solve_ms\n");
+  const double dt = 0.1;  // control period [s] (10 Hz)
+  const double tol = 1e-4;
+  const ss::ModelSolveSettings full_newton;
+
+  // ---- R1: trunk ------------------------------------------------------------------------------
+  Robot trunk = makeRobot(config, "trunk");
+  const Eigen::Vector3d c1 = trunk.model->restNodes().back().p_BN + Eigen::Vector3d(0.01, 0, 0);
+  const auto circle = circlePath(c1, 0.060, 0.025, dt);
+  const auto square = squarePath(c1, 0.080, 0.031, dt);
+  const auto print = [](const char* what, const RunStats& s) {
+    std::printf(
+        "%-28s steps %4d  model err mean %.3e max %.3e m  plant err mean %.3e max %.3e m"
+        "  solve mean %.2f max %.2f ms\n",
+        what, s.steps, s.error_sum / std::max(1, s.steps), s.error_max,
+        s.plant_sum / std::max(1, s.plant_steps), s.plant_max, s.ms_sum / std::max(1, s.steps),
+        s.ms_max);
+  };
+  print("R1 trunk circle", follow(trunk, "R1", "circle", circle, tol, 10, full_newton, 50, csv));
+  print("R1 trunk square", follow(trunk, "R1", "square", square, tol, 10, full_newton, 26, csv));
+  std::vector<Eigen::Vector3d> coarse;
+  for (size_t i = 0; i < circle.size(); i += 3) coarse.push_back(circle[i]);
+  const int caps[][2] = {{1, 100}, {2, 100}, {3, 100}, {10, 100}, {1, 2}, {3, 3}};
+  for (const auto& cap : caps) {
+    ss::ModelSolveSettings ms;
+    ms.max_iterations = cap[1];
+    const RunStats s = follow(trunk, "R1", "circle_coarse", coarse, tol, cap[0], ms, 0, nullptr);
+    std::fprintf(summary, "R1,trunk,circle_coarse,%d,%d,%.6e,%.6e,%.3f,%.3f\n", cap[0], cap[1],
+                 s.error_sum / s.steps, s.error_max, s.ms_sum / s.steps, s.ms_max);
+  }
+
+  // ---- R2: cable robot ------------------------------------------------------------------------
+  Robot cable = makeRobot(config, "cable");
+  const Eigen::Vector3d tip0 = cable.model->restNodes().back().p_BN;
+  const Eigen::Vector3d c2 = tip0 + Eigen::Vector3d(-0.005, 0, 0);
+  const auto cable_circle = circlePath(c2, 0.020, 0.01, dt);
+  print("R2 cable circle",
+        follow(cable, "R2", "circle", cable_circle, tol, 10, full_newton, 32, csv));
+  for (const auto& cap : caps) {
+    ss::ModelSolveSettings ms;
+    ms.max_iterations = cap[1];
+    const RunStats s = follow(cable, "R2", "circle", cable_circle, tol, cap[0], ms, 0, nullptr);
+    std::fprintf(summary, "R2,cable,circle,%d,%d,%.6e,%.6e,%.3f,%.3f\n", cap[0], cap[1],
+                 s.error_sum / s.steps, s.error_max, s.ms_sum / s.steps, s.ms_max);
+  }
+  // Unreachable (beyond the tip along the axis: cables can only shorten the robot) and binding
+  // bounds (lateral target beyond what 3 N can bend).
+  const std::vector<Eigen::Vector3d> special = {tip0, tip0 + Eigen::Vector3d(0.03, 0.0, 0.0),
+                                                tip0 + Eigen::Vector3d(-0.03, 0.09, 0.0)};
+  const std::vector<std::string> names = {"rest", "unreachable_axial", "bounds_bind_lateral"};
+  for (size_t i = 0; i < special.size(); ++i) {
+    ss::InverseController controller(*cable.model, ss::InverseControllerSettings{});
+    const ss::Stopwatch clock;
+    const ss::InverseResult r = controller.solveTarget(special[i], tol, 30);
+    const double ms = clock.milliseconds();
+    cable.plant->reset();
+    cable.plant->solve(r.actuation);
+    const double plant_error = (cable.plant->tipPosition() - special[i]).norm();
+    std::fprintf(csv, "R2,cable,%s,0,%.6f,%.6f,%.6f,%.6e,%.6e,%.3f,%d,%s\n", names[i].c_str(),
+                 special[i].x(), special[i].y(), special[i].z(), r.effector_error, plant_error, ms,
+                 r.qp_iterations, ss::toString(r.status));
+    std::printf("R2 %-22s status %-12s model err %.3e m plant err %.3e m  %.2f ms  tensions",
+                names[i].c_str(), ss::toString(r.status), r.effector_error, plant_error, ms);
+    for (int a = 0; a < r.actuation.size(); ++a) std::printf(" %.3f", r.actuation[a]);
+    std::printf(" N\n");
+  }
+  std::fclose(csv);
+  std::fclose(summary);
+  const std::string cmd = std::string("/usr/bin/python3 '") + SURGICAL_SIM_SCRIPTS_DIR +
+                          "/plot_robot.py' '" + out_dir + "'";
+  if (std::system(cmd.c_str()) != 0) std::fprintf(stderr, "plotting failed (%s)\n", cmd.c_str());
+  return 0;
+}

@@ -1,0 +1,80 @@
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "surgical_sim/core/scene/scene_config.h"
+#include "surgical_sim/core/scene/tissue_simulation.h"
+
+namespace surgical_sim::core {
+namespace {
+
+SceneConfig palpationScene() {
+  return loadSceneConfig(std::string(SURGICAL_SIM_SOURCE_DIR) + "/config/scenes/palpation.yaml");
+}
+
+bool has(const std::vector<std::string>& list, const std::string& item) {
+  for (const auto& s : list)
+    if (s == item) return true;
+  return false;
+}
+
+/// Tool pointing down (z_T = -z_S) with its tip at p.
+Eigen::Isometry3d toolAt(const Eigen::Vector3d& p) {
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  X.translation() = p;
+  return X;
+}
+
+double topOfTissue(const TissueSimulation& sim) {
+  double top = -1e9;
+  for (int n = 0; n < sim.mesh().numNodes(); ++n)
+    if (std::abs(sim.mesh().nodes(0, n)) < 5e-3 && std::abs(sim.mesh().nodes(1, n)) < 5e-3)
+      top = std::max(top, sim.state().x[3 * n + 2]);
+  return top;
+}
+
+TEST(TissueSimulation, SceneWithoutToolsOrDampingBuildsNeither) {
+  SceneConfig scene = palpationScene();
+  scene.tools.clear();
+  scene.damping_mass = scene.damping_stiffness = 0.0;
+  TissueSimulation sim(scene);
+  EXPECT_FALSE(has(sim.components(), "contact"));
+  EXPECT_FALSE(has(sim.components(), "damping"));
+  for (int k = 0; k < 3; ++k) {
+    const SimulationStepStats s = sim.step();
+    EXPECT_EQ(s.collision_seconds, 0.0);
+    EXPECT_EQ(s.contact_seconds, 0.0);
+    EXPECT_EQ(s.contacts, 0);
+    EXPECT_GT(s.integrate_seconds, 0.0);
+  }
+  EXPECT_EQ(sim.toolContact(0).in_contact, false);
+}
+
+TEST(TissueSimulation, PalpationForceRisesWithIndentationAndVanishesAway) {
+  SceneConfig scene = palpationScene();
+  scene.gravity.setZero();
+  TissueSimulation sim(scene);
+  ASSERT_TRUE(has(sim.components(), "contact"));
+  const double top = topOfTissue(sim);
+  double previous = 0.0;
+  for (int mm = 1; mm <= 8; ++mm) {
+    sim.setToolPose(0, toolAt(Eigen::Vector3d(0, 0, top + 0.0025 - 1e-3 * mm)));
+    for (int k = 0; k < 60; ++k) sim.step();
+    const ContactLinearization c = sim.toolContact(0);
+    ASSERT_TRUE(c.in_contact) << mm;
+    EXPECT_GT(c.f0_S.z(), previous) << "force must grow with indentation (" << mm << " mm)";
+    EXPECT_LT(std::abs(c.f0_S.x()) + std::abs(c.f0_S.y()), 0.2 * c.f0_S.z());
+    EXPECT_LE(c.K_S(2, 2), 0.0);  // df/dp: pushing down (-z) raises the upward force
+    previous = c.f0_S.z();
+  }
+  sim.setToolPose(0, toolAt(Eigen::Vector3d(0, 0, top + 0.05)));
+  for (int k = 0; k < 100; ++k) sim.step();
+  EXPECT_FALSE(sim.toolContact(0).in_contact);
+  EXPECT_EQ(sim.toolContact(0).f0_S.norm(), 0.0);
+  sim.reset();
+  EXPECT_EQ(sim.state().x, sim.model().restPositions());
+}
+
+}  // namespace
+}  // namespace surgical_sim::core
