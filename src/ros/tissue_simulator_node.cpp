@@ -66,8 +66,8 @@ TissueSimulatorNode::TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& p
     io.pose_sub = nh.subscribe<geometry_msgs::PoseStamped>(
         spec.pose_topic, 1000, [this, i](const auto& msg) { onPose(msg, i); });
     if (!spec.grasp_topic.empty())
-      io.grasp_sub = nh.subscribe<std_msgs::Bool>(
-          spec.grasp_topic, 100, [this, i](const auto& msg) { onGrasp(msg, i); });
+      io.grasp_sub = nh.subscribe<std_msgs::Bool>(spec.grasp_topic, 100,
+                                                  [this, i](const auto& msg) { onGrasp(msg, i); });
     io.wrench_pub = nh.advertise<geometry_msgs::WrenchStamped>(spec.wrench_topic, 1000);
     io.contact_pub = nh.advertise<surgical_sim::ContactModel>(spec.contact_model_topic, 1000);
   }
@@ -83,9 +83,9 @@ TissueSimulatorNode::TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& p
   }
   ROS_INFO_NAMED("tissue_simulator",
                  "scene '%s': %d nodes, %d elements, model %s, %s mode, %d tool(s), components:",
-                 sim_->scene().name.c_str(), sim_->mesh().numNodes(),
-                 sim_->mesh().numElements(), sim_->model().name().c_str(),
-                 realtime_ ? "realtime" : "lockstep", sim_->numTools());
+                 sim_->scene().name.c_str(), sim_->mesh().numNodes(), sim_->mesh().numElements(),
+                 sim_->model().name().c_str(), realtime_ ? "realtime" : "lockstep",
+                 sim_->numTools());
   for (const auto& c : sim_->components()) ROS_INFO_NAMED("tissue_simulator", "  %s", c.c_str());
 }
 

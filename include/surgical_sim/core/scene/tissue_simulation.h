@@ -73,8 +73,8 @@ class TissueSimulation {
   std::unique_ptr<Integrator> integrator_;
   DynamicsProblem problem_;
   SimulationState state_;
-  Eigen::VectorXd base_force_;  ///< body force [N], before contact forces
-  DirichletBc base_dirichlet_;  ///< the scene's fixed DOFs, before grasps
+  Eigen::VectorXd base_force_;             ///< body force [N], before contact forces
+  DirichletBc base_dirichlet_;             ///< the scene's fixed DOFs, before grasps
   std::unique_ptr<ContactPhase> contact_;  ///< null for a scene without tools
   std::vector<int> contact_nodes_;
 };
