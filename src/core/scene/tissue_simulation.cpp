@@ -64,8 +64,7 @@ TissueSimulation::TissueSimulation(const SceneConfig& scene) : scene_(scene) {
       tool.grasp_radius = t.grasp_radius > 0.0 ? t.grasp_radius : 1e-9;
       settings.tools.push_back(tool);
     }
-    contact_ = std::make_unique<ContactPhase>(surface_, model_->restPositions(), settings,
-                                              integrator_->name() != "quasi_static");
+    contact_settings_ = settings;
   }
   reset();
 }
@@ -80,7 +79,12 @@ void TissueSimulation::reset() {
   problem_.dirichlet = base_dirichlet_;
   contact_nodes_.clear();
   integrator_->reset();
-  for (int i = 0; i < numTools(); ++i) setGrasp(i, false);
+  // A fresh contact phase: no carried constraint force, proxy or grasp survives a reset, so a
+  // replay after reset is bit-identical to the first run.
+  if (!scene_.tools.empty()) {
+    contact_ = std::make_unique<ContactPhase>(surface_, model_->restPositions(), contact_settings_,
+                                              integrator_->name() != "quasi_static");
+  }
 }
 
 void TissueSimulation::setToolPose(int tool, const Eigen::Isometry3d& X_ST) {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "surgical_sim/core/common/status.h"
+#include "surgical_sim/core/contact/contact_phase.h"
 #include "surgical_sim/core/contact/contact_point.h"
 #include "surgical_sim/core/mesh/surface.h"
 #include "surgical_sim/core/mesh/tet_mesh.h"
@@ -15,8 +16,6 @@
 #include "surgical_sim/core/tissue/tissue_model.h"
 
 namespace surgical_sim::core {
-
-class ContactPhase;
 
 /// Wall-clock phase times of one step [s] and the integrator's report. A phase the scene does
 /// not use is never built and reads exactly 0.
@@ -76,6 +75,7 @@ class TissueSimulation {
   Eigen::VectorXd base_force_;             ///< body force [N], before contact forces
   DirichletBc base_dirichlet_;             ///< the scene's fixed DOFs, before grasps
   std::unique_ptr<ContactPhase> contact_;  ///< null for a scene without tools
+  ContactPhaseSettings contact_settings_;
   std::vector<int> contact_nodes_;
 };
 
