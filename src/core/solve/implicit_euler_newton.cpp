@@ -8,19 +8,9 @@
 #include "surgical_sim/core/solve/dirichlet_projection.h"
 #include "surgical_sim/core/solve/dynamics_problem_check.h"
 #include "surgical_sim/core/solve/mechanical_energy.h"
+#include "surgical_sim/core/solve/newton_constants.h"
 
 namespace surgical_sim::core {
-namespace {
-
-/// Residual norms below this fraction of their round-off scale (norms of the residual's terms,
-/// of M x and of dt^2 |K| |x|) cannot be reduced further: converged.
-constexpr double kResidualRoundOff = 1e-13;
-/// An iteration reducing the residual norm by less than this factor counts as stalled; the next
-/// one tries the exact tangent (the projected one converges only linearly under compression).
-constexpr double kStallRatio = 0.5;
-
-}  // namespace
-
 ImplicitEulerNewton::ImplicitEulerNewton(const IntegratorSettings& settings,
                                          std::unique_ptr<LinearSolver> linear_solver)
     : settings_(settings), solver_(std::move(linear_solver)) {
@@ -165,12 +155,13 @@ StepReport ImplicitEulerNewton::step(const DynamicsProblem& problem, double dt,
     if (!std::isfinite(norm)) return fail(StepStatus::NonFinite);
     if (iteration == 0) reference = norm;
     report.residual = reference > 0.0 ? norm / reference : 0.0;
-    if (norm <= settings_.relative_tolerance * reference || norm <= kResidualRoundOff * terms) {
+    if (norm <= settings_.relative_tolerance * reference ||
+        norm <= kNewtonResidualRoundOff * terms) {
       report.status = StepStatus::Ok;
       break;
     }
     if (iteration == settings_.max_iterations) break;
-    if (iteration > 0 && norm > kStallRatio * previous_norm) use_exact = true;
+    if (iteration > 0 && norm > kNewtonStallRatio * previous_norm) use_exact = true;
     previous_norm = norm;
 
     report.newton_iterations = iteration + 1;

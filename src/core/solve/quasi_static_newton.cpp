@@ -8,19 +8,9 @@
 #include "surgical_sim/core/solve/dirichlet_projection.h"
 #include "surgical_sim/core/solve/dynamics_problem_check.h"
 #include "surgical_sim/core/solve/mechanical_energy.h"
+#include "surgical_sim/core/solve/newton_constants.h"
 
 namespace surgical_sim::core {
-namespace {
-
-/// Residual norms below this fraction of their round-off scale (|f_int| + |f_ext| + || |K| |x| ||)
-/// cannot be reduced further: converged.
-constexpr double kResidualRoundOff = 1e-13;
-/// An iteration reducing the residual norm by less than this factor counts as stalled; the next
-/// one tries the exact tangent (the projected one converges only linearly under compression).
-constexpr double kStallRatio = 0.5;
-
-}  // namespace
-
 QuasiStaticNewton::QuasiStaticNewton(const IntegratorSettings& settings,
                                      std::unique_ptr<LinearSolver> linear_solver)
     : settings_(settings), solver_(std::move(linear_solver)) {
@@ -98,11 +88,12 @@ StepStatus QuasiStaticNewton::solveIncrement(const DynamicsProblem& problem, Eig
     if (!std::isfinite(norm)) return StepStatus::NonFinite;
     if (iteration == 0) reference = norm;
     report.residual = reference > 0.0 ? norm / reference : 0.0;
-    if (norm <= settings_.relative_tolerance * reference || norm <= kResidualRoundOff * terms) {
+    if (norm <= settings_.relative_tolerance * reference ||
+        norm <= kNewtonResidualRoundOff * terms) {
       return StepStatus::Ok;
     }
     if (iteration == settings_.max_iterations) return StepStatus::NotConverged;
-    if (iteration > 0 && norm > kStallRatio * previous_norm) use_exact = true;
+    if (iteration > 0 && norm > kNewtonStallRatio * previous_norm) use_exact = true;
     previous_norm = norm;
 
     ++report.newton_iterations;
