@@ -5,6 +5,7 @@
 
 #include "surgical_sim/core/common/validate.h"
 #include "surgical_sim/core/contact/closest_points_segment_triangle.h"
+#include "surgical_sim/core/contact/normal_derivative.h"
 
 namespace surgical_sim::core {
 
@@ -49,14 +50,17 @@ void ContactDetector::detect(int tool, const ToolCapsule& capsule,
       contact.n_S = -n_t;
       const double depth = std::min(n_t.dot(a - contact.p_S), n_t.dot(b - contact.p_S));
       contact.gap = std::min(depth, 0.0) - radius;
-    } else if (n_t.dot(axis_to_surface) <= 0.0) {  // axis in front of the triangle
-      contact.n_S = axis_to_surface / distance;
-      contact.gap = distance - radius;
     } else {
-      if (distance >= radius) continue;  // axis deep behind the surface: pushed through
-      contact.n_S = -axis_to_surface / distance;
-      contact.gap = -distance - radius;
+      // In front of the triangle n points from the axis to the surface; with the axis behind it
+      // (less than a radius deep; deeper it was pushed through) n is reversed.
+      const bool in_front = n_t.dot(axis_to_surface) <= 0.0;
+      if (!in_front && distance >= radius) continue;
+      const double side = in_front ? 1.0 : -1.0;
+      contact.n_S = side * axis_to_surface / distance;
+      contact.gap = side * distance - radius;
+      contact.dn_du = side * normalTranslationDerivative(closest, a, b, v0, v1, v2);
     }
+    contact.dn_dx = contactNormalNodeDerivative(closest, contact.n_S, contact.dn_du, v0, v1, v2);
     if (!(contact.gap < settings_.margin)) continue;
     bool merged = false;
     for (ContactPoint& other : found_) {

@@ -12,6 +12,13 @@ namespace {
 /// Relative diagonal regularization of W_AA before its factorization (redundant contacts, e.g.
 /// several triangles around one tip, make W_AA singular) [-].
 constexpr double kDelassusRegularization = 1e-10;
+/// Active-set changes allowed per contact in the LCP refinement [-].
+constexpr int kPivotsPerContact = 4;
+
+int checkedMaxContacts(int max_contacts) {
+  requireInRange("contact.max_contacts", max_contacts, 1, 4096, "");
+  return max_contacts;
+}
 
 }  // namespace
 
@@ -23,18 +30,21 @@ void validateContactSolverSettings(const ContactSolverSettings& settings) {
 }
 
 ContactSolver::ContactSolver(const ContactSolverSettings& settings, int max_contacts)
-    : settings_(settings), max_contacts_(max_contacts) {
+    : settings_(settings),
+      max_contacts_(checkedMaxContacts(max_contacts)),
+      active_set_(max_contacts_) {
   validateContactSolverSettings(settings);
-  requireInRange("contact.max_contacts", max_contacts, 1, 4096, "");
   W_.setZero(max_contacts, max_contacts);
   factor_.setZero(max_contacts, max_contacts);
   normals_.setZero(max_contacts, 3);
   q_.setZero(max_contacts);
   lambda_.setZero(max_contacts);
-  work_.setZero(max_contacts);
   active_.reserve(static_cast<size_t>(max_contacts));
   tools_.assign(static_cast<size_t>(max_contacts), 0);
   contact_normals_.setZero(3, max_contacts);
+  dn_du_.assign(static_cast<size_t>(max_contacts), Eigen::Matrix3d::Zero());
+  dn_dx_.assign(static_cast<size_t>(max_contacts), Eigen::Matrix<double, 3, 9>::Zero());
+  solved_.setZero(max_contacts, 3);
 }
 
 void ContactSolver::resize(Eigen::Index size) {
@@ -83,7 +93,10 @@ StepStatus ContactSolver::solve(Integrator& integrator, const std::vector<Contac
     q_scale = std::max(q_scale, std::abs(q_[i]));
     tools_[static_cast<size_t>(i)] = contact.tool;
     contact_normals_.col(i) = contact.n_S;
+    dn_du_[static_cast<size_t>(i)] = contact.dn_du;
+    dn_dx_[static_cast<size_t>(i)] = contact.dn_dx;
   }
+  if (coupling_.size() < static_cast<size_t>(m * m)) coupling_.resize(static_cast<size_t>(m * m));
   for (Eigen::Index j = 0; j < m; ++j) {
     const ContactPoint& contact = contacts[static_cast<size_t>(j)];
     addColumn(contact, 1.0, column_);
@@ -92,7 +105,11 @@ StepStatus ContactSolver::solve(Integrator& integrator, const std::vector<Contac
     for (int k = 0; k < 3; ++k) column_.segment<3>(3 * contact.nodes[k]).setZero();
     if (!ok) return StepStatus::SolverFailed;
     for (Eigen::Index i = 0; i < m; ++i) {
-      W_(i, j) = rowDot(contacts[static_cast<size_t>(i)], response_);
+      const ContactPoint& row = contacts[static_cast<size_t>(i)];
+      W_(i, j) = rowDot(row, response_);
+      Eigen::Matrix<double, 9, 1>& coupling = coupling_[static_cast<size_t>(i * m + j)];
+      for (int k = 0; k < 3; ++k)
+        coupling.segment<3>(3 * k) = response_.segment<3>(3 * row.nodes[k]);
     }
   }
   auto W = W_.topLeftCorner(m, m);
@@ -101,8 +118,12 @@ StepStatus ContactSolver::solve(Integrator& integrator, const std::vector<Contac
 
   auto lambda = lambda_.head(m);
   lambda.setZero();
-  report_ = solveLcpProjectedGaussSeidel(W, q_.head(m), settings_.max_iterations,
-                                         settings_.relative_tolerance * q_scale, lambda);
+  const double tolerance = settings_.relative_tolerance * q_scale;
+  report_ =
+      solveLcpProjectedGaussSeidel(W, q_.head(m), settings_.max_iterations, tolerance, lambda);
+  const PgsReport refined = refineLcpActiveSet(
+      W, q_.head(m), tolerance, kPivotsPerContact * static_cast<int>(m), lambda, active_set_);
+  if (refined.converged) report_ = refined;
   for (Eigen::Index i = 0; i < m; ++i) {
     addColumn(contacts[static_cast<size_t>(i)], lambda[i], tissue_force_);
   }
@@ -160,15 +181,24 @@ void ContactSolver::linearize(int tool, const Eigen::Vector3d& p0_S, ContactLine
   Waa.diagonal().array() += kDelassusRegularization * trace / static_cast<double>(a);
   Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(Waa);
   if (llt.info() != Eigen::Success) return;  // K stays 0: no usable stiffness
-  // K = -E^T W_AA^-1 E, column by column.
-  Eigen::Matrix3d product = Eigen::Matrix3d::Zero();
-  for (int c = 0; c < 3; ++c) {
-    auto solved = work_.head(a);
-    solved = E.col(c);
-    llt.solveInPlace(solved);
-    for (int r = 0; r < 3; ++r) product(r, c) = E.col(r).dot(solved);
-  }
+  // Y = W_AA^-1 E: multiplier change per metre of tool motion; constraint part -E^T Y.
+  Eigen::Ref<Eigen::MatrixXd> Y = solved_.topRows(a);
+  Y = E;
+  llt.solveInPlace(Y);
+  const Eigen::Matrix3d product = E.transpose() * Y;
   out.K_S = -0.5 * (product + product.transpose());
+  // Geometric part: f = -sum lambda_i n_i with n_i turning with the tool (dn_du) and with the
+  // tissue nodes under contact i, which move by sum_s S h_s Y_s per metre of tool motion.
+  for (Eigen::Index r = 0; r < a; ++r) {
+    const auto i = static_cast<size_t>(active_[static_cast<size_t>(r)]);
+    if (tools_[i] != tool) continue;
+    Eigen::Matrix<double, 9, 3> node_motion = Eigen::Matrix<double, 9, 3>::Zero();
+    for (Eigen::Index c = 0; c < a; ++c) {
+      const auto j = static_cast<size_t>(active_[static_cast<size_t>(c)]);
+      node_motion += coupling_[i * static_cast<size_t>(count_) + j] * Y.row(c);
+    }
+    out.K_S -= lambda_[static_cast<Eigen::Index>(i)] * (dn_du_[i] + dn_dx_[i] * node_motion);
+  }
 }
 
 }  // namespace surgical_sim::core

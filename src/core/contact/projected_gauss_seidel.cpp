@@ -5,6 +5,18 @@
 
 namespace surgical_sim::core {
 
+double lcpMinMapResidual(const Eigen::Ref<const Eigen::MatrixXd>& W,
+                         const Eigen::Ref<const Eigen::VectorXd>& q,
+                         const Eigen::Ref<const Eigen::VectorXd>& lambda) {
+  double residual = 0.0;
+  for (Eigen::Index i = 0; i < q.size(); ++i) {
+    if (!(W(i, i) > 0.0)) continue;
+    const double w = q[i] + W.col(i).dot(lambda);  // W symmetric: column = row
+    residual = std::max(residual, std::abs(std::min(lambda[i] * W(i, i), w)));
+  }
+  return residual;
+}
+
 PgsReport solveLcpProjectedGaussSeidel(const Eigen::Ref<const Eigen::MatrixXd>& W,
                                        const Eigen::Ref<const Eigen::VectorXd>& q,
                                        int max_iterations, double tolerance,
@@ -21,12 +33,7 @@ PgsReport solveLcpProjectedGaussSeidel(const Eigen::Ref<const Eigen::MatrixXd>& 
       lambda[i] = std::max(0.0, lambda[i] - w / W(i, i));
     }
     report.iterations = sweep;
-    report.residual = 0.0;
-    for (Eigen::Index i = 0; i < m; ++i) {
-      if (!(W(i, i) > 0.0)) continue;
-      const double w = q[i] + W.col(i).dot(lambda);
-      report.residual = std::max(report.residual, std::abs(std::min(lambda[i] * W(i, i), w)));
-    }
+    report.residual = lcpMinMapResidual(W, q, lambda);
     if (report.residual <= tolerance) {
       report.converged = true;
       break;

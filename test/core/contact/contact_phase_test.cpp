@@ -158,7 +158,6 @@ TEST(ContactPhase, LinearizationPredictsForceAfterSmallExtraIndentation) {
   for (int s = 0; s < kSettleSteps; ++s) ASSERT_TRUE(usable(p.step(Palpation::pose(depth))));
   const ContactLinearization lin = p.contact->linearization(0);
   ASSERT_TRUE(lin.in_contact);
-  EXPECT_LT((lin.K_S - lin.K_S.transpose()).norm(), 1e-9 * lin.K_S.norm());
   EXPECT_LT(lin.K_S(2, 2), 0.0);  // pushing further in (-z) increases the upward force
   const Eigen::Isometry3d X_ST = Palpation::pose(depth + 2e-5);
   for (int s = 0; s < kSettleSteps; ++s) ASSERT_TRUE(usable(p.step(X_ST)));
@@ -171,6 +170,27 @@ TEST(ContactPhase, LinearizationPredictsForceAfterSmallExtraIndentation) {
             0.1 * (simulated - lin.f0_S).norm() + 0.02 * simulated.norm())
       << "f0 " << lin.f0_S.transpose() << " predicted " << predicted.transpose() << " simulated "
       << simulated.transpose();
+}
+
+TEST(ContactPhase, DynamicLinearizationPredictsTheNextStepOfADeepPress) {
+  // A 5 mm press with a 4 mm tip into 5 mm cells: the surface wraps the tip, the contacts are
+  // tilted faces that turn as the tissue deforms, so the prediction needs the geometric term
+  // (without it the force change is over-predicted by about 13 %).
+  Palpation p(ContactResponse::Constraint, "implicit_euler_linearized");
+  p.problem.damping.mass_coefficient = 2.0;        // [1/s]
+  p.problem.damping.stiffness_coefficient = 0.02;  // [s]
+  const double depth = 5e-3;
+  for (int s = 1; s <= 50; ++s) ASSERT_TRUE(usable(p.step(Palpation::pose(depth * s / 50))));
+  for (int s = 0; s < 100; ++s) ASSERT_TRUE(usable(p.step(Palpation::pose(depth))));
+  const ContactLinearization lin = p.contact->linearization(0);
+  ASSERT_TRUE(lin.in_contact);
+  const Eigen::Isometry3d X_ST = Palpation::pose(depth + 5e-5);
+  ASSERT_TRUE(usable(p.step(X_ST)));
+  const Eigen::Vector3d change = p.contact->linearization(0).f0_S - lin.f0_S;
+  const Eigen::Vector3d predicted = lin.K_S * (X_ST.translation() - lin.p0_S);
+  EXPECT_GT(change.z(), 0.0);
+  EXPECT_LT(std::abs(predicted.z() - change.z()), 0.02 * change.z())
+      << "predicted " << predicted.transpose() << " simulated " << change.transpose();
 }
 
 TEST(ContactPhase, NoContactGivesZeroForceAndStiffness) {

@@ -17,6 +17,12 @@ struct ContactPoint {
   Eigen::Vector3d n_S = Eigen::Vector3d::UnitZ();         ///< unit normal from the tool axis to the
                                                           ///< surface point (away from the tool), S
   double gap = 0.0;  ///< distance - radius [m] (negative = penetration)
+  /// dn_S/du for a rigid tool translation u [1/m] (normalTranslationDerivative; 0 when n is the
+  /// face normal), for the geometric part of the contact stiffness.
+  Eigen::Matrix3d dn_du = Eigen::Matrix3d::Zero();
+  /// dn_S/d(x_nodes0, x_nodes1, x_nodes2) [1/m], 3 x 9 (contactNormalNodeDerivative): how the
+  /// normal turns as the tissue under the tool deforms.
+  Eigen::Matrix<double, 3, 9> dn_dx = Eigen::Matrix<double, 3, 9>::Zero();
 };
 
 /// Local linear contact model of one tool for the haptic loop, in the tissue frame S: the force
@@ -25,8 +31,8 @@ struct ContactLinearization {
   bool in_contact = false;                         ///< at least one active contact / grasp
   Eigen::Vector3d p0_S = Eigen::Vector3d::Zero();  ///< tool tip position [m], S
   Eigen::Vector3d f0_S = Eigen::Vector3d::Zero();  ///< force of the tissue on the tool [N], S
-  Eigen::Matrix3d K_S = Eigen::Matrix3d::Zero();   ///< df/dp [N/m], S, 3x3, symmetric,
-                                                   ///< negative semi-definite
+  Eigen::Matrix3d K_S = Eigen::Matrix3d::Zero();   ///< df/dp [N/m], S, 3x3, symmetric
+                                                   ///< (indefinite near vertices and edges)
   int contacts = 0;                                ///< number of active contacts
 };
 

@@ -5,6 +5,7 @@
 
 #include "surgical_sim/core/common/status.h"
 #include "surgical_sim/core/contact/contact_point.h"
+#include "surgical_sim/core/contact/lcp_active_set.h"
 #include "surgical_sim/core/contact/projected_gauss_seidel.h"
 #include "surgical_sim/core/solve/dynamics_problem.h"
 #include "surgical_sim/core/solve/integrator.h"
@@ -30,7 +31,8 @@ void validateContactSolverSettings(const ContactSolverSettings& settings);
 ///  2. H has one row per contact, n^T times the barycentric weights on the triangle's 3 nodes;
 ///     S = Integrator::applyStepCompliance (one call per contact column), W = H S H^T [m/N];
 ///  3. the LCP 0 <= lambda _|_ q + W lambda >= 0 with q = g_free - H S F_a is solved by
-///     projected Gauss-Seidel (lambda [N]: the new contact force replaces F_a);
+///     projected Gauss-Seidel, whose active set is then refined to the exact solution by
+///     principal pivoting (refineLcpActiveSet; lambda [N]: the new contact force replaces F_a);
 ///  4. correction dx = S (H^T lambda - F_a): x += dx, v += dx / dt.
 /// tissueForce() = H^T lambda is the force on the tissue to carry into the next free step; the
 /// force of the tissue on tool t is -sum_{i of t} lambda_i n_i.
@@ -50,10 +52,11 @@ class ContactSolver {
   /// @param applied_force contact force already applied during the free step [N], size 3n
   /// @param dt step [s] (> 0) for the velocity correction
   /// @param update_velocity false for quasi-static integrators (v stays 0)
-  /// @return Ok; NotConverged (state corrected with the last iterate) if the Gauss-Seidel
-  ///         iteration limit was reached; SolverFailed (state untouched, zero force) if the step
-  ///         compliance is unavailable or contacts exceed max_contacts. Never throws;
-  ///         allocation-free after the first call with a given size 3n.
+  /// @return Ok; NotConverged (state corrected with the last Gauss-Seidel iterate) if neither
+  ///         Gauss-Seidel nor the active-set refinement converged; SolverFailed (state untouched,
+  ///         zero force) if the step compliance is unavailable or contacts exceed max_contacts.
+  ///         Never throws; allocation-free once it has seen the size 3n and its largest contact
+  ///         count.
   StepStatus solve(Integrator& integrator, const std::vector<ContactPoint>& contacts,
                    const Eigen::VectorXd& applied_force, double dt, bool update_velocity,
                    SimulationState& state);
@@ -63,8 +66,13 @@ class ContactSolver {
   /// Force of the tissue on tool `tool` [N], in S: -sum lambda_i n_i over its contacts.
   Eigen::Vector3d toolForce(int tool) const;
   /// Local linearization of tool `tool` at tip p0_S [m]: f0 = toolForce(tool) and
-  /// K = -N_t [W_AA^-1]_tt N_t^T on the active set A = {lambda_i > 0} (other tools held fixed);
-  /// pushing the tool along a contact normal n (further in) changes the force by -n/W per metre.
+  /// K = -E^T Y - sum_i lambda_i (dn_i/du + dn_i/dx_i S H^T Y), Y = W_AA^-1 E, on the active set
+  /// A = {lambda_i > 0} (E: rows n_i^T of this tool's contacts, other tools held fixed). The first
+  /// term is the constraint stiffness (pushing along a normal n changes the force by -n/W per
+  /// metre); the second turns the normals at fixed multipliers, with the tool (vertex and edge
+  /// contacts, ContactPoint::dn_du) and with the tissue under the tool, which the multiplier
+  /// change moves by S H^T Y (ContactPoint::dn_dx). K is not symmetric in general. Allocation-free
+  /// after the solve.
   /// Allocation-free. out.in_contact is false (f0 = 0, K = 0) without an active contact.
   void linearize(int tool, const Eigen::Vector3d& p0_S, ContactLinearization& out);
   /// Multipliers lambda [N] of the last solve, one per contact.
@@ -73,7 +81,7 @@ class ContactSolver {
   Eigen::Ref<const Eigen::MatrixXd> delassus() const { return W_.topLeftCorner(count_, count_); }
   /// Free gaps with the carried force removed, q [m], of the last solve.
   Eigen::Ref<const Eigen::VectorXd> freeGaps() const { return q_.head(count_); }
-  /// Report of the last Gauss-Seidel solve.
+  /// Report of the last LCP solve (the active-set refinement's when it converged).
   const PgsReport& report() const { return report_; }
 
  private:
@@ -86,15 +94,21 @@ class ContactSolver {
   ContactSolverSettings settings_;
   int max_contacts_;
   Eigen::Index count_ = 0;
-  Eigen::MatrixXd W_;                  ///< max x max, top-left count x count used
-  Eigen::MatrixXd factor_;             ///< max x max, W_AA factorization work space
-  Eigen::MatrixXd normals_;            ///< max x 3, rows n_i^T of the tool being linearized
-  Eigen::VectorXd q_, lambda_, work_;  ///< max
-  std::vector<int> active_;            ///< active contact indices (capacity max)
-  std::vector<int> tools_;             ///< tool of each contact of the last solve
-  Eigen::Matrix3Xd contact_normals_;   ///< 3 x max, n_i of the last solve
+  Eigen::MatrixXd W_;                   ///< max x max, top-left count x count used
+  Eigen::MatrixXd factor_;              ///< max x max, W_AA factorization work space
+  Eigen::MatrixXd normals_;             ///< max x 3, rows n_i^T of the tool being linearized
+  Eigen::VectorXd q_, lambda_;          ///< max
+  std::vector<int> active_;             ///< active contact indices (capacity max)
+  std::vector<int> tools_;              ///< tool of each contact of the last solve
+  Eigen::Matrix3Xd contact_normals_;    ///< 3 x max, n_i of the last solve
+  std::vector<Eigen::Matrix3d> dn_du_;  ///< max, dn_i/du of the last solve
+  std::vector<Eigen::Matrix<double, 3, 9>> dn_dx_;  ///< max, dn_i/dx_nodes of the last solve
+  /// count x count (row-major), S h_j restricted to contact i's three nodes [m/N]
+  std::vector<Eigen::Matrix<double, 9, 1>> coupling_;
+  Eigen::MatrixXd solved_;                                                   ///< max x 3, W_AA^-1 E
   Eigen::VectorXd tissue_force_, column_, response_, carried_, correction_;  ///< 3n
   PgsReport report_;
+  LcpActiveSetWorkspace active_set_;
 };
 
 }  // namespace surgical_sim::core

@@ -11,6 +11,11 @@ struct PgsReport {
   bool converged = false;  ///< residual <= tolerance
 };
 
+/// LCP min-map residual max_i |min(lambda_i W_ii, (q + W lambda)_i)| [m] over rows with W_ii > 0.
+double lcpMinMapResidual(const Eigen::Ref<const Eigen::MatrixXd>& W,
+                         const Eigen::Ref<const Eigen::VectorXd>& q,
+                         const Eigen::Ref<const Eigen::VectorXd>& lambda);
+
 /// Projected Gauss-Seidel for the linear complementarity problem
 ///   0 <= lambda  _|_  q + W lambda >= 0,
 /// W m x m symmetric positive semi-definite (contact compliance [m/N]), q the free gaps [m],
