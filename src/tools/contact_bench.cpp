@@ -1,0 +1,202 @@
+// contact_bench: tool-in-contact cost of the tissue simulator (issue 3). For every case of the
+// scene's sweep it presses the scene's first tool 6 mm into the top of the body over the first
+// two thirds of `steps` (at the body's highest point), holds for the rest, and reports per case: ms per step while in contact
+// (mean, p99) split into collision / integrate / contact, the tool-pose-to-contact-model latency
+// (setToolPose() until the new linearization is available; mean, p99) and the final tool force,
+// with its error against the finest-mesh case of the first solver (the reference row has NaN).
+// Usage: contact_bench <scene.yaml> [--csv FILE] [--plot FILE]
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "surgical_sim/core/scene/scene_config.h"
+#include "surgical_sim/core/scene/tissue_case.h"
+#include "surgical_sim/core/scene/tissue_simulation.h"
+
+namespace {
+
+using namespace surgical_sim::core;
+
+constexpr double kDepth = 6e-3;               // indentation of the tip below the rest surface [m]
+constexpr double kPressFraction = 2.0 / 3.0;  // share of the steps spent pressing [-]
+
+int usage(const std::string& msg) {
+  std::cerr << "contact_bench: " << msg << "\n"
+            << "usage: contact_bench <scene.yaml> [--csv FILE] [--plot FILE]\n";
+  return 2;
+}
+
+struct Row {
+  CaseSpec spec;
+  int nodes = 0, dofs = 0, contacts = 0, contact_steps = 0;
+  double ms_mean = 0, ms_p99 = 0, collision_ms = 0, integrate_ms = 0, contact_ms = 0;
+  double latency_mean_ms = 0, latency_p99_ms = 0;
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  double error_rel = std::numeric_limits<double>::quiet_NaN();
+  StepStatus status = StepStatus::Ok;
+};
+
+double mean(const std::vector<double>& v) {
+  double sum = 0.0;
+  for (const double x : v) sum += x;
+  return v.empty() ? 0.0 : sum / static_cast<double>(v.size());
+}
+
+double p99(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  const auto k = static_cast<size_t>(std::ceil(0.99 * static_cast<double>(v.size()))) - 1;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+/// The scene restricted to one case of its sweep.
+SceneConfig caseScene(const SceneConfig& scene, const CaseSpec& spec) {
+  SceneConfig one = scene;
+  one.mesh.resolutions = {spec.resolution};
+  one.mesh.element_types = {spec.element_type};
+  one.models = {spec.model};
+  one.integrators = {spec.integrator};
+  one.solvers = {spec.solver};
+  return one;
+}
+
+Row runCase(const SceneConfig& scene, const CaseSpec& spec) {
+  TissueSimulation sim(caseScene(scene, spec));
+  Row row;
+  row.spec = spec;
+  row.nodes = sim.mesh().numNodes();
+  row.dofs = 3 * row.nodes;
+  // The body's highest rest point (the organ blob's apex, over its centre) in the tissue frame.
+  const double top = sim.mesh().nodes.row(2).maxCoeff();
+  const double radius = scene.tools.front().radius;
+  Eigen::Isometry3d X_ST = Eigen::Isometry3d::Identity();
+  X_ST.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const int press_steps = std::max(1, static_cast<int>(kPressFraction * scene.steps));
+  std::vector<double> step_ms, latency_ms;
+  double collision = 0, integrate = 0, contact = 0;
+  for (int s = 1; s <= scene.steps; ++s) {
+    const double depth = kDepth * std::min(1.0, static_cast<double>(s) / press_steps);
+    X_ST.translation() = Eigen::Vector3d(0.0, 0.0, top + radius - depth);
+    const auto start = std::chrono::steady_clock::now();
+    sim.setToolPose(0, X_ST);
+    const SimulationStepStats stats = sim.step();
+    const ContactLinearization lin = sim.toolContact(0);
+    const double latency =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    if (stats.report.status != StepStatus::Ok && row.status == StepStatus::Ok) {
+      row.status = stats.report.status;
+    }
+    if (stats.contacts == 0) continue;
+    step_ms.push_back(1e3 * stats.step_seconds);
+    latency_ms.push_back(latency);
+    collision += 1e3 * stats.collision_seconds;
+    integrate += 1e3 * stats.integrate_seconds;
+    contact += 1e3 * stats.contact_seconds;
+    row.contacts = std::max(row.contacts, stats.contacts);
+    row.force = lin.f0_S;
+  }
+  row.contact_steps = static_cast<int>(step_ms.size());
+  const double n = std::max<double>(1.0, row.contact_steps);
+  row.ms_mean = mean(step_ms);
+  row.ms_p99 = p99(step_ms);
+  row.collision_ms = collision / n;
+  row.integrate_ms = integrate / n;
+  row.contact_ms = contact / n;
+  row.latency_mean_ms = mean(latency_ms);
+  row.latency_p99_ms = p99(latency_ms);
+  return row;
+}
+
+std::string csvRow(const std::string& scene_name, const Row& r) {
+  std::ostringstream os;
+  os << scene_name << "_" << r.spec.resolution.x() << "," << r.spec.model << ","
+     << r.spec.integrator << "," << r.spec.solver << "," << r.nodes << "," << r.dofs << ","
+     << r.contact_steps << "," << r.contacts << "," << r.ms_mean << "," << r.ms_p99 << ","
+     << r.collision_ms << "," << r.integrate_ms << "," << r.contact_ms << "," << r.latency_mean_ms
+     << "," << r.latency_p99_ms << "," << r.force.z() << "," << r.error_rel << ","
+     << toString(r.status);
+  return os.str();
+}
+
+constexpr const char* kHeader =
+    "case,model,integrator,solver,nodes,dofs,contact_steps,max_contacts,ms_per_step,ms_p99,"
+    "collision_ms,integrate_ms,contact_ms,latency_mean_ms,latency_p99_ms,force_z,error_rel,"
+    "status";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string scene_path, csv_path, plot_path;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if ((arg == "--csv" || arg == "--plot") && i + 1 < argc) {
+      (arg == "--csv" ? csv_path : plot_path) = argv[++i];
+    } else if (!arg.empty() && arg[0] == '-') {
+      return usage("unknown option " + arg);
+    } else if (scene_path.empty()) {
+      scene_path = arg;
+    } else {
+      return usage("more than one scene given");
+    }
+  }
+  if (scene_path.empty()) return usage("no scene given");
+  if (!plot_path.empty() && csv_path.empty()) return usage("--plot needs --csv");
+
+  std::vector<Row> rows;
+  SceneConfig scene;
+  try {
+    scene = loadSceneConfig(scene_path);
+    if (scene.tools.empty()) return usage("scene " + scene_path + " has no tools");
+    for (const CaseSpec& spec : expandSweep(scene)) {
+      std::cerr << "contact_bench: " << spec.resolution.x() << " cells, " << spec.solver << "\n";
+      rows.push_back(runCase(scene, spec));
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "contact_bench: " << e.what() << "\n";
+    return 1;
+  }
+  // Reference: the finest mesh with the first solver.
+  const Row* reference = nullptr;
+  for (const Row& r : rows) {
+    if (r.spec.solver == scene.solvers.front() && (!reference || r.nodes > reference->nodes)) {
+      reference = &r;
+    }
+  }
+  for (Row& r : rows) {
+    if (&r != reference && reference && reference->force.norm() > 0.0) {
+      r.error_rel = (r.force - reference->force).norm() / reference->force.norm();
+    }
+  }
+  std::ofstream csv;
+  if (!csv_path.empty()) {
+    csv.open(csv_path);
+    if (!csv) {
+      std::cerr << "contact_bench: cannot write " << csv_path << "\n";
+      return 1;
+    }
+  }
+  std::cout << kHeader << "\n";
+  if (csv) csv << kHeader << "\n";
+  for (const Row& r : rows) {
+    std::cout << csvRow(scene.name, r) << "\n";
+    if (csv) csv << csvRow(scene.name, r) << "\n";
+  }
+  if (!plot_path.empty()) {
+    csv.close();
+    const std::string cmd = std::string("/usr/bin/python3 '") + SURGICAL_SIM_SCRIPTS_DIR +
+                            "/plot_error_vs_time.py' '" + csv_path + "' '" + plot_path + "' '" +
+                            scene.name + " (force vs finest CHOLMOD)'";
+    if (std::system(cmd.c_str()) != 0) {
+      std::cerr << "contact_bench: plotting failed (" << cmd << ")\n";
+      return 1;
+    }
+  }
+  return 0;
+}
