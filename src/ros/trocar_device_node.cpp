@@ -19,11 +19,21 @@ constexpr char kLog[] = "trocar_device";
 constexpr double kDeg = M_PI / 180.0;
 constexpr double kStatsWindowSeconds = 5.0;  ///< loop periods kept for mean / p99 / max [s]
 
-/// Reads a double parameter and requires it in [lo, hi] (message names ~name, unit, range).
+/// Reads a parameter, fallback if unset. One that is set with the wrong type is an error (never a
+/// silent fallback): "~<name> must be <what>".
+template <class T>
+T typedParam(const ros::NodeHandle& pnh, const std::string& name, const T& fallback,
+             const std::string& what) {
+  T value = fallback;
+  if (pnh.hasParam(name) && !pnh.getParam(name, value))
+    throw std::invalid_argument("~" + name + " must be " + what);
+  return value;
+}
+
+/// Reads a number parameter and requires it in [lo, hi]; the message names ~name, unit and range.
 double rangedParam(const ros::NodeHandle& pnh, const std::string& name, double fallback, double lo,
                    double hi, const std::string& unit) {
-  double value = fallback;
-  pnh.param(name, value, fallback);
+  const double value = typedParam(pnh, name, fallback, "a number [" + unit + "]");
   core::requireInRange("~" + name, value, lo, hi, unit);
   return value;
 }
@@ -36,11 +46,11 @@ double positiveParam(const ros::NodeHandle& pnh, const std::string& name, double
   return value;
 }
 
+/// Reads a non-empty string parameter.
 std::string stringParam(const ros::NodeHandle& pnh, const std::string& name,
                         const std::string& fallback) {
-  std::string value = fallback;
-  pnh.param(name, value, fallback);
-  if (value.empty()) throw std::invalid_argument("~" + name + " must not be empty");
+  const std::string value = typedParam(pnh, name, fallback, "a non-empty string");
+  if (value.empty()) throw std::invalid_argument("~" + name + " must be a non-empty string");
   return value;
 }
 
@@ -64,7 +74,7 @@ TrocarDeviceSettings loadTrocarDeviceSettings(const ros::NodeHandle& pnh) {
   c.contact.stale_policy = policy == "fade" ? core::StalePolicy::Fade : core::StalePolicy::Hold;
   c.coupling.stiffness = positiveParam(pnh, "coupling_stiffness", 3000.0, 1e6, "N/m");
   c.coupling.damping = rangedParam(pnh, "coupling_damping", 2.0, 0.0, 1e4, "N s/m");
-  pnh.param("passivity", c.passivity.control_enabled, true);
+  c.passivity.control_enabled = typedParam(pnh, "passivity", true, "true or false");
 
   // Pose of the trocar frame F (fulcrum, z along the cannula) in W: fixed-axis roll-pitch-yaw.
   Eigen::Vector3d p_WF;
@@ -85,7 +95,7 @@ TrocarDeviceSettings loadTrocarDeviceSettings(const ros::NodeHandle& pnh) {
   s.pose_rate = rangedParam(pnh, "pose_rate", 0.0, 0.0, 1000.0, "Hz");
   s.world_frame = stringParam(pnh, "world_frame", "world");
   s.trocar_frame = stringParam(pnh, "trocar_frame", "trocar");
-  pnh.param<std::string>("joint_prefix", s.joint_prefix, "trocar_");
+  s.joint_prefix = typedParam<std::string>(pnh, "joint_prefix", "trocar_", "a string");
   core::validateHapticRendererConfig(c);
   return s;
 }
