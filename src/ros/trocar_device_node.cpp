@@ -88,8 +88,7 @@ TrocarDeviceSettings loadTrocarDeviceSettings(const ros::NodeHandle& pnh) {
            Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
            Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX());
 
-  s.realtime_priority =
-      static_cast<int>(rangedParam(pnh, "realtime_priority", 0.0, 0.0, 99.0, ""));
+  s.realtime_priority = static_cast<int>(rangedParam(pnh, "realtime_priority", 0.0, 0.0, 99.0, ""));
   s.publish_rate = positiveParam(pnh, "publish_rate", 100.0, 1000.0, "Hz");
   s.stats_rate = positiveParam(pnh, "stats_rate", 1.0, 100.0, "Hz");
   s.pose_rate = rangedParam(pnh, "pose_rate", 0.0, 0.0, 1000.0, "Hz");
@@ -121,10 +120,10 @@ TrocarDeviceNode::TrocarDeviceNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
   effort_pub_ = nh.advertise<sensor_msgs::JointState>("trocar/motor_effort", 100);
   wrench_pub_ = nh.advertise<geometry_msgs::WrenchStamped>("trocar/rendered_wrench", 100);
   stats_pub_ = nh.advertise<surgical_sim::LoopStats>("trocar/loop_stats", 10);
-  command_sub_ = nh.subscribe("trocar/joint_command", 1000, &TrocarDeviceNode::onJointCommand,
-                              this, ros::TransportHints().tcpNoDelay());
-  contact_sub_ = nh.subscribe("tissue/contact_model", 100, &TrocarDeviceNode::onContactModel,
-                              this, ros::TransportHints().tcpNoDelay());
+  command_sub_ = nh.subscribe("trocar/joint_command", 1000, &TrocarDeviceNode::onJointCommand, this,
+                              ros::TransportHints().tcpNoDelay());
+  contact_sub_ = nh.subscribe("tissue/contact_model", 100, &TrocarDeviceNode::onContactModel, this,
+                              ros::TransportHints().tcpNoDelay());
   home_srv_ = nh.advertiseService("trocar/home", &TrocarDeviceNode::onHome, this);
   limits_srv_ = nh.advertiseService("trocar/set_limits", &TrocarDeviceNode::onSetLimits, this);
 
@@ -189,8 +188,8 @@ void TrocarDeviceNode::onJointCommand(const sensor_msgs::JointState::ConstPtr& m
       ROS_WARN_THROTTLE_NAMED(1.0, kLog,
                               "trocar/joint_command: joint '%s' command %.6g %s is beyond its "
                               "limits; clamped to %.6g %s",
-                              joint_names_[static_cast<std::size_t>(j)].c_str(), q[j],
-                              jointUnit(j), clamped[j], jointUnit(j));
+                              joint_names_[static_cast<std::size_t>(j)].c_str(), q[j], jointUnit(j),
+                              clamped[j], jointUnit(j));
     }
   }
   command_ = clamped;
@@ -203,8 +202,8 @@ void TrocarDeviceNode::applyCommand(const ros::Time& stamp) {
   geometry_msgs::PoseStamped pose;
   pose.header.stamp = stamp;
   pose.header.frame_id = settings_.world_frame;
-  pose.pose = toPoseMsg(settings_.renderer.X_WF *
-                        kinematics_.toolTipPose(device_.quantize(command_)));
+  pose.pose =
+      toPoseMsg(settings_.renderer.X_WF * kinematics_.toolTipPose(device_.quantize(command_)));
   pose_pub_.publish(pose);
 }
 

@@ -19,12 +19,12 @@ namespace surgical_sim::ros_layer {
 struct TrocarDeviceSettings {
   core::HapticRendererConfig renderer;  ///< geometry, drives, limits, contact, coupling, X_WF, rate
   int realtime_priority = 0;            ///< SCHED_FIFO priority of the loop thread, 0 = none
-  double publish_rate = 100.0;  ///< joint_states / motor_effort / rendered_wrench rate [Hz]
-  double stats_rate = 1.0;      ///< trocar/loop_stats rate [Hz]
-  double pose_rate = 0.0;       ///< extra periodic tool/pose rate [Hz]; 0: only per command
-  std::string world_frame;      ///< fixed frame W of tool/pose, rendered_wrench, contact models
-  std::string trocar_frame;     ///< frame F at the fulcrum (URDF base link)
-  std::string joint_prefix;     ///< URDF joint names are <prefix>pitch, <prefix>yaw, ...
+  double publish_rate = 100.0;          ///< joint_states / motor_effort / rendered_wrench rate [Hz]
+  double stats_rate = 1.0;              ///< trocar/loop_stats rate [Hz]
+  double pose_rate = 0.0;               ///< extra periodic tool/pose rate [Hz]; 0: only per command
+  std::string world_frame;   ///< fixed frame W of tool/pose, rendered_wrench, contact models
+  std::string trocar_frame;  ///< frame F at the fulcrum (URDF base link)
+  std::string joint_prefix;  ///< URDF joint names are <prefix>pitch, <prefix>yaw, ...
 };
 
 /// Reads and validates the private parameters of trocar_device (see TrocarDeviceNode).
