@@ -2,11 +2,9 @@
 """rostest: bad input never crashes trocar_device; bad parameters stop it at start-up, naming the
 parameter. The node runs with its default pose: fulcrum at (0, 0, 0.2) m, cannula pointing down."""
 import math
-import subprocess
 import sys
 import threading
 import unittest
-import uuid
 
 import rospy
 import rostest
@@ -17,17 +15,10 @@ from std_srvs.srv import Trigger
 from surgical_sim.msg import ContactModel
 from surgical_sim.srv import SetTrocarLimits
 
+from node_probe import run_node
+
 JOINTS = ["trocar_pitch", "trocar_yaw", "trocar_spin", "trocar_insertion", "trocar_grip"]
 ENCODER_PITCH = math.radians(0.01)  # pitch encoder step [rad]
-
-
-def run_trocar(extra_args, timeout=60):
-    """Runs a second trocar_device (fresh node name) with private params; (exit code, output)."""
-    name = "bad_param_probe_%s" % uuid.uuid4().hex[:8]
-    cmd = ["rosrun", "surgical_sim", "trocar_device", "__name:=" + name] + extra_args
-    proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=timeout,
-                          text=True)
-    return proc.returncode, proc.stdout
 
 
 class TrocarBadInputTest(unittest.TestCase):
@@ -194,7 +185,7 @@ class TrocarBadInputTest(unittest.TestCase):
                            (["_stale_policy:=maybe"], "~stale_policy"),
                            (["_z:=.nan"], "~z"),
                            (["_x:=far"], "~x must be a number")):
-            code, out = run_trocar(args)
+            code, out = run_node("trocar_device", args)
             self.assertNotEqual(code, 0, "%s accepted" % args)
             self.assertIn(name, out)
 
