@@ -94,6 +94,11 @@ class TrocarBadInputTest(unittest.TestCase):
         for f in self.next_wrenches(3):
             self.assertTrue(all(math.isfinite(c) for c in f))
 
+    def assert_zero_force(self):
+        """The next rendered forces are zero up to round-off of the coupling proxy [N]."""
+        for f in self.next_wrenches(3):
+            self.assertLess(max(abs(c) for c in f), 1e-9, "rendered force %s is not zero" % (f,))
+
     def test_nan_command_holds_the_previous_position(self):
         self.command(["trocar_pitch"], [0.3])
         self.wait_for_joints(lambda j: abs(j["trocar_pitch"] - 0.3) < ENCODER_PITCH)
@@ -168,14 +173,12 @@ class TrocarBadInputTest(unittest.TestCase):
             streamer.join()
         # No new model: it goes stale and the force drops to zero (fade_time 0), with a warning.
         self.assertTrue(self.wait_for_log("tissue/contact_model is stale"))
-        for f in self.next_wrenches(3):
-            self.assertEqual(f, (0.0, 0.0, 0.0))
+        self.assert_zero_force()
         self.model_pub.publish(self.contact_model(float("nan")))
         self.assertTrue(self.wait_for_log("tissue/contact_model with NaN/Inf ignored"))
         self.model_pub.publish(self.contact_model(1.0, frame="tissue"))
         self.assertTrue(self.wait_for_log("tissue/contact_model in frame 'tissue' ignored"))
-        for f in self.next_wrenches(3):
-            self.assertEqual(f, (0.0, 0.0, 0.0))
+        self.assert_zero_force()
         self.assert_alive_and_finite()
 
     def test_out_of_range_parameters_exit_naming_the_parameter(self):
