@@ -4,11 +4,12 @@ tissue/contact_model -> trocar_device -> trocar/motor_effort. Physics checked on
 
 - while the tool indents the organ, the insertion effort pushes the tool back out (< 0: the
   insertion axis points into the patient);
-- while pressing, the efforts oppose the joint motion (tau . dq < 0: by virtual work,
+- while the tip presses down, the efforts oppose the joint motion (tau . dq < 0: by virtual work,
   tau . dq = f . dx, the rendered force opposes the indentation);
 - every effort is within the device limits (pitch/yaw 6 N m, spin 0.2 N m, insertion 5 N);
 - after the release the efforts return to ~0.
 """
+import math
 import sys
 import threading
 import unittest
@@ -21,6 +22,7 @@ from surgical_sim.msg import ContactModel
 
 LIMITS = {"trocar_pitch": 6.0, "trocar_yaw": 6.0, "trocar_spin": 0.2, "trocar_insertion": 5.0,
           "trocar_grip": 0.3}  # [N m] revolute, [N] insertion
+TIP_OFFSET = 0.020  # tip depth below the fulcrum at insertion 0 [m] (TrocarGeometry)
 EFFORTS_AFTER_MODEL = 3  # motor_effort messages to wait for after each contact model
 
 
@@ -102,12 +104,20 @@ class TrocarPalpationTest(unittest.TestCase):
         # force is most of it.
         self.assertGreater(peak_effort, 0.5 * peak)
 
+    @staticmethod
+    def tip_drop(q):
+        """Height of the fulcrum above the tool tip [m]: the cannula points straight down, so the
+        shaft axis has vertical component cos(pitch) cos(yaw) (TrocarKinematics)."""
+        depth = q["trocar_insertion"] + TIP_OFFSET
+        return depth * math.cos(q["trocar_pitch"]) * math.cos(q["trocar_yaw"])
+
     def test_efforts_oppose_the_pressing_motion(self):
         peak = max(self.force_norm(m) for _, m, _ in self.samples)
         pressing = 0
         for (q0, _, _), (q1, model, effort) in zip(self.samples, self.samples[1:]):
             dq = {n: q1[n] - q0[n] for n in q1}
-            if dq["trocar_insertion"] <= 1e-5 or self.force_norm(model) < 0.1 * peak:
+            indenting = self.tip_drop(q1) - self.tip_drop(q0) > 1e-6  # tip moves down [m]
+            if not indenting or self.force_norm(model) < 0.1 * peak:
                 continue
             pressing += 1
             power = sum(effort[n] * dq[n] for n in dq)  # tau . dq = f . dx [J]
