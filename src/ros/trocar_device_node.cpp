@@ -228,6 +228,7 @@ void TrocarDeviceNode::onContactModel(const surgical_sim::ContactModel::ConstPtr
     return;
   }
   loop_.setContactModel(s);
+  last_model_in_contact_ = msg->in_contact;
 }
 
 void TrocarDeviceNode::onPublishTimer() {
@@ -248,7 +249,7 @@ void TrocarDeviceNode::onPublishTimer() {
   wrench.wrench.force = toVector3Msg(out.f_rendered_W);
   wrench_pub_.publish(wrench);
 
-  if (out.contact_status == core::ContactStatus::Stale)
+  if (out.contact_status == core::ContactStatus::Stale && last_model_in_contact_)
     ROS_WARN_THROTTLE_NAMED(
         1.0, kLog, "tissue/contact_model is stale (%.3f s old > ~stale_age %.3f s): force %s",
         out.contact_age, settings_.renderer.contact.max_age,

@@ -83,6 +83,7 @@ class TrocarDeviceNode {
   core::HapticLoop loop_;
   std::array<std::string, core::kTrocarJointCount> joint_names_;
   core::TrocarJointVector command_ = core::TrocarJointVector::Zero();  ///< [rad, m], clamped
+  bool last_model_in_contact_ = false;  ///< staleness is worth a warning only in contact
 
   ros::Subscriber command_sub_, contact_sub_;
   ros::Publisher joint_states_pub_, pose_pub_, effort_pub_, wrench_pub_, stats_pub_;
