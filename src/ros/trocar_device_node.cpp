@@ -95,6 +95,7 @@ TrocarDeviceSettings loadTrocarDeviceSettings(const ros::NodeHandle& pnh) {
   s.world_frame = stringParam(pnh, "world_frame", "world");
   s.trocar_frame = stringParam(pnh, "trocar_frame", "trocar");
   s.joint_prefix = typedParam<std::string>(pnh, "joint_prefix", "trocar_", "a string");
+  s.publish_trocar_tf = typedParam(pnh, "publish_trocar_tf", true, "true or false");
   core::validateHapticRendererConfig(c);
   return s;
 }
@@ -109,11 +110,13 @@ TrocarDeviceNode::TrocarDeviceNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
   for (int j = 0; j < core::kTrocarJointCount; ++j)
     joint_names_[static_cast<std::size_t>(j)] = settings_.joint_prefix + core::trocarJointName(j);
 
-  geometry_msgs::TransformStamped t = tf2::eigenToTransform(settings_.renderer.X_WF);
-  t.header.stamp = ros::Time::now();
-  t.header.frame_id = settings_.world_frame;
-  t.child_frame_id = settings_.trocar_frame;
-  static_broadcaster_.sendTransform(t);
+  if (settings_.publish_trocar_tf) {
+    geometry_msgs::TransformStamped t = tf2::eigenToTransform(settings_.renderer.X_WF);
+    t.header.stamp = ros::Time::now();
+    t.header.frame_id = settings_.world_frame;
+    t.child_frame_id = settings_.trocar_frame;
+    static_broadcaster_.sendTransform(t);
+  }
 
   joint_states_pub_ = nh.advertise<sensor_msgs::JointState>("joint_states", 10);
   pose_pub_ = nh.advertise<geometry_msgs::PoseStamped>("tool/pose", 1000);

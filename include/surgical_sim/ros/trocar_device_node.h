@@ -25,6 +25,9 @@ struct TrocarDeviceSettings {
   std::string world_frame;   ///< fixed frame W of tool/pose, rendered_wrench, contact models
   std::string trocar_frame;  ///< frame F at the fulcrum (URDF base link)
   std::string joint_prefix;  ///< URDF joint names are <prefix>pitch, <prefix>yaw, ...
+  /// Broadcast the static tf world -> trocar from the pose parameters (false when the URDF holds
+  /// it, as in the scenes of scripts/make_trocar_scene).
+  bool publish_trocar_tf = true;
 };
 
 /// Reads and validates the private parameters of trocar_device (see TrocarDeviceNode).
@@ -57,6 +60,7 @@ TrocarDeviceSettings loadTrocarDeviceSettings(const ros::NodeHandle& pnh);
 ///                                         default points the cannula (z_F) straight down
 ///   ~realtime_priority [-; 0..99; 0]      SCHED_FIFO priority of the loop thread (0: none)
 ///   ~world_frame [world], ~trocar_frame [trocar], ~joint_prefix [trocar_]
+///   ~publish_trocar_tf [bool; true]       static tf ~world_frame -> ~trocar_frame from the pose
 class TrocarDeviceNode {
  public:
   /// @throws std::invalid_argument if a parameter is invalid (main exits naming it).
