@@ -49,7 +49,7 @@ double positiveParam(const ros::NodeHandle& pnh, const std::string& name, double
 /// Reads a non-empty string parameter.
 std::string stringParam(const ros::NodeHandle& pnh, const std::string& name,
                         const std::string& fallback) {
-  const std::string value = typedParam(pnh, name, fallback, "a non-empty string");
+  std::string value = typedParam(pnh, name, fallback, "a non-empty string");
   if (value.empty()) throw std::invalid_argument("~" + name + " must be a non-empty string");
   return value;
 }
@@ -279,7 +279,8 @@ void TrocarDeviceNode::onStatsTimer() {
   stats_pub_.publish(msg);
 }
 
-bool TrocarDeviceNode::onHome(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+bool TrocarDeviceNode::onHome(std_srvs::Trigger::Request& /*req*/,
+                              std_srvs::Trigger::Response& res) {
   command_ = core::TrocarJointVector::Zero();
   loop_.requestReset();
   applyCommand(ros::Time::now());

@@ -5,7 +5,6 @@
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 
-#include <Eigen/Geometry>
 #include <array>
 #include <string>
 
