@@ -12,7 +12,7 @@ from geometry_msgs.msg import WrenchStamped
 from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import JointState
 from std_srvs.srv import Trigger
-from surgical_sim.msg import ContactModel
+from surgical_sim.msg import ContactModel, LoopStats
 from surgical_sim.srv import SetTrocarLimits
 
 from node_probe import run_node
@@ -180,6 +180,19 @@ class TrocarBadInputTest(unittest.TestCase):
         self.assertTrue(self.wait_for_log("tissue/contact_model in frame 'tissue' ignored"))
         self.assert_zero_force()
         self.assert_alive_and_finite()
+
+    def test_home_retracts_the_tool_and_loop_stats_are_published(self):
+        self.command(["trocar_insertion", "trocar_yaw"], [0.12, 0.3])
+        self.wait_for_joints(lambda j: abs(j["trocar_insertion"] - 0.12) < 1e-4)
+        reply = self.home()
+        self.assertTrue(reply.success)
+        joints = self.wait_for_joints(lambda j: j["trocar_insertion"] == 0.0)
+        self.assertEqual(joints["trocar_insertion"], 0.0)
+        self.assertEqual(joints["trocar_yaw"], 0.0)
+        stats = rospy.wait_for_message("trocar/loop_stats", LoopStats, timeout=10.0)
+        self.assertGreater(stats.ticks, 0)
+        self.assertAlmostEqual(stats.nominal_period, 1e-3)
+        self.assertTrue(0.0 < stats.period_mean <= stats.period_p99 <= stats.period_max)
 
     def test_out_of_range_parameters_exit_naming_the_parameter(self):
         for args, name in ((["_pitch_limit_deg:=80"], "~pitch_limit_deg"),
