@@ -56,7 +56,8 @@ class Chain:
         self.pub.publish(command)
         with self.lock:
             if not self.lock.wait_for(lambda: key in self.models, timeout=30.0):
-                raise AssertionError("no tissue/contact_model for command %s" % command.header.stamp)
+                raise AssertionError("no tissue/contact_model for command %s"
+                                     % command.header.stamp)
             first = len(self.efforts)
             if not self.lock.wait_for(lambda: len(self.efforts) >= first + EFFORTS_AFTER_MODEL,
                                       timeout=30.0):
