@@ -1,11 +1,9 @@
 #!/usr/bin/python3
 """rostest: bad input never crashes tissue_simulator; bad scenes stop it at start-up, naming the key."""
 import os
-import subprocess
 import sys
 import threading
 import unittest
-import uuid
 
 import rospy
 import rostest
@@ -13,15 +11,7 @@ from geometry_msgs.msg import PoseStamped
 from rosgraph_msgs.msg import Log
 from std_srvs.srv import SetBool
 
-
-def run_simulator(extra_args, timeout=60):
-    """Runs a second tissue_simulator (fresh node name, so no private parameter is left over from
-    an earlier probe) with private params; returns (exit code, output)."""
-    name = "bad_scene_probe_%s" % uuid.uuid4().hex[:8]
-    cmd = ["rosrun", "surgical_sim", "tissue_simulator", "__name:=" + name] + extra_args
-    proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=timeout,
-                          text=True)
-    return proc.returncode, proc.stdout
+from node_probe import run_node
 
 
 class BadInputTest(unittest.TestCase):
@@ -82,17 +72,19 @@ class BadInputTest(unittest.TestCase):
         self.assert_alive()
 
     def test_out_of_range_scene_exits_naming_the_key(self):
-        code, out = run_simulator(["_scene:=" + os.path.join(self.data, "bad_scene_poisson.yaml")])
+        code, out = run_node("tissue_simulator",
+                             ["_scene:=" + os.path.join(self.data, "bad_scene_poisson.yaml")])
         self.assertNotEqual(code, 0)
         self.assertIn("material.poisson_ratio", out)
 
     def test_malformed_yaml_exits_naming_the_line(self):
-        code, out = run_simulator(["_scene:=" + os.path.join(self.data, "bad_scene_syntax.yaml")])
+        code, out = run_node("tissue_simulator",
+                             ["_scene:=" + os.path.join(self.data, "bad_scene_syntax.yaml")])
         self.assertNotEqual(code, 0)
         self.assertIn("malformed YAML", out)
 
     def test_missing_scene_parameter_exits(self):
-        code, out = run_simulator([])
+        code, out = run_node("tissue_simulator", [])
         self.assertNotEqual(code, 0)
         self.assertIn("~scene", out)
 

@@ -16,6 +16,7 @@ HapticLoop::HapticLoop(const HapticRendererConfig& config, std::size_t period_ri
     : renderer_(config),
       period_(
           std::chrono::nanoseconds(static_cast<std::int64_t>(std::llround(1e9 / config.rate_hz)))),
+      device_config_(config.device),
       ring_size_(period_ring_size),
       realtime_priority_(realtime_priority) {
   requireInRange("haptics.period_ring_size", static_cast<double>(period_ring_size), 16.0, 1e7, "");
@@ -63,6 +64,22 @@ void HapticLoop::setContactModel(const LocalContactSample& sample) {
   contact_fresh_ = true;
 }
 
+void HapticLoop::setPitchYawLimits(double pitch_limit, double yaw_limit) {
+  std::lock_guard<std::mutex> lock(limits_mutex_);
+  TrocarDeviceConfig candidate = device_config_;
+  candidate.pitch_limit = pitch_limit;
+  candidate.yaw_limit = yaw_limit;
+  validateTrocarDeviceConfig(candidate);
+  device_config_ = candidate;
+  limits_fresh_ = true;
+}
+
+void HapticLoop::pitchYawLimits(double& pitch_limit, double& yaw_limit) const {
+  std::lock_guard<std::mutex> lock(limits_mutex_);
+  pitch_limit = device_config_.pitch_limit;
+  yaw_limit = device_config_.yaw_limit;
+}
+
 HapticOutput HapticLoop::latestOutput() const {
   std::lock_guard<std::mutex> lock(output_mutex_);
   return output_;
@@ -86,6 +103,7 @@ LoopStatistics HapticLoop::statistics() const {
   double sum = 0.0;
   for (double p : periods) sum += p;
   stats.period_mean = sum / static_cast<double>(stats.samples);
+  stats.period_max = *std::max_element(periods.begin(), periods.end());
   const std::size_t k =
       std::min(stats.samples - 1, static_cast<std::size_t>(std::ceil(0.99 * stats.samples)) - 1);
   std::nth_element(periods.begin(), periods.begin() + k, periods.end());
@@ -143,6 +161,15 @@ void HapticLoop::run() noexcept {
       }
       contact_mutex_.unlock();
     }
+
+    if (limits_mutex_.try_lock()) {
+      // Validated by setPitchYawLimits, so this cannot throw.
+      if (limits_fresh_)
+        renderer_.device().setPitchYawLimits(device_config_.pitch_limit, device_config_.yaw_limit);
+      limits_fresh_ = false;
+      limits_mutex_.unlock();
+    }
+    if (reset_requested_.exchange(false)) renderer_.reset();
 
     const double now_s = std::chrono::duration<double>(start.time_since_epoch()).count();
     const HapticOutput& out = renderer_.update(command, now_s);

@@ -47,6 +47,13 @@ ContactEvaluation LocalContactModel::evaluate(const Eigen::Vector3d& p_WT,
   }
   out.stiffness_W = out.weight * sample_.K_W;
   out.force_W = out.weight * (sample_.f0_W + sample_.K_W * (p_WT - sample_.p0_W));
+  // Tissue pushes, it never pulls: an expansion pointing against f0 means the tool has left the
+  // surface the model linearized, and extrapolating K past it would render adhesion.
+  if (out.force_W.dot(sample_.f0_W) < 0.0) {
+    out.force_W.setZero();
+    out.stiffness_W.setZero();
+    out.separated = true;
+  }
   if (!out.force_W.allFinite()) {
     out.force_W.setZero();
     out.stiffness_W.setZero();

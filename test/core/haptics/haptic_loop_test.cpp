@@ -79,12 +79,43 @@ TEST(HapticLoop, RunsTicksAndProducesFiniteOutputs) {
   EXPECT_GT(stats.samples, 0u);
   EXPECT_TRUE(std::isfinite(stats.period_mean));
   EXPECT_TRUE(std::isfinite(stats.period_p99));
+  EXPECT_GE(stats.period_max, stats.period_p99);
   EXPECT_GT(out.tick, 0u);
   EXPECT_TRUE(out.effort.allFinite());
   EXPECT_TRUE(out.f_rendered_W.allFinite());
   EXPECT_TRUE(out.X_WT.matrix().allFinite());
   EXPECT_NE(out.contact_status, ContactStatus::NoModel);
   EXPECT_GT(out.effort.norm(), 0.0);
+}
+
+TEST(HapticLoop, PitchYawLimitsChangeWhileRunningAndInvalidOnesAreRejected) {
+  const double deg = M_PI / 180.0;
+  HapticLoop loop(prototypeConfig(), 64);
+  EXPECT_THROW(loop.setPitchYawLimits(80.0 * deg, 10.0 * deg), std::invalid_argument);
+  EXPECT_THROW(loop.setPitchYawLimits(10.0 * deg, std::nan("")), std::invalid_argument);
+  double pitch = 0.0, yaw = 0.0;
+  loop.pitchYawLimits(pitch, yaw);
+  EXPECT_DOUBLE_EQ(pitch, 45.0 * deg);  // unchanged by the rejected requests
+  EXPECT_DOUBLE_EQ(yaw, 45.0 * deg);
+
+  TrocarJointVector q = TrocarJointVector::Zero();
+  q[kTrocarPitch] = 0.5;  // 28.6 deg: inside +-45 deg, outside +-20 deg
+  q[kTrocarYaw] = -0.5;
+  loop.setJointCommand(q);
+  loop.setPitchYawLimits(20.0 * deg, 20.0 * deg);
+  loop.requestReset();
+  loop.start();
+  const std::uint64_t first_ticks = 20;
+  while (loop.statistics().ticks < first_ticks)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  loop.stop();
+  const HapticOutput out = loop.latestOutput();
+  EXPECT_TRUE(out.joints_clamped);
+  // Encoder reading of the clamped command: within half an encoder step (0.01 deg) of the limit.
+  EXPECT_NEAR(out.q_measured[kTrocarPitch], 20.0 * deg, 0.005 * deg + 1e-12);
+  EXPECT_NEAR(out.q_measured[kTrocarYaw], -20.0 * deg, 0.005 * deg + 1e-12);
+  loop.pitchYawLimits(pitch, yaw);
+  EXPECT_DOUBLE_EQ(pitch, 20.0 * deg);
 }
 
 }  // namespace

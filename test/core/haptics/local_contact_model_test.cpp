@@ -31,6 +31,20 @@ TEST(LocalContactModel, FreshModelIsTheLinearExpansion) {
   EXPECT_TRUE(e.stiffness_W.isApprox(wallSample(0).K_W));
 }
 
+TEST(LocalContactModel, ExpansionNeverPullsTheToolIntoTheTissue) {
+  LocalContactModel model(LocalContactSettings{});
+  model.update(wallSample(0.0));  // 1 N at 2 mm depth, 500 N/m: the expansion vanishes at z = 0
+  const ContactEvaluation inside = model.evaluate(Eigen::Vector3d(0.0, 0.0, -0.001), 0.0);
+  EXPECT_NEAR(inside.force_W.z(), 0.5, 1e-12);
+  EXPECT_FALSE(inside.separated);
+  // 3 mm above p0 the expansion would be 1 N - 1.5 N = -0.5 N (adhesion): rendered as zero.
+  const ContactEvaluation outside = model.evaluate(Eigen::Vector3d(0.0, 0.0, 0.001), 0.0);
+  EXPECT_TRUE(outside.separated);
+  EXPECT_EQ(outside.status, ContactStatus::Fresh);
+  EXPECT_TRUE(outside.force_W.isZero(0.0));
+  EXPECT_TRUE(outside.stiffness_W.isZero(0.0));
+}
+
 TEST(LocalContactModel, StaleModelFadesLinearlyToZero) {
   LocalContactSettings settings;
   settings.max_age = 0.1;

@@ -20,6 +20,7 @@ struct LoopStatistics {
   double nominal_period = 0.0;     ///< 1 / rate_hz [s]
   double period_mean = 0.0;        ///< mean period over the ring [s]
   double period_p99 = 0.0;         ///< 99th percentile of the period over the ring [s]
+  double period_max = 0.0;         ///< longest period over the ring [s]
   double max_deviation = 0.0;      ///< max |period - nominal| since start() [s]
 };
 
@@ -55,6 +56,16 @@ class HapticLoop {
   void setJointCommand(const TrocarJointVector& q);
   /// New local contact model, stamped on now()'s clock. Blocks briefly.
   void setContactModel(const LocalContactSample& sample);
+  /// New symmetric pitch / yaw ranges +-limit [rad] (service trocar/set_limits), applied by the
+  /// loop at its next tick. Blocks briefly.
+  /// @throws std::invalid_argument naming "trocar.pitch_limit" / "trocar.yaw_limit" if a limit is
+  /// outside [0, 70] deg; the loop is unchanged then.
+  void setPitchYawLimits(double pitch_limit, double yaw_limit);
+  /// Current pitch / yaw limits [rad] (the last accepted setPitchYawLimits, or the config's).
+  void pitchYawLimits(double& pitch_limit, double& yaw_limit) const;
+  /// Asks the loop to restart velocity estimation, coupling proxy and passivity observer
+  /// (HapticRenderer::reset) at its next tick (service trocar/home). Never blocks.
+  void requestReset() { reset_requested_.store(true); }
 
   /// Latest tick output (copy).
   HapticOutput latestOutput() const;
@@ -76,6 +87,11 @@ class HapticLoop {
   mutable std::mutex contact_mutex_;
   LocalContactSample contact_;
   bool contact_fresh_ = false;
+
+  mutable std::mutex limits_mutex_;
+  TrocarDeviceConfig device_config_;  ///< accepted limits (validated copy of the device config)
+  bool limits_fresh_ = false;
+  std::atomic<bool> reset_requested_{false};
 
   mutable std::mutex output_mutex_;
   HapticOutput output_;

@@ -41,14 +41,17 @@ enum class ContactStatus {
 struct ContactEvaluation {
   Eigen::Vector3d force_W = Eigen::Vector3d::Zero();      ///< rendered force f(p) [N]
   Eigen::Matrix3d stiffness_W = Eigen::Matrix3d::Zero();  ///< weight * K [N/m], 3x3
-  double weight = 0.0;  ///< fade factor applied to the model [-], in [0, 1]
-  double age = 0.0;     ///< now - stamp [s] (0 when there is no model)
+  double weight = 0.0;     ///< fade factor applied to the model [-], in [0, 1]
+  double age = 0.0;        ///< now - stamp [s] (0 when there is no model)
+  bool separated = false;  ///< the expansion pointed against f0: contact released, zero force
   ContactStatus status = ContactStatus::NoModel;
 };
 
 /// Evaluates the latest local linear contact model at the tool tip, f(p) = w (f0 + K (p - p0)),
 /// with a staleness weight w: 1 while fresh, then (Fade) 1 - (age - max_age) / fade_time clamped
-/// to [0, 1], or (Hold) 1. A model stamped in the future counts as age 0. Not thread-safe; the
+/// to [0, 1], or (Hold) 1. The contact is unilateral: where f(p) . f0 < 0 (the tool has moved
+/// out past the point where the expansion changes sign) the force and stiffness are zero
+/// (flagged `separated`). A model stamped in the future counts as age 0. Not thread-safe; the
 /// haptic loop owns one. update() and evaluate() allocate nothing and never throw.
 class LocalContactModel {
  public:

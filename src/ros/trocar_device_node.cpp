@@ -1,0 +1,315 @@
+#include "surgical_sim/ros/trocar_device_node.h"
+
+#include <geometry_msgs/PoseStamped.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <geometry_msgs/WrenchStamped.h>
+#include <tf2_eigen/tf2_eigen.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "surgical_sim/LoopStats.h"
+#include "surgical_sim/core/common/validate.h"
+#include "surgical_sim/ros/conversions.h"
+
+namespace surgical_sim::ros_layer {
+namespace {
+
+constexpr char kLog[] = "trocar_device";
+constexpr double kDeg = M_PI / 180.0;
+constexpr double kStatsWindowSeconds = 5.0;  ///< loop periods kept for mean / p99 / max [s]
+
+/// Reads a parameter, fallback if unset. One that is set with the wrong type is an error (never a
+/// silent fallback): "~<name> must be <what>".
+template <class T>
+T typedParam(const ros::NodeHandle& pnh, const std::string& name, const T& fallback,
+             const std::string& what) {
+  T value = fallback;
+  if (pnh.hasParam(name) && !pnh.getParam(name, value))
+    throw std::invalid_argument("~" + name + " must be " + what);
+  return value;
+}
+
+/// Reads a number parameter and requires it in [lo, hi]; the message names ~name, unit and range.
+double rangedParam(const ros::NodeHandle& pnh, const std::string& name, double fallback, double lo,
+                   double hi, const std::string& unit) {
+  const double value = typedParam(pnh, name, fallback, "a number [" + unit + "]");
+  core::requireInRange("~" + name, value, lo, hi, unit);
+  return value;
+}
+
+/// Same, for a half-open range (lo, hi].
+double positiveParam(const ros::NodeHandle& pnh, const std::string& name, double fallback,
+                     double hi, const std::string& unit) {
+  const double value = rangedParam(pnh, name, fallback, 0.0, hi, unit);
+  core::requirePositive("~" + name, value, unit);
+  return value;
+}
+
+/// Reads a non-empty string parameter.
+std::string stringParam(const ros::NodeHandle& pnh, const std::string& name,
+                        const std::string& fallback) {
+  std::string value = typedParam(pnh, name, fallback, "a non-empty string");
+  if (value.empty()) throw std::invalid_argument("~" + name + " must be a non-empty string");
+  return value;
+}
+
+const char* jointUnit(int joint) { return joint == core::kTrocarInsertion ? "m" : "rad"; }
+
+}  // namespace
+
+TrocarDeviceSettings loadTrocarDeviceSettings(const ros::NodeHandle& pnh) {
+  TrocarDeviceSettings s;
+  core::HapticRendererConfig& c = s.renderer;
+  c.geometry = core::TrocarGeometry::chendebPrototype();
+  c.device = core::TrocarDeviceConfig::chendebPrototype();
+  c.rate_hz = rangedParam(pnh, "rate", 1000.0, 100.0, 20000.0, "Hz");
+  c.device.pitch_limit = kDeg * rangedParam(pnh, "pitch_limit_deg", 45.0, 0.0, 70.0, "deg");
+  c.device.yaw_limit = kDeg * rangedParam(pnh, "yaw_limit_deg", 45.0, 0.0, 70.0, "deg");
+  c.contact.max_age = positiveParam(pnh, "stale_age", 0.1, 10.0, "s");
+  c.contact.fade_time = rangedParam(pnh, "fade_time", 0.05, 0.0, 10.0, "s");
+  const std::string policy = stringParam(pnh, "stale_policy", "fade");
+  if (policy != "fade" && policy != "hold")
+    throw std::invalid_argument("~stale_policy = '" + policy + "' must be 'fade' or 'hold'");
+  c.contact.stale_policy = policy == "fade" ? core::StalePolicy::Fade : core::StalePolicy::Hold;
+  c.coupling.stiffness = positiveParam(pnh, "coupling_stiffness", 3000.0, 1e6, "N/m");
+  c.coupling.damping = rangedParam(pnh, "coupling_damping", 2.0, 0.0, 1e4, "N s/m");
+  c.passivity.control_enabled = typedParam(pnh, "passivity", true, "true or false");
+
+  // Pose of the trocar frame F (fulcrum, z along the cannula) in W: fixed-axis roll-pitch-yaw.
+  Eigen::Vector3d p_WF;
+  p_WF.x() = rangedParam(pnh, "x", 0.0, -10.0, 10.0, "m");
+  p_WF.y() = rangedParam(pnh, "y", 0.0, -10.0, 10.0, "m");
+  p_WF.z() = rangedParam(pnh, "z", 0.2, -10.0, 10.0, "m");
+  const double roll = rangedParam(pnh, "roll", M_PI, -2.0 * M_PI, 2.0 * M_PI, "rad");
+  const double pitch = rangedParam(pnh, "pitch", 0.0, -2.0 * M_PI, 2.0 * M_PI, "rad");
+  const double yaw = rangedParam(pnh, "yaw", 0.0, -2.0 * M_PI, 2.0 * M_PI, "rad");
+  c.X_WF = Eigen::Translation3d(p_WF) * Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+           Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+           Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX());
+
+  s.realtime_priority = static_cast<int>(rangedParam(pnh, "realtime_priority", 0.0, 0.0, 99.0, ""));
+  s.publish_rate = positiveParam(pnh, "publish_rate", 100.0, 1000.0, "Hz");
+  s.stats_rate = positiveParam(pnh, "stats_rate", 1.0, 100.0, "Hz");
+  s.pose_rate = rangedParam(pnh, "pose_rate", 0.0, 0.0, 1000.0, "Hz");
+  s.world_frame = stringParam(pnh, "world_frame", "world");
+  s.trocar_frame = stringParam(pnh, "trocar_frame", "trocar");
+  s.joint_prefix = typedParam<std::string>(pnh, "joint_prefix", "trocar_", "a string");
+  s.publish_trocar_tf = typedParam(pnh, "publish_trocar_tf", true, "true or false");
+  core::validateHapticRendererConfig(c);
+  return s;
+}
+
+TrocarDeviceNode::TrocarDeviceNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
+    : settings_(loadTrocarDeviceSettings(pnh)),
+      kinematics_(settings_.renderer.geometry),
+      device_(settings_.renderer.device),
+      loop_(settings_.renderer,
+            static_cast<std::size_t>(kStatsWindowSeconds * settings_.renderer.rate_hz),
+            settings_.realtime_priority) {
+  for (int j = 0; j < core::kTrocarJointCount; ++j)
+    joint_names_[static_cast<std::size_t>(j)] = settings_.joint_prefix + core::trocarJointName(j);
+
+  if (settings_.publish_trocar_tf) {
+    geometry_msgs::TransformStamped t = tf2::eigenToTransform(settings_.renderer.X_WF);
+    t.header.stamp = ros::Time::now();
+    t.header.frame_id = settings_.world_frame;
+    t.child_frame_id = settings_.trocar_frame;
+    static_broadcaster_.sendTransform(t);
+  }
+
+  joint_states_pub_ = nh.advertise<sensor_msgs::JointState>("joint_states", 10);
+  pose_pub_ = nh.advertise<geometry_msgs::PoseStamped>("tool/pose", 1000);
+  effort_pub_ = nh.advertise<sensor_msgs::JointState>("trocar/motor_effort", 100);
+  wrench_pub_ = nh.advertise<geometry_msgs::WrenchStamped>("trocar/rendered_wrench", 100);
+  stats_pub_ = nh.advertise<surgical_sim::LoopStats>("trocar/loop_stats", 10);
+  command_sub_ = nh.subscribe("trocar/joint_command", 1000, &TrocarDeviceNode::onJointCommand, this,
+                              ros::TransportHints().tcpNoDelay());
+  contact_sub_ = nh.subscribe("tissue/contact_model", 100, &TrocarDeviceNode::onContactModel, this,
+                              ros::TransportHints().tcpNoDelay());
+  home_srv_ = nh.advertiseService("trocar/home", &TrocarDeviceNode::onHome, this);
+  limits_srv_ = nh.advertiseService("trocar/set_limits", &TrocarDeviceNode::onSetLimits, this);
+
+  loop_.setJointCommand(command_);
+  loop_.start();
+  publish_timer_ = nh.createWallTimer(ros::WallDuration(1.0 / settings_.publish_rate),
+                                      [this](const auto&) { onPublishTimer(); });
+  stats_timer_ = nh.createWallTimer(ros::WallDuration(1.0 / settings_.stats_rate),
+                                    [this](const auto&) { onStatsTimer(); });
+  if (settings_.pose_rate > 0.0)
+    pose_timer_ = nh.createWallTimer(ros::WallDuration(1.0 / settings_.pose_rate),
+                                     [this](const auto&) { applyCommand(ros::Time::now()); });
+  if (settings_.realtime_priority > 0 && !loop_.realtimeGranted())
+    ROS_WARN_NAMED(kLog, "~realtime_priority %d refused (needs CAP_SYS_NICE / rtprio limits)",
+                   settings_.realtime_priority);
+  const Eigen::Vector3d p_WF = settings_.renderer.X_WF.translation();
+  ROS_INFO_NAMED(kLog,
+                 "haptic loop at %.0f Hz, fulcrum at (%.3f, %.3f, %.3f) m in '%s', pitch/yaw "
+                 "limits +-%.1f/+-%.1f deg, contact models stale after %.3f s",
+                 settings_.renderer.rate_hz, p_WF.x(), p_WF.y(), p_WF.z(),
+                 settings_.world_frame.c_str(), settings_.renderer.device.pitch_limit / kDeg,
+                 settings_.renderer.device.yaw_limit / kDeg, settings_.renderer.contact.max_age);
+}
+
+int TrocarDeviceNode::jointIndex(const std::string& name) const {
+  for (int j = 0; j < core::kTrocarJointCount; ++j)
+    if (joint_names_[static_cast<std::size_t>(j)] == name) return j;
+  return -1;
+}
+
+void TrocarDeviceNode::onJointCommand(const sensor_msgs::JointState::ConstPtr& msg) {
+  if (msg->position.size() != msg->name.size()) {
+    ROS_WARN_THROTTLE_NAMED(1.0, kLog,
+                            "trocar/joint_command ignored: %zu names but %zu positions (positions "
+                            "are required, by joint name)",
+                            msg->name.size(), msg->position.size());
+    return;
+  }
+  core::TrocarJointVector q = command_;
+  for (std::size_t i = 0; i < msg->name.size(); ++i) {
+    const int j = jointIndex(msg->name[i]);
+    if (j < 0) {
+      ROS_WARN_THROTTLE_NAMED(1.0, kLog,
+                              "trocar/joint_command: unknown joint '%s' ignored (joints: %s, %s, "
+                              "%s, %s, %s)",
+                              msg->name[i].c_str(), joint_names_[0].c_str(),
+                              joint_names_[1].c_str(), joint_names_[2].c_str(),
+                              joint_names_[3].c_str(), joint_names_[4].c_str());
+    } else if (!std::isfinite(msg->position[i])) {
+      ROS_WARN_THROTTLE_NAMED(1.0, kLog,
+                              "trocar/joint_command: non-finite position for joint '%s'; holding "
+                              "its previous command %.6g %s",
+                              msg->name[i].c_str(), command_[j], jointUnit(j));
+    } else {
+      q[j] = msg->position[i];
+    }
+  }
+  core::TrocarJointVector clamped = q;
+  if (device_.clampToLimits(clamped)) {
+    for (int j = 0; j < core::kTrocarJointCount; ++j) {
+      if (j == core::kTrocarSpin || clamped[j] == q[j]) continue;  // spin wraps, never clamps
+      ROS_WARN_THROTTLE_NAMED(1.0, kLog,
+                              "trocar/joint_command: joint '%s' command %.6g %s is beyond its "
+                              "limits; clamped to %.6g %s",
+                              joint_names_[static_cast<std::size_t>(j)].c_str(), q[j], jointUnit(j),
+                              clamped[j], jointUnit(j));
+    }
+  }
+  command_ = clamped;
+  applyCommand(msg->header.stamp.isZero() ? ros::Time::now() : msg->header.stamp);
+}
+
+void TrocarDeviceNode::applyCommand(const ros::Time& stamp) {
+  loop_.setJointCommand(command_);
+  // The pose the loop will measure: encoder reading of the command, forward kinematics, F -> W.
+  geometry_msgs::PoseStamped pose;
+  pose.header.stamp = stamp;
+  pose.header.frame_id = settings_.world_frame;
+  pose.pose =
+      toPoseMsg(settings_.renderer.X_WF * kinematics_.toolTipPose(device_.quantize(command_)));
+  pose_pub_.publish(pose);
+}
+
+void TrocarDeviceNode::onContactModel(const surgical_sim::ContactModel::ConstPtr& msg) {
+  const std::string& frame = msg->header.frame_id;
+  if (!frame.empty() && frame != settings_.world_frame) {
+    ROS_WARN_THROTTLE_NAMED(1.0, kLog,
+                            "tissue/contact_model in frame '%s' ignored: expected '%s' (~world_"
+                            "frame)",
+                            frame.c_str(), settings_.world_frame.c_str());
+    return;
+  }
+  core::LocalContactSample s;
+  s.stamp = loop_.now();  // receipt time on the loop clock: the age counts from arrival
+  s.p0_W = toEigen(msg->point);
+  s.f0_W = toEigen(msg->force);
+  s.K_W = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(msg->stiffness.data());
+  if (!s.p0_W.allFinite() || !s.f0_W.allFinite() || !s.K_W.allFinite()) {
+    ROS_WARN_THROTTLE_NAMED(1.0, kLog,
+                            "tissue/contact_model with NaN/Inf ignored; the previous model "
+                            "stays (and goes stale)");
+    return;
+  }
+  loop_.setContactModel(s);
+  last_model_in_contact_ = msg->in_contact;
+}
+
+void TrocarDeviceNode::onPublishTimer() {
+  const core::HapticOutput out = loop_.latestOutput();
+  const ros::Time stamp = ros::Time::now();
+  sensor_msgs::JointState joints;
+  joints.header.stamp = stamp;
+  joints.name.assign(joint_names_.begin(), joint_names_.end());
+  joints.position.assign(out.q_measured.data(), out.q_measured.data() + core::kTrocarJointCount);
+  joint_states_pub_.publish(joints);
+  // Saturated joint efforts [N m; insertion N] the motors apply: what the surgeon feels.
+  joints.effort.assign(out.effort.data(), out.effort.data() + core::kTrocarJointCount);
+  effort_pub_.publish(joints);
+
+  geometry_msgs::WrenchStamped wrench;  // force on the tool, applied at the tool tip, in W
+  wrench.header.stamp = stamp;
+  wrench.header.frame_id = settings_.world_frame;
+  wrench.wrench.force = toVector3Msg(out.f_rendered_W);
+  wrench_pub_.publish(wrench);
+
+  if (out.contact_status == core::ContactStatus::Stale && last_model_in_contact_)
+    ROS_WARN_THROTTLE_NAMED(
+        1.0, kLog, "tissue/contact_model is stale (%.3f s old > ~stale_age %.3f s): force %s",
+        out.contact_age, settings_.renderer.contact.max_age,
+        settings_.renderer.contact.stale_policy == core::StalePolicy::Fade ? "fades to zero"
+                                                                           : "held");
+  if (out.saturation.saturated)
+    ROS_WARN_THROTTLE_NAMED(1.0, kLog, "motor efforts saturated: scaled by %.3f",
+                            out.saturation.scale);
+}
+
+void TrocarDeviceNode::onStatsTimer() {
+  const core::LoopStatistics s = loop_.statistics();
+  surgical_sim::LoopStats msg;
+  msg.header.stamp = ros::Time::now();
+  msg.ticks = s.ticks;
+  msg.missed_ticks = s.missed_ticks;
+  msg.samples = static_cast<std::uint32_t>(s.samples);
+  msg.nominal_period = s.nominal_period;
+  msg.period_mean = s.period_mean;
+  msg.period_p99 = s.period_p99;
+  msg.period_max = s.period_max;
+  msg.max_deviation = s.max_deviation;
+  msg.realtime_granted = loop_.realtimeGranted();
+  stats_pub_.publish(msg);
+}
+
+bool TrocarDeviceNode::onHome(std_srvs::Trigger::Request& /*req*/,
+                              std_srvs::Trigger::Response& res) {
+  command_ = core::TrocarJointVector::Zero();
+  loop_.requestReset();
+  applyCommand(ros::Time::now());
+  res.success = true;
+  res.message =
+      "homed: all joints commanded to 0 (tool retracted, insertion 0 m); coupling and passivity "
+      "observer reset";
+  ROS_INFO_NAMED(kLog, "%s", res.message.c_str());
+  return true;
+}
+
+bool TrocarDeviceNode::onSetLimits(surgical_sim::SetTrocarLimits::Request& req,
+                                   surgical_sim::SetTrocarLimits::Response& res) {
+  try {
+    loop_.setPitchYawLimits(kDeg * req.pitch_limit_deg, kDeg * req.yaw_limit_deg);
+  } catch (const std::invalid_argument& e) {
+    res.success = false;
+    res.message = std::string("limits unchanged: ") + e.what();
+    ROS_WARN_NAMED(kLog, "trocar/set_limits rejected: %s", e.what());
+    return true;
+  }
+  device_.setPitchYawLimits(kDeg * req.pitch_limit_deg, kDeg * req.yaw_limit_deg);
+  device_.clampToLimits(command_);
+  applyCommand(ros::Time::now());
+  res.success = true;
+  res.message = "pitch limit +-" + std::to_string(req.pitch_limit_deg) + " deg, yaw limit +-" +
+                std::to_string(req.yaw_limit_deg) + " deg";
+  ROS_INFO_NAMED(kLog, "trocar/set_limits: %s", res.message.c_str());
+  return true;
+}
+
+}  // namespace surgical_sim::ros_layer
