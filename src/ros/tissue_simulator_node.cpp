@@ -58,6 +58,7 @@ TissueSimulatorNode::TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& p
   static_broadcaster_.sendTransform(t);
 
   surface_pub_ = nh.advertise<visualization_msgs::Marker>("tissue/surface", 2, true);
+  tool_marker_pub_ = nh.advertise<visualization_msgs::Marker>("tissue/tools", 10);
   stats_pub_ = nh.advertise<surgical_sim::TissueStats>("tissue/stats", 100);
   tools_.resize(static_cast<std::size_t>(sim_->numTools()));
   for (int i = 0; i < sim_->numTools(); ++i) {
@@ -123,6 +124,7 @@ void TissueSimulatorNode::onPose(const geometry_msgs::PoseStamped::ConstPtr& msg
   if (!toTissueFrame(*msg, X_ST)) return;
   sim_->setToolPose(tool, X_ST);
   tools_[static_cast<std::size_t>(tool)].has_pose = true;
+  tools_[static_cast<std::size_t>(tool)].X_ST = X_ST;
   if (realtime_ || paused_) return;
   for (int k = 0; k < steps_per_pose_; ++k)
     if (!stepAndPublish(msg->header.stamp, k + 1 == steps_per_pose_)) break;
@@ -145,7 +147,10 @@ bool TissueSimulatorNode::stepAndPublish(const ros::Time& stamp, bool publish_su
   ++step_count_;
   core::Stopwatch publish_watch;
   for (int i = 0; i < sim_->numTools(); ++i) publishTool(i, stamp);
-  if (publish_surface) publishSurface(stamp);
+  if (publish_surface) {
+    publishSurface(stamp);
+    publishToolMarkers(stamp);
+  }
 
   surgical_sim::TissueStats stats;
   stats.header.stamp = stamp;
@@ -242,6 +247,34 @@ void TissueSimulatorNode::publishSurface(const ros::Time& stamp) {
       }
     }
   surface_pub_.publish(m);
+}
+
+void TissueSimulatorNode::publishToolMarkers(const ros::Time& stamp) {
+  if (tool_marker_pub_.getNumSubscribers() == 0) return;
+  for (int i = 0; i < sim_->numTools(); ++i) {
+    const ToolIo& io = tools_[static_cast<std::size_t>(i)];
+    if (!io.has_pose) continue;
+    const core::ToolSpec& spec = sim_->scene().tools[static_cast<std::size_t>(i)];
+    visualization_msgs::Marker m;
+    m.header.stamp = stamp;
+    m.header.frame_id = tissue_frame_;
+    m.ns = spec.name;
+    m.action = visualization_msgs::Marker::ADD;
+    m.color.r = m.color.g = 0.75f;
+    m.color.b = 0.8f;
+    m.color.a = 1.0f;
+    // Tip sphere at the pose; the shaft runs along the tool's -z (the tool z axis points in).
+    m.id = 0;
+    m.type = visualization_msgs::Marker::SPHERE;
+    m.pose = toPoseMsg(io.X_ST);
+    m.scale.x = m.scale.y = m.scale.z = 2.0 * spec.radius;
+    tool_marker_pub_.publish(m);
+    m.id = 1;
+    m.type = visualization_msgs::Marker::CYLINDER;
+    m.pose = toPoseMsg(io.X_ST * Eigen::Translation3d(0.0, 0.0, -0.5 * spec.shaft_length));
+    m.scale.z = spec.shaft_length;
+    tool_marker_pub_.publish(m);
+  }
 }
 
 bool TissueSimulatorNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {

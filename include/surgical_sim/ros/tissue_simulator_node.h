@@ -39,6 +39,7 @@ class TissueSimulatorNode {
     ros::Subscriber pose_sub, grasp_sub;
     ros::Publisher wrench_pub, contact_pub;
     bool has_pose = false;
+    Eigen::Isometry3d X_ST = Eigen::Isometry3d::Identity();  ///< last accepted tip pose
   };
 
   void onPose(const geometry_msgs::PoseStamped::ConstPtr& msg, int tool);
@@ -47,6 +48,8 @@ class TissueSimulatorNode {
   /// Steps once and publishes everything stamped `stamp`; returns false on a failed step.
   bool stepAndPublish(const ros::Time& stamp, bool publish_surface);
   void publishSurface(const ros::Time& stamp);
+  /// Each posed tool as a capsule (shaft cylinder + tip sphere) on tissue/tools.
+  void publishToolMarkers(const ros::Time& stamp);
   void publishTool(int tool, const ros::Time& stamp);
   /// Resolves a pose to the tissue frame; false (with a throttled warning) if impossible.
   bool toTissueFrame(const geometry_msgs::PoseStamped& msg, Eigen::Isometry3d& X_ST);
@@ -67,7 +70,7 @@ class TissueSimulatorNode {
   unsigned step_count_ = 0;
 
   std::vector<ToolIo> tools_;
-  ros::Publisher surface_pub_, stats_pub_;
+  ros::Publisher surface_pub_, tool_marker_pub_, stats_pub_;
   ros::ServiceServer reset_srv_, pause_srv_, step_srv_;
   ros::WallTimer timer_;
   tf2_ros::Buffer tf_buffer_;
