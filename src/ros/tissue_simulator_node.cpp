@@ -6,6 +6,7 @@
 #include <visualization_msgs/Marker.h>
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "surgical_sim/ContactModel.h"
@@ -69,6 +70,9 @@ TissueSimulatorNode::TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& p
     if (!spec.grasp_topic.empty())
       io.grasp_sub = nh.subscribe<std_msgs::Bool>(spec.grasp_topic, 100,
                                                   [this, i](const auto& msg) { onGrasp(msg, i); });
+    if (!spec.grip_joint.empty())
+      io.grip_sub = nh.subscribe<sensor_msgs::JointState>(
+          spec.grip_topic, 100, [this, i](const auto& msg) { onGrip(msg, i); });
     io.wrench_pub = nh.advertise<geometry_msgs::WrenchStamped>(spec.wrench_topic, 1000);
     io.contact_pub = nh.advertise<surgical_sim::ContactModel>(spec.contact_model_topic, 1000);
   }
@@ -132,6 +136,20 @@ void TissueSimulatorNode::onPose(const geometry_msgs::PoseStamped::ConstPtr& msg
 
 void TissueSimulatorNode::onGrasp(const std_msgs::Bool::ConstPtr& msg, int tool) {
   sim_->setGrasp(tool, msg->data);
+}
+
+void TissueSimulatorNode::onGrip(const sensor_msgs::JointState::ConstPtr& msg, int tool) {
+  const core::ToolSpec& spec = sim_->scene().tools[static_cast<std::size_t>(tool)];
+  const auto it = std::find(msg->name.begin(), msg->name.end(), spec.grip_joint);
+  if (it == msg->name.end()) return;  // a JointState of other joints
+  const auto k = static_cast<std::size_t>(it - msg->name.begin());
+  if (k >= msg->position.size() || !std::isfinite(msg->position[k])) {
+    ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator",
+                            "tool %s: %s has no finite position for grip joint %s; jaws unchanged",
+                            spec.name.c_str(), spec.grip_topic.c_str(), spec.grip_joint.c_str());
+    return;
+  }
+  sim_->setGrasp(tool, msg->position[k] <= spec.grip_closed_angle);
 }
 
 void TissueSimulatorNode::onTimer() {

@@ -2,6 +2,7 @@
 
 #include <geometry_msgs/PoseStamped.h>
 #include <ros/ros.h>
+#include <sensor_msgs/JointState.h>
 #include <std_msgs/Bool.h>
 #include <std_srvs/Empty.h>
 #include <std_srvs/SetBool.h>
@@ -36,7 +37,7 @@ class TissueSimulatorNode {
 
  private:
   struct ToolIo {
-    ros::Subscriber pose_sub, grasp_sub;
+    ros::Subscriber pose_sub, grasp_sub, grip_sub;
     ros::Publisher wrench_pub, contact_pub;
     bool has_pose = false;
     Eigen::Isometry3d X_ST = Eigen::Isometry3d::Identity();  ///< last accepted tip pose
@@ -44,6 +45,8 @@ class TissueSimulatorNode {
 
   void onPose(const geometry_msgs::PoseStamped::ConstPtr& msg, int tool);
   void onGrasp(const std_msgs::Bool::ConstPtr& msg, int tool);
+  /// Jaws from the tool's grip joint in a JointState (e.g. trocar_device's joint_states).
+  void onGrip(const sensor_msgs::JointState::ConstPtr& msg, int tool);
   void onTimer();
   /// Steps once and publishes everything stamped `stamp`; returns false on a failed step.
   bool stepAndPublish(const ros::Time& stamp, bool publish_surface);

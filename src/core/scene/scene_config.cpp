@@ -253,7 +253,8 @@ MeasureSpec readMeasure(const KeyReader& scene) {
 
 ToolSpec readTool(const KeyReader& r) {
   r.onlyKeys({"name", "pose_topic", "grasp_topic", "wrench_topic", "contact_model_topic", "radius",
-              "shaft_length", "contact", "proxy_stiffness", "grasp_radius"});
+              "shaft_length", "contact", "proxy_stiffness", "grasp_radius", "grip_joint",
+              "grip_topic", "grip_closed_angle"});
   ToolSpec t;
   t.name = r.text("name");
   if (r.has("pose_topic")) t.pose_topic = r.text("pose_topic");
@@ -271,6 +272,10 @@ ToolSpec readTool(const KeyReader& r) {
   }
   t.grasp_radius = r.number("grasp_radius", 0.0);
   checkRange(r, "grasp_radius", t.grasp_radius, 0.0, 0.05, "m");
+  if (r.has("grip_joint")) t.grip_joint = r.text("grip_joint");
+  if (r.has("grip_topic")) t.grip_topic = r.text("grip_topic");
+  t.grip_closed_angle = r.number("grip_closed_angle", t.grip_closed_angle);
+  checkRange(r, "grip_closed_angle", t.grip_closed_angle, -M_PI, M_PI, "rad");
   return t;
 }
 

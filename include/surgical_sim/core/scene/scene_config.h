@@ -81,6 +81,11 @@ struct ToolSpec {
   std::string contact;           ///< "constraint" (Lagrange multipliers, PGS) or "proxy"
   double proxy_stiffness = 0.0;  ///< proxy spring [N/m], (0, 1e6] (contact: proxy)
   double grasp_radius = 0.0;     ///< nodes within this distance of the tip are grasped [m]
+  /// Jaws from a device joint: the joint `grip_joint` of the sensor_msgs/JointState messages on
+  /// grip_topic closes the jaws at or below grip_closed_angle [rad] (trocar_grip: 0 = closed).
+  std::string grip_joint;  ///< empty: none
+  std::string grip_topic = "joint_states";
+  double grip_closed_angle = 0.05;  ///< [rad], [-pi, pi]
 };
 
 /// A whole tissue scene, validated. Every physical key has a unit and no silent default.
