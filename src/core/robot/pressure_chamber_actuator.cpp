@@ -64,6 +64,14 @@ Eigen::Vector3d PressureChamberActuator::position(const std::vector<RigidNodePos
   return (1.0 - v.t) * (A.p_BN + A.q_BN * v.a_A) + v.t * (B.p_BN + B.q_BN * v.b_B);
 }
 
+std::vector<Eigen::Vector3d> PressureChamberActuator::vertexPositions(
+    const std::vector<RigidNodePose>& nodes) const {
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(vertices_.size());
+  for (const Vertex& v : vertices_) out.push_back(position(nodes, v));
+  return out;
+}
+
 double PressureChamberActuator::measure(const std::vector<RigidNodePose>& nodes) const {
   double six_v = 0.0;
   for (const Eigen::Vector3i& tri : triangles_) {

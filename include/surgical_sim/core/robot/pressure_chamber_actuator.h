@@ -34,6 +34,12 @@ class PressureChamberActuator final : public ChainActuator {
   void addPieceGradient(const std::vector<RigidNodePose>& nodes, int piece, double scale,
                         Eigen::Matrix<double, 12, 1>& g12) const override;
 
+  /// Cavity surface vertices at the given rigid-node poses [m], frame robot_base (allocates; for
+  /// set-up, e.g. embedding the cavity in the full FE plant).
+  std::vector<Eigen::Vector3d> vertexPositions(const std::vector<RigidNodePose>& nodes) const;
+  /// Cavity triangles (vertex indices), oriented out of the cavity.
+  const std::vector<Eigen::Vector3i>& triangles() const { return triangles_; }
+
  private:
   struct Vertex {
     int node_a;           ///< proximal rigid node
