@@ -1,8 +1,10 @@
 // Benchmark R1 / R2 (BENCHMARKS.md): inverse control of continuum robots. No ROS.
 //
-// Usage: robot_bench [config/continuum_robot.yaml] [output_dir]
-// Writes <output_dir>/robot_bench.csv (one row per control step), robot_summary.csv (effector
-// error vs solve time as the iteration caps vary) and robot_bench.png (scripts/plot_robot.py).
+// Usage: robot_bench [config/continuum_robot.yaml] [output_dir (default report)]
+// Writes <output_dir>/robot_bench.csv (one row per control step), robot_cases.csv (one row per
+// tracking case: model and FE-plant tip error mean/max, solve time per control step mean/max),
+// robot_summary.csv (effector error vs solve time as the iteration caps vary) and
+// robot_bench.png (scripts/plot_robot.py).
 //
 // Plane choice: the backbone is +x of robot_base, so the tip moves across the y-z plane; the
 // paths lie in the plane x = x_tip_rest + dx (dx = +10 mm for the pressure trunk, which always
@@ -22,10 +24,6 @@
 namespace ss = surgical_sim::core;
 
 namespace {
-
-struct PathPoint {
-  Eigen::Vector3d p;
-};
 
 /// Circle of radius r [m] in the plane x = center.x, sampled every speed*dt along the arc.
 std::vector<Eigen::Vector3d> circlePath(const Eigen::Vector3d& center, double r, double speed,
@@ -127,11 +125,12 @@ int main(int argc, char** argv) {
   const std::string config =
       argc > 1 ? argv[1]
                : std::string(SURGICAL_SIM_SCRIPTS_DIR) + "/../config/continuum_robot.yaml";
-  const std::string out_dir = argc > 2 ? argv[2] : "robot_bench_out";
+  const std::string out_dir = argc > 2 ? argv[2] : "report";
   std::system(("mkdir -p '" + out_dir + "'").c_str());
   FILE* csv = std::fopen((out_dir + "/robot_bench.csv").c_str(), "w");
   FILE* summary = std::fopen((out_dir + "/robot_summary.csv").c_str(), "w");
-  if (!csv || !summary) {
+  FILE* cases = std::fopen((out_dir + "/robot_cases.csv").c_str(), "w");
+  if (!csv || !summary || !cases) {
     std::fprintf(stderr, "cannot write to %s\n", out_dir.c_str());
     return 1;
   }
@@ -141,6 +140,9 @@ int main(int argc, char** argv) {
   std::fprintf(summary,
                "case,robot,path,max_iterations,newton_iterations,mean_error_m,max_error_m,"
                "mean_solve_ms,max_solve_ms\n");
+  std::fprintf(cases,
+               "case,robot,path,steps,model_mean_error_m,model_max_error_m,plant_samples,"
+               "plant_mean_error_m,plant_max_error_m,mean_solve_ms,max_solve_ms\n");
   const double dt = 0.1;  // control period [s] (10 Hz)
   const double tol = 1e-4;
   const ss::ModelSolveSettings full_newton;
@@ -150,16 +152,24 @@ int main(int argc, char** argv) {
   const Eigen::Vector3d c1 = trunk.model->restNodes().back().p_BN + Eigen::Vector3d(0.01, 0, 0);
   const auto circle = circlePath(c1, 0.060, 0.025, dt);
   const auto square = squarePath(c1, 0.080, 0.031, dt);
-  const auto print = [](const char* what, const RunStats& s) {
+  const auto report = [cases](const char* case_name, const char* robot, const char* path,
+                              const RunStats& s) {
+    const double model_mean = s.error_sum / std::max(1, s.steps);
+    const double plant_mean = s.plant_sum / std::max(1, s.plant_steps);
+    const double ms_mean = s.ms_sum / std::max(1, s.steps);
     std::printf(
-        "%-28s steps %4d  model err mean %.3e max %.3e m  plant err mean %.3e max %.3e m"
-        "  solve mean %.2f max %.2f ms\n",
-        what, s.steps, s.error_sum / std::max(1, s.steps), s.error_max,
-        s.plant_sum / std::max(1, s.plant_steps), s.plant_max, s.ms_sum / std::max(1, s.steps),
-        s.ms_max);
+        "%s %-6s %-7s steps %4d  model err mean %.3e max %.3e m  plant err mean %.3e max %.3e m"
+        " (%d samples)  solve mean %.2f max %.2f ms\n",
+        case_name, robot, path, s.steps, model_mean, s.error_max, plant_mean, s.plant_max,
+        s.plant_steps, ms_mean, s.ms_max);
+    std::fprintf(cases, "%s,%s,%s,%d,%.6e,%.6e,%d,%.6e,%.6e,%.4f,%.4f\n", case_name, robot, path,
+                 s.steps, model_mean, s.error_max, s.plant_steps, plant_mean, s.plant_max, ms_mean,
+                 s.ms_max);
   };
-  print("R1 trunk circle", follow(trunk, "R1", "circle", circle, tol, 10, full_newton, 50, csv));
-  print("R1 trunk square", follow(trunk, "R1", "square", square, tol, 10, full_newton, 26, csv));
+  report("R1", "trunk", "circle",
+         follow(trunk, "R1", "circle", circle, tol, 10, full_newton, 10, csv));
+  report("R1", "trunk", "square",
+         follow(trunk, "R1", "square", square, tol, 10, full_newton, 10, csv));
   std::vector<Eigen::Vector3d> coarse;
   for (size_t i = 0; i < circle.size(); i += 3) coarse.push_back(circle[i]);
   const int caps[][2] = {{1, 100}, {2, 100}, {3, 100}, {10, 100}, {1, 2}, {3, 3}};
@@ -175,9 +185,14 @@ int main(int argc, char** argv) {
   Robot cable = makeRobot(config, "cable");
   const Eigen::Vector3d tip0 = cable.model->restNodes().back().p_BN;
   const Eigen::Vector3d c2 = tip0 + Eigen::Vector3d(-0.005, 0, 0);
+  // The 150 mm cable robot cannot reach R1's 60 mm circle with 3 N cables: the paths are scaled
+  // to its workspace (circle R = 20 mm at 1 cm/s, square of side 30 mm at 1.2 cm/s).
   const auto cable_circle = circlePath(c2, 0.020, 0.01, dt);
-  print("R2 cable circle",
-        follow(cable, "R2", "circle", cable_circle, tol, 10, full_newton, 32, csv));
+  const auto cable_square = squarePath(c2, 0.030, 0.012, dt);
+  report("R2", "cable", "circle",
+         follow(cable, "R2", "circle", cable_circle, tol, 10, full_newton, 8, csv));
+  report("R2", "cable", "square",
+         follow(cable, "R2", "square", cable_square, tol, 10, full_newton, 8, csv));
   for (const auto& cap : caps) {
     ss::ModelSolveSettings ms;
     ms.max_iterations = cap[1];
@@ -208,6 +223,7 @@ int main(int argc, char** argv) {
   }
   std::fclose(csv);
   std::fclose(summary);
+  std::fclose(cases);
   const std::string cmd = std::string("/usr/bin/python3 '") + SURGICAL_SIM_SCRIPTS_DIR +
                           "/plot_robot.py' '" + out_dir + "'";
   if (std::system(cmd.c_str()) != 0) std::fprintf(stderr, "plotting failed (%s)\n", cmd.c_str());
