@@ -12,20 +12,10 @@
 #include "surgical_sim/core/robot/continuum_robot_loader.h"
 #include "surgical_sim/core/robot/resample_polyline.h"
 #include "surgical_sim/ros/conversions.h"
+#include "surgical_sim/ros/parameters.h"
 
 namespace surgical_sim::ros_layer {
 namespace {
-
-template <class T>
-T param(const ros::NodeHandle& pnh, const std::string& name, const T& fallback) {
-  T value = fallback;
-  pnh.param(name, value, fallback);
-  return value;
-}
-
-void requireParam(bool ok, const std::string& what) {
-  if (!ok) throw std::invalid_argument(what);
-}
 
 constexpr const char* kName = "continuum_robot_controller";
 

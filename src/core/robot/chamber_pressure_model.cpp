@@ -18,18 +18,11 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
 ChamberPressureModel::ChamberPressureModel(const TetMesh& mesh,
                                            const std::vector<Eigen::Vector3d>& vertices,
                                            const std::vector<Eigen::Vector3i>& triangles)
-    : triangles_(triangles) {
+    : points_(embedPoints(mesh, vertices, "chamber_pressure.vertices")), triangles_(triangles) {
   const int n = mesh.numNodes();
   rest_.resize(3 * n);
   for (int i = 0; i < n; ++i) rest_.segment<3>(3 * i) = mesh.nodes.col(i);
   mass_ = Eigen::VectorXd::Zero(3 * n);
-  for (size_t k = 0; k < vertices.size(); ++k) {
-    const std::optional<EmbeddedPoint> point = embedPoint(mesh, vertices[k]);
-    if (!point)
-      throw std::invalid_argument("chamber_pressure.vertices[" + std::to_string(k) +
-                                  "] lies in no element of the mesh");
-    points_.push_back(*point);
-  }
   std::vector<Eigen::Triplet<double>> t;
   for (size_t k = 0; k < triangles_.size(); ++k) {
     const Eigen::Vector3i& tri = triangles_[k];

@@ -1,6 +1,7 @@
 #include "surgical_sim/core/robot/embedded_point.h"
 
 #include <Eigen/Dense>
+#include <stdexcept>
 
 namespace surgical_sim::core {
 
@@ -15,6 +16,20 @@ std::optional<EmbeddedPoint> embedPoint(const TetMesh& mesh, const Eigen::Vector
       return EmbeddedPoint{mesh.elements.col(e).head<4>(), Eigen::Vector4d(b0, b[0], b[1], b[2])};
   }
   return std::nullopt;
+}
+
+std::vector<EmbeddedPoint> embedPoints(const TetMesh& mesh,
+                                       const std::vector<Eigen::Vector3d>& points,
+                                       const std::string& name) {
+  std::vector<EmbeddedPoint> out;
+  for (size_t k = 0; k < points.size(); ++k) {
+    const std::optional<EmbeddedPoint> point = embedPoint(mesh, points[k]);
+    if (!point)
+      throw std::invalid_argument(name + "[" + std::to_string(k) +
+                                  "] lies in no element of the mesh");
+    out.push_back(*point);
+  }
+  return out;
 }
 
 }  // namespace surgical_sim::core

@@ -13,13 +13,9 @@ TendonModel::TendonModel(const TetMesh& mesh, const std::vector<Eigen::Vector3d>
   rest_.resize(3 * n);
   for (int i = 0; i < n; ++i) rest_.segment<3>(3 * i) = mesh.nodes.col(i);
   mass_ = Eigen::VectorXd::Zero(3 * n);
-  for (size_t k = 0; k < eyelets.size(); ++k) {
-    const std::optional<EmbeddedPoint> point = embedPoint(mesh, eyelets[k]);
-    if (!point)
-      throw std::invalid_argument("tendon.eyelets[" + std::to_string(k) +
-                                  "] lies in no element of the mesh");
-    corners_.push_back(point->corners);
-    weights_.push_back(point->weights);
+  for (const EmbeddedPoint& e : embedPoints(mesh, eyelets, "tendon.eyelets")) {
+    corners_.push_back(e.corners);
+    weights_.push_back(e.weights);
   }
   std::vector<Eigen::Triplet<double>> t;
   for (size_t k = 0; k + 1 < corners_.size(); ++k)
