@@ -1,5 +1,6 @@
 #include "surgical_sim/core/robot/chamber_pressure_model.h"
 
+#include <Eigen/Geometry>
 #include <stdexcept>
 #include <string>
 

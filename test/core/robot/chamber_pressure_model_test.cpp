@@ -64,7 +64,7 @@ TEST(ChamberPressureModel, ForceAndStiffnessMatchFiniteDifferences) {
   const double dE = (c.model->energy(x + h * v) - c.model->energy(x - h * v)) / (2.0 * h);
   EXPECT_NEAR(-dE, f.dot(v), 1e-6 * std::abs(f.dot(v)) + 1e-12);
 
-  Eigen::VectorXd fp = Eigen::VectorXd::Zero(x.size()), fm = fp, Kv, Kv_assembled;
+  Eigen::VectorXd fp = Eigen::VectorXd::Zero(x.size()), fm = fp, Kv = fp, Kv_assembled;
   c.model->addInternalForce(x + h * v, fp);
   c.model->addInternalForce(x - h * v, fm);
   const Eigen::VectorXd fd = -(fp - fm) / (2.0 * h);
