@@ -167,9 +167,9 @@ int main(int argc, char** argv) {
                  s.ms_max);
   };
   report("R1", "trunk", "circle",
-         follow(trunk, "R1", "circle", circle, tol, 10, full_newton, 10, csv));
+         follow(trunk, "R1", "circle", circle, tol, 10, full_newton, 50, csv));
   report("R1", "trunk", "square",
-         follow(trunk, "R1", "square", square, tol, 10, full_newton, 10, csv));
+         follow(trunk, "R1", "square", square, tol, 10, full_newton, 26, csv));
   std::vector<Eigen::Vector3d> coarse;
   for (size_t i = 0; i < circle.size(); i += 3) coarse.push_back(circle[i]);
   const int caps[][2] = {{1, 100}, {2, 100}, {3, 100}, {10, 100}, {1, 2}, {3, 3}};
