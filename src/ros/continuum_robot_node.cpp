@@ -29,6 +29,7 @@ ContinuumRobotNode::ContinuumRobotNode(ros::NodeHandle& nh, ros::NodeHandle& pnh
   rate_ = param(pnh, "rate", 10.0);
   base_frame_ = param<std::string>(pnh, "base_frame", "robot_base");
   link_prefix_ = param<std::string>(pnh, "link_prefix", "vertebra_");
+  tip_frame_ = param<std::string>(pnh, "tip_frame", "robot_tip");
   tolerance_ = param(pnh, "tolerance", 1e-4);
   max_iterations_ = param(pnh, "max_iterations", 30);
   step_iterations_ = param(pnh, "step_iterations", 5);
@@ -40,7 +41,8 @@ ContinuumRobotNode::ContinuumRobotNode(ros::NodeHandle& nh, ros::NodeHandle& pnh
                "~max_iterations = " + std::to_string(max_iterations_) + " must be in [1, 10000]");
   requireParam(step_iterations_ >= 1 && step_iterations_ <= 1000,
                "~step_iterations = " + std::to_string(step_iterations_) + " must be in [1, 1000]");
-  requireParam(!base_frame_.empty(), "~base_frame must not be empty");
+  requireParam(!base_frame_.empty() && !link_prefix_.empty() && !tip_frame_.empty(),
+               "~base_frame, ~link_prefix and ~tip_frame must not be empty");
 
   core::ContinuumRobotDescription description;
   try {
@@ -230,6 +232,12 @@ void ContinuumRobotNode::publishShape(const ros::Time& stamp) {
     t.child_frame_id = link_prefix_ + std::to_string(k);
     transforms.push_back(t);
   }
+  geometry_msgs::TransformStamped tip;  // identity: the tip is the last rigid node
+  tip.header.stamp = stamp;
+  tip.header.frame_id = transforms.back().child_frame_id;
+  tip.child_frame_id = tip_frame_;
+  tip.transform.rotation.w = 1.0;
+  transforms.push_back(tip);
   shape_pub_.publish(shape);
   broadcaster_.sendTransform(transforms);
 }

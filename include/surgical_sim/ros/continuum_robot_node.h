@@ -26,6 +26,7 @@ namespace surgical_sim::ros_layer {
 ///   ~rate (double, 10 Hz)              control rate of paths and streamed targets, (0, 1000]
 ///   ~base_frame (string, robot_base)   frame of the model (backbone along +x)
 ///   ~link_prefix (string, vertebra_)   tf child frames <prefix>1 .. <prefix>n (URDF link names)
+///   ~tip_frame (string, robot_tip)     tf child of <prefix>n at the tip rigid node (identity)
 ///   ~tolerance (double, 1e-4 m)        default effector tolerance, (0, 1]
 ///   ~max_iterations (int, 30)          default iterations of set_target, [1, 10000]
 ///   ~step_iterations (int, 5)          iterations per control step on a path/stream, [1, 1000]
@@ -53,7 +54,7 @@ class ContinuumRobotNode {
   std::unique_ptr<core::ContinuumRobotModel> model_;
   std::unique_ptr<core::InverseController> controller_;
   core::InverseResult result_;
-  std::string base_frame_, link_prefix_;
+  std::string base_frame_, link_prefix_, tip_frame_;
   double rate_ = 10.0;
   double tolerance_ = 1e-4;
   int max_iterations_ = 30;
