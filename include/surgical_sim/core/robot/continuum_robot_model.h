@@ -78,7 +78,7 @@ class ContinuumRobotModel {
 
   /// Assembles and factorizes the block-tridiagonal tangent at the current poses under
   /// `actuation`: symmetrized exact spring stiffness + actuator load stiffness -sum lambda_a
-  /// d^2m_a/dq^2 (unit Hessians of each actuator piece by central differences of its gradient,
+  /// d^2m_a/dq^2 (unit Hessians of each actuator piece by forward differences of its gradient,
   /// recomputed here and cached); if that is not positive definite, the Gauss-Newton spring
   /// stiffness alone. Returns false if neither factorizes.
   bool factorizeTangent(const Eigen::VectorXd& actuation);
