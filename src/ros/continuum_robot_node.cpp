@@ -4,7 +4,9 @@
 #include <geometry_msgs/TransformStamped.h>
 #include <tf2_eigen/tf2_eigen.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "surgical_sim/Actuation.h"
@@ -130,8 +132,9 @@ void ContinuumRobotNode::onStreamTarget(const geometry_msgs::PointStamped::Const
 bool ContinuumRobotNode::onSetTarget(surgical_sim::SetTarget::Request& req,
                                      surgical_sim::SetTarget::Response& res) {
   const double tolerance = req.tolerance == 0.0 ? tolerance_ : req.tolerance;
-  const int iterations =
-      req.max_iterations == 0 ? max_iterations_ : static_cast<int>(req.max_iterations);
+  const int iterations = req.max_iterations == 0
+                             ? max_iterations_
+                             : static_cast<int>(std::min<uint32_t>(req.max_iterations, 10001));
   res.actuation.assign(result_.actuation.data(),
                        result_.actuation.data() + result_.actuation.size());
   if (!(std::isfinite(tolerance) && tolerance > 0.0) || iterations > 10000) {
@@ -183,8 +186,10 @@ bool ContinuumRobotNode::onFollowPath(surgical_sim::FollowPath::Request& req,
   res.accepted = true;
   res.steps = static_cast<uint32_t>(path_.size());
   res.duration = path_.size() / rate_;
-  res.message =
-      "following " + std::to_string(path_.size()) + " targets at " + std::to_string(rate_) + " Hz";
+  char message[96];
+  std::snprintf(message, sizeof message, "following %zu targets at %.3g Hz (%.3g s)", path_.size(),
+                rate_, res.duration);
+  res.message = message;
   return true;
 }
 

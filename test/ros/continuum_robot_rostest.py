@@ -81,13 +81,15 @@ class ContinuumRobotTest(unittest.TestCase):
         self.assertGreater(res.effector_error, 1e-3)
         self.node_is_alive()
 
-    def test_nan_target_and_unknown_frame_give_clear_status(self):
+    def test_nan_target_unknown_frame_and_bad_tolerance_give_clear_status(self):
         res = self.set_target(stamped(float("nan"), 0.0, 0.0), 1e-4, 50)
         self.assertEqual(res.status, "invalid_target")
         self.assertIn("NaN", res.message)
         res = self.set_target(stamped(0.41, 0.0, 0.0, "no_such_frame"), 1e-4, 50)
         self.assertEqual(res.status, "unknown_frame")
         self.assertIn("no_such_frame", res.message)
+        res = self.set_target(stamped(0.41, 0.0, 0.0), -1.0, 50)
+        self.assertEqual(res.status, "invalid_request")
         self.node_is_alive()
 
     def test_follow_path_publishes_actuation_at_the_control_rate(self):
