@@ -182,6 +182,18 @@ int main(int argc, char** argv) {
                  path, s.steps, model_mean, s.error_max, s.plant_steps, plant_mean, s.plant_max,
                  ms_mean, s.ms_max, cpu_mean);
   };
+  // Effector error vs solve time as the (QP, Newton) iteration caps vary, no plant.
+  const auto sweep = [&](Robot& robot, const char* case_name, const char* path_name,
+                         const std::vector<Eigen::Vector3d>& path) {
+    for (const auto& cap : caps) {
+      ss::ModelSolveSettings ms;
+      ms.max_iterations = cap[1];
+      const RunStats s = follow(robot, case_name, path_name, path, tol, cap[0], ms, 0, nullptr);
+      std::fprintf(summary, "%s,%s,%s,%d,%d,%.6e,%.6e,%.3f,%.3f,%.3f\n", case_name,
+                   robot.description.name.c_str(), path_name, cap[0], cap[1], s.error_sum / s.steps,
+                   s.error_max, s.ms_sum / s.steps, s.ms_max, s.cpu_ms_sum / s.steps);
+    }
+  };
   // ---- R1: trunk ------------------------------------------------------------------------------
   if (cases_to_run != "R2") {
     Robot trunk = makeRobot(config, "trunk");
@@ -194,14 +206,7 @@ int main(int argc, char** argv) {
            follow(trunk, "R1", "square", square, tol, 10, full_newton, 52, csv));
     std::vector<Eigen::Vector3d> coarse;
     for (size_t i = 0; i < circle.size(); i += 3) coarse.push_back(circle[i]);
-    for (const auto& cap : caps) {
-      ss::ModelSolveSettings ms;
-      ms.max_iterations = cap[1];
-      const RunStats s = follow(trunk, "R1", "circle_coarse", coarse, tol, cap[0], ms, 0, nullptr);
-      std::fprintf(summary, "R1,trunk,circle_coarse,%d,%d,%.6e,%.6e,%.3f,%.3f,%.3f\n", cap[0],
-                   cap[1], s.error_sum / s.steps, s.error_max, s.ms_sum / s.steps, s.ms_max,
-                   s.cpu_ms_sum / s.steps);
-    }
+    sweep(trunk, "R1", "circle_coarse", coarse);
   }
 
   // ---- R2: cable robot ------------------------------------------------------------------------
@@ -218,14 +223,7 @@ int main(int argc, char** argv) {
            follow(cable, "R2", "circle", cable_circle, tol, 10, full_newton, 8, csv));
     report("R2", "cable", "square",
            follow(cable, "R2", "square", cable_square, tol, 10, full_newton, 8, csv));
-    for (const auto& cap : caps) {
-      ss::ModelSolveSettings ms;
-      ms.max_iterations = cap[1];
-      const RunStats s = follow(cable, "R2", "circle", cable_circle, tol, cap[0], ms, 0, nullptr);
-      std::fprintf(summary, "R2,cable,circle,%d,%d,%.6e,%.6e,%.3f,%.3f,%.3f\n", cap[0], cap[1],
-                   s.error_sum / s.steps, s.error_max, s.ms_sum / s.steps, s.ms_max,
-                   s.cpu_ms_sum / s.steps);
-    }
+    sweep(cable, "R2", "circle", cable_circle);
     // Unreachable (beyond the tip along the axis: cables can only shorten the robot) and binding
     // bounds (lateral target beyond what 3 N can bend).
     const std::vector<Eigen::Vector3d> special = {tip0, tip0 + Eigen::Vector3d(0.03, 0.0, 0.0),
