@@ -115,7 +115,10 @@ void ContinuumRobotModel::generalizedForce(const std::vector<RigidNodePose>& nod
 
 void ContinuumRobotModel::computeLoadHessians() {
   // d^2 m_piece / dq^2 of each actuator piece (unit actuation) by forward differences of its
-  // gradient (relative error ~1e-6, ample for a Newton tangent), symmetrized.
+  // gradient (relative error ~1e-6, ample for a Newton tangent), symmetrized. A piece's measure
+  // is invariant under a common translation of its two rigid nodes (it depends on relative
+  // geometry only), so its gradient is too: the columns of the distal node's translation are
+  // minus those of the proximal node's, and are not differenced.
   const double h_x = 1e-6 * description_.vertebra_spacing, h_r = 1e-6;
   Eigen::Matrix<double, 12, 1> g0, g;
   for (int a = 0; a < numActuators(); ++a) {
@@ -128,6 +131,10 @@ void ContinuumRobotModel::computeLoadHessians() {
       trial_[i0] = nodes_[i0];
       trial_[i0 + 1] = nodes_[i0 + 1];
       for (int d = 0; d < 12; ++d) {
+        if (d >= 6 && d < 9) {
+          H.col(d) = -H.col(d - 6);
+          continue;
+        }
         const int node = i0 + d / 6, c = d % 6;
         const double h = c < 3 ? h_x : h_r;
         RigidNodePose& p = trial_[node];

@@ -96,10 +96,11 @@ void PressureChamberActuator::addPieceGradient(const std::vector<RigidNodePose>&
   const RigidNodePose& A = nodes[first_gap_ + piece];
   const RigidNodePose& B = nodes[first_gap_ + piece + 1];
   const int v0 = vertex_begin_[piece], nv = vertex_begin_[piece + 1] - v0;
+  const Eigen::Matrix3d R_A = A.q_BN.toRotationMatrix(), R_B = B.q_BN.toRotationMatrix();
   for (int i = 0; i < nv; ++i) {
     const Vertex& v = vertices_[v0 + i];
-    r_a_[i] = A.q_BN * v.a_A;
-    r_b_[i] = B.q_BN * v.b_B;
+    r_a_[i] = R_A * v.a_A;
+    r_b_[i] = R_B * v.b_B;
     p_[i] = (1.0 - v.t) * (A.p_BN + r_a_[i]) + v.t * (B.p_BN + r_b_[i]);
     f_[i].setZero();
   }
