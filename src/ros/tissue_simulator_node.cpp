@@ -14,22 +14,9 @@
 #include "surgical_sim/core/common/stopwatch.h"
 #include "surgical_sim/core/scene/scene_config.h"
 #include "surgical_sim/ros/conversions.h"
+#include "surgical_sim/ros/parameters.h"
 
 namespace surgical_sim::ros_layer {
-namespace {
-
-template <class T>
-T param(const ros::NodeHandle& pnh, const std::string& name, const T& fallback) {
-  T value = fallback;
-  pnh.param(name, value, fallback);
-  return value;
-}
-
-void requireParam(bool ok, const std::string& what) {
-  if (!ok) throw std::invalid_argument(what);
-}
-
-}  // namespace
 
 TissueSimulatorNode::TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
     : tf_listener_(tf_buffer_) {

@@ -1,15 +1,19 @@
 // Benchmark R1 / R2 (BENCHMARKS.md): inverse control of continuum robots. No ROS.
 //
-// Usage: robot_bench [config/continuum_robot.yaml] [output_dir]
-// Writes <output_dir>/robot_bench.csv (one row per control step), robot_summary.csv (effector
-// error vs solve time as the iteration caps vary) and robot_bench.png (scripts/plot_robot.py).
+// Usage: robot_bench [config/continuum_robot.yaml] [output_dir (default report)] [R1|R2|all]
+// Writes <output_dir>/robot_bench.csv (one row per control step), robot_cases.csv (one row per
+// tracking case: model and FE-plant tip error mean/max, solve time per control step mean/max),
+// robot_summary.csv (effector error vs solve time as the iteration caps vary) and
+// robot_bench.png (scripts/plot_robot.py).
 //
 // Plane choice: the backbone is +x of robot_base, so the tip moves across the y-z plane; the
 // paths lie in the plane x = x_tip_rest + dx (dx = +10 mm for the pressure trunk, which always
-// extends when pressurized; -5 mm for the cable robot, which shortens when cables are pulled).
+// extends when pressurized; -1.5 mm for the cable robot, which shortens when cables are pulled:
+// bending it 10 mm aside shortens it by about 0.5 mm, the rest comes from cable compression).
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <string>
 #include <vector>
 
@@ -23,9 +27,13 @@ namespace ss = surgical_sim::core;
 
 namespace {
 
-struct PathPoint {
-  Eigen::Vector3d p;
-};
+/// CPU time of the calling thread [ms]: the solve cost without the waiting a shared (loaded)
+/// machine adds to the wall-clock time.
+double threadCpuMs() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return 1e3 * t.tv_sec + 1e-6 * t.tv_nsec;
+}
 
 /// Circle of radius r [m] in the plane x = center.x, sampled every speed*dt along the arc.
 std::vector<Eigen::Vector3d> circlePath(const Eigen::Vector3d& center, double r, double speed,
@@ -77,7 +85,7 @@ Robot makeRobot(const std::string& config, const std::string& name) {
 }
 
 struct RunStats {
-  double error_sum = 0.0, error_max = 0.0, ms_sum = 0.0, ms_max = 0.0;
+  double error_sum = 0.0, error_max = 0.0, ms_sum = 0.0, ms_max = 0.0, cpu_ms_sum = 0.0;
   double plant_sum = 0.0, plant_max = 0.0;
   int steps = 0, plant_steps = 0;
 };
@@ -95,8 +103,9 @@ RunStats follow(Robot& robot, const std::string& case_name, const std::string& p
   RunStats st;
   for (size_t i = 0; i < path.size(); ++i) {
     const ss::Stopwatch clock;
+    const double cpu0 = threadCpuMs();
     controller.solveTarget(path[i], tolerance, max_iterations, result);
-    const double ms = clock.milliseconds();
+    const double ms = clock.milliseconds(), cpu_ms = threadCpuMs() - cpu0;
     double plant_error = NAN;
     if (plant_stride > 0 && (i % plant_stride == 0 || i + 1 == path.size())) {
       robot.plant->solve(result.actuation);
@@ -109,14 +118,15 @@ RunStats follow(Robot& robot, const std::string& case_name, const std::string& p
       st.error_sum += result.effector_error;
       st.error_max = std::max(st.error_max, result.effector_error);
       st.ms_sum += ms;
+      st.cpu_ms_sum += cpu_ms;
       st.ms_max = std::max(st.ms_max, ms);
       ++st.steps;
     }
     if (csv)
-      std::fprintf(csv, "%s,%s,%s,%zu,%.6f,%.6f,%.6f,%.6e,%.6e,%.3f,%d,%s\n", case_name.c_str(),
-                   robot.description.name.c_str(), path_name.c_str(), i, path[i].x(), path[i].y(),
-                   path[i].z(), result.effector_error, plant_error, ms, result.qp_iterations,
-                   ss::toString(result.status));
+      std::fprintf(csv, "%s,%s,%s,%zu,%.6f,%.6f,%.6f,%.6e,%.6e,%.3f,%.3f,%d,%s\n",
+                   case_name.c_str(), robot.description.name.c_str(), path_name.c_str(), i,
+                   path[i].x(), path[i].y(), path[i].z(), result.effector_error, plant_error, ms,
+                   cpu_ms, result.qp_iterations, ss::toString(result.status));
   }
   return st;
 }
@@ -127,87 +137,120 @@ int main(int argc, char** argv) {
   const std::string config =
       argc > 1 ? argv[1]
                : std::string(SURGICAL_SIM_SCRIPTS_DIR) + "/../config/continuum_robot.yaml";
-  const std::string out_dir = argc > 2 ? argv[2] : "robot_bench_out";
+  const std::string out_dir = argc > 2 ? argv[2] : "report";
+  const std::string cases_to_run = argc > 3 ? argv[3] : "all";
+  if (cases_to_run != "all" && cases_to_run != "R1" && cases_to_run != "R2") {
+    std::fprintf(stderr, "third argument must be R1, R2 or all, got '%s'\n", cases_to_run.c_str());
+    return 2;
+  }
   std::system(("mkdir -p '" + out_dir + "'").c_str());
   FILE* csv = std::fopen((out_dir + "/robot_bench.csv").c_str(), "w");
   FILE* summary = std::fopen((out_dir + "/robot_summary.csv").c_str(), "w");
-  if (!csv || !summary) {
+  FILE* cases = std::fopen((out_dir + "/robot_cases.csv").c_str(), "w");
+  if (!csv || !summary || !cases) {
     std::fprintf(stderr, "cannot write to %s\n", out_dir.c_str());
     return 1;
   }
   std::fprintf(csv,
                "case,robot,path,step,target_x,target_y,target_z,model_error_m,plant_error_m,"
-               "solve_ms,qp_iterations,status\n");
+               "solve_ms,solve_cpu_ms,qp_iterations,status\n");
   std::fprintf(summary,
                "case,robot,path,max_iterations,newton_iterations,mean_error_m,max_error_m,"
-               "mean_solve_ms,max_solve_ms\n");
+               "mean_solve_ms,max_solve_ms,mean_solve_cpu_ms\n");
+  std::fprintf(
+      cases,
+      "case,robot,path,steps,model_mean_error_m,model_max_error_m,plant_samples,"
+      "plant_mean_error_m,plant_max_error_m,mean_solve_ms,max_solve_ms,mean_solve_cpu_ms\n");
   const double dt = 0.1;  // control period [s] (10 Hz)
   const double tol = 1e-4;
   const ss::ModelSolveSettings full_newton;
-
-  // ---- R1: trunk ------------------------------------------------------------------------------
-  Robot trunk = makeRobot(config, "trunk");
-  const Eigen::Vector3d c1 = trunk.model->restNodes().back().p_BN + Eigen::Vector3d(0.01, 0, 0);
-  const auto circle = circlePath(c1, 0.060, 0.025, dt);
-  const auto square = squarePath(c1, 0.080, 0.031, dt);
-  const auto print = [](const char* what, const RunStats& s) {
-    std::printf(
-        "%-28s steps %4d  model err mean %.3e max %.3e m  plant err mean %.3e max %.3e m"
-        "  solve mean %.2f max %.2f ms\n",
-        what, s.steps, s.error_sum / std::max(1, s.steps), s.error_max,
-        s.plant_sum / std::max(1, s.plant_steps), s.plant_max, s.ms_sum / std::max(1, s.steps),
-        s.ms_max);
-  };
-  print("R1 trunk circle", follow(trunk, "R1", "circle", circle, tol, 10, full_newton, 50, csv));
-  print("R1 trunk square", follow(trunk, "R1", "square", square, tol, 10, full_newton, 26, csv));
-  std::vector<Eigen::Vector3d> coarse;
-  for (size_t i = 0; i < circle.size(); i += 3) coarse.push_back(circle[i]);
+  // (QP iterations, Newton iterations) caps of the error-vs-solve-time sweep.
   const int caps[][2] = {{1, 100}, {2, 100}, {3, 100}, {10, 100}, {1, 2}, {3, 3}};
-  for (const auto& cap : caps) {
-    ss::ModelSolveSettings ms;
-    ms.max_iterations = cap[1];
-    const RunStats s = follow(trunk, "R1", "circle_coarse", coarse, tol, cap[0], ms, 0, nullptr);
-    std::fprintf(summary, "R1,trunk,circle_coarse,%d,%d,%.6e,%.6e,%.3f,%.3f\n", cap[0], cap[1],
-                 s.error_sum / s.steps, s.error_max, s.ms_sum / s.steps, s.ms_max);
+
+  const auto report = [cases](const char* case_name, const char* robot, const char* path,
+                              const RunStats& s) {
+    const double model_mean = s.error_sum / std::max(1, s.steps);
+    const double plant_mean = s.plant_sum / std::max(1, s.plant_steps);
+    const double ms_mean = s.ms_sum / std::max(1, s.steps);
+    const double cpu_mean = s.cpu_ms_sum / std::max(1, s.steps);
+    std::printf(
+        "%s %-6s %-7s steps %4d  model err mean %.3e max %.3e m  plant err mean %.3e max %.3e m"
+        " (%d samples)  solve mean %.2f max %.2f ms (CPU %.2f ms)\n",
+        case_name, robot, path, s.steps, model_mean, s.error_max, plant_mean, s.plant_max,
+        s.plant_steps, ms_mean, s.ms_max, cpu_mean);
+    std::fprintf(cases, "%s,%s,%s,%d,%.6e,%.6e,%d,%.6e,%.6e,%.4f,%.4f,%.4f\n", case_name, robot,
+                 path, s.steps, model_mean, s.error_max, s.plant_steps, plant_mean, s.plant_max,
+                 ms_mean, s.ms_max, cpu_mean);
+  };
+  // Effector error vs solve time as the (QP, Newton) iteration caps vary, no plant.
+  const auto sweep = [&](Robot& robot, const char* case_name, const char* path_name,
+                         const std::vector<Eigen::Vector3d>& path) {
+    for (const auto& cap : caps) {
+      ss::ModelSolveSettings ms;
+      ms.max_iterations = cap[1];
+      const RunStats s = follow(robot, case_name, path_name, path, tol, cap[0], ms, 0, nullptr);
+      std::fprintf(summary, "%s,%s,%s,%d,%d,%.6e,%.6e,%.3f,%.3f,%.3f\n", case_name,
+                   robot.description.name.c_str(), path_name, cap[0], cap[1], s.error_sum / s.steps,
+                   s.error_max, s.ms_sum / s.steps, s.ms_max, s.cpu_ms_sum / s.steps);
+    }
+  };
+  // ---- R1: trunk ------------------------------------------------------------------------------
+  if (cases_to_run != "R2") {
+    Robot trunk = makeRobot(config, "trunk");
+    const Eigen::Vector3d c1 = trunk.model->restNodes().back().p_BN + Eigen::Vector3d(0.01, 0, 0);
+    const auto circle = circlePath(c1, 0.060, 0.025, dt);
+    const auto square = squarePath(c1, 0.080, 0.031, dt);
+    report("R1", "trunk", "circle",
+           follow(trunk, "R1", "circle", circle, tol, 10, full_newton, 75, csv));
+    report("R1", "trunk", "square",
+           follow(trunk, "R1", "square", square, tol, 10, full_newton, 52, csv));
+    std::vector<Eigen::Vector3d> coarse;
+    for (size_t i = 0; i < circle.size(); i += 3) coarse.push_back(circle[i]);
+    sweep(trunk, "R1", "circle_coarse", coarse);
   }
 
   // ---- R2: cable robot ------------------------------------------------------------------------
-  Robot cable = makeRobot(config, "cable");
-  const Eigen::Vector3d tip0 = cable.model->restNodes().back().p_BN;
-  const Eigen::Vector3d c2 = tip0 + Eigen::Vector3d(-0.005, 0, 0);
-  const auto cable_circle = circlePath(c2, 0.020, 0.01, dt);
-  print("R2 cable circle",
-        follow(cable, "R2", "circle", cable_circle, tol, 10, full_newton, 32, csv));
-  for (const auto& cap : caps) {
-    ss::ModelSolveSettings ms;
-    ms.max_iterations = cap[1];
-    const RunStats s = follow(cable, "R2", "circle", cable_circle, tol, cap[0], ms, 0, nullptr);
-    std::fprintf(summary, "R2,cable,circle,%d,%d,%.6e,%.6e,%.3f,%.3f\n", cap[0], cap[1],
-                 s.error_sum / s.steps, s.error_max, s.ms_sum / s.steps, s.ms_max);
-  }
-  // Unreachable (beyond the tip along the axis: cables can only shorten the robot) and binding
-  // bounds (lateral target beyond what 3 N can bend).
-  const std::vector<Eigen::Vector3d> special = {tip0, tip0 + Eigen::Vector3d(0.03, 0.0, 0.0),
-                                                tip0 + Eigen::Vector3d(-0.03, 0.09, 0.0)};
-  const std::vector<std::string> names = {"rest", "unreachable_axial", "bounds_bind_lateral"};
-  for (size_t i = 0; i < special.size(); ++i) {
-    ss::InverseController controller(*cable.model, ss::InverseControllerSettings{});
-    const ss::Stopwatch clock;
-    const ss::InverseResult r = controller.solveTarget(special[i], tol, 30);
-    const double ms = clock.milliseconds();
-    cable.plant->reset();
-    cable.plant->solve(r.actuation);
-    const double plant_error = (cable.plant->tipPosition() - special[i]).norm();
-    std::fprintf(csv, "R2,cable,%s,0,%.6f,%.6f,%.6f,%.6e,%.6e,%.3f,%d,%s\n", names[i].c_str(),
-                 special[i].x(), special[i].y(), special[i].z(), r.effector_error, plant_error, ms,
-                 r.qp_iterations, ss::toString(r.status));
-    std::printf("R2 %-22s status %-12s model err %.3e m plant err %.3e m  %.2f ms  tensions",
-                names[i].c_str(), ss::toString(r.status), r.effector_error, plant_error, ms);
-    for (int a = 0; a < r.actuation.size(); ++a) std::printf(" %.3f", r.actuation[a]);
-    std::printf(" N\n");
+  if (cases_to_run != "R1") {
+    Robot cable = makeRobot(config, "cable");
+    const Eigen::Vector3d tip0 = cable.model->restNodes().back().p_BN;
+    const Eigen::Vector3d c2 = tip0 + Eigen::Vector3d(-0.0015, 0, 0);
+    // The 150 mm cable robot bends only ~10-15 mm aside with its 3 N cables (less between two
+    // cables), so R1's 60 mm circle is out of reach: the paths are scaled to its workspace
+    // (circle R = 10 mm at 1 cm/s, square of side 14 mm at 1.2 cm/s).
+    const auto cable_circle = circlePath(c2, 0.010, 0.01, dt);
+    const auto cable_square = squarePath(c2, 0.014, 0.012, dt);
+    report("R2", "cable", "circle",
+           follow(cable, "R2", "circle", cable_circle, tol, 10, full_newton, 8, csv));
+    report("R2", "cable", "square",
+           follow(cable, "R2", "square", cable_square, tol, 10, full_newton, 8, csv));
+    sweep(cable, "R2", "circle", cable_circle);
+    // Unreachable (beyond the tip along the axis: cables can only shorten the robot) and binding
+    // bounds (lateral target beyond what 3 N can bend).
+    const std::vector<Eigen::Vector3d> special = {tip0, tip0 + Eigen::Vector3d(0.03, 0.0, 0.0),
+                                                  tip0 + Eigen::Vector3d(-0.03, 0.09, 0.0)};
+    const std::vector<std::string> names = {"rest", "unreachable_axial", "bounds_bind_lateral"};
+    for (size_t i = 0; i < special.size(); ++i) {
+      ss::InverseController controller(*cable.model, ss::InverseControllerSettings{});
+      const ss::Stopwatch clock;
+      const double cpu0 = threadCpuMs();
+      const ss::InverseResult r = controller.solveTarget(special[i], tol, 30);
+      const double ms = clock.milliseconds(), cpu_ms = threadCpuMs() - cpu0;
+      cable.plant->reset();
+      cable.plant->solve(r.actuation);
+      const double plant_error = (cable.plant->tipPosition() - special[i]).norm();
+      std::fprintf(csv, "R2,cable,%s,0,%.6f,%.6f,%.6f,%.6e,%.6e,%.3f,%.3f,%d,%s\n",
+                   names[i].c_str(), special[i].x(), special[i].y(), special[i].z(),
+                   r.effector_error, plant_error, ms, cpu_ms, r.qp_iterations,
+                   ss::toString(r.status));
+      std::printf("R2 %-22s status %-12s model err %.3e m plant err %.3e m  %.2f ms  tensions",
+                  names[i].c_str(), ss::toString(r.status), r.effector_error, plant_error, ms);
+      for (int a = 0; a < r.actuation.size(); ++a) std::printf(" %.3f", r.actuation[a]);
+      std::printf(" N\n");
+    }
   }
   std::fclose(csv);
   std::fclose(summary);
+  std::fclose(cases);
   const std::string cmd = std::string("/usr/bin/python3 '") + SURGICAL_SIM_SCRIPTS_DIR +
                           "/plot_robot.py' '" + out_dir + "'";
   if (std::system(cmd.c_str()) != 0) std::fprintf(stderr, "plotting failed (%s)\n", cmd.c_str());

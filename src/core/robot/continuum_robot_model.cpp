@@ -60,6 +60,10 @@ ContinuumRobotModel::ContinuumRobotModel(const ContinuumRobotDescription& descri
   double k_max = 0.0;
   for (const EquivalentSpring& sp : springs_) k_max = std::max(k_max, sp.stiffness().norm());
   force_floor_ = 1e-13 * k_max * s;
+  for (const auto& act : actuators_) {
+    load_hessian_begin_.push_back(static_cast<int>(load_hessian_.size()));
+    load_hessian_.resize(load_hessian_.size() + act->numPieces());
+  }
   full_.resize(6 * (n + 1));
   step_.resize(6 * n);
   residual_.resize(6 * n);
@@ -71,11 +75,13 @@ void ContinuumRobotModel::setNodes(const std::vector<RigidNodePose>& nodes) {
                                 " poses");
   nodes_ = nodes;
   nodes_[0] = rest_[0];
+  load_hessian_valid_ = false;
 }
 
 void ContinuumRobotModel::reset() {
   nodes_ = rest_;
   tip_force_.setZero();
+  load_hessian_valid_ = false;
 }
 
 double ContinuumRobotModel::potential(const std::vector<RigidNodePose>& nodes,
@@ -107,6 +113,47 @@ void ContinuumRobotModel::generalizedForce(const std::vector<RigidNodePose>& nod
   force.segment<3>(6 * (nodes.size() - 1)) += tip_force_;
 }
 
+void ContinuumRobotModel::computeLoadHessians() {
+  // d^2 m_piece / dq^2 of each actuator piece (unit actuation) by forward differences of its
+  // gradient (relative error ~1e-6, ample for a Newton tangent), symmetrized. A piece's measure
+  // is invariant under a common translation of its two rigid nodes (it depends on relative
+  // geometry only), so its gradient is too: the columns of the distal node's translation are
+  // minus those of the proximal node's, and are not differenced.
+  const double h_x = 1e-6 * description_.vertebra_spacing, h_r = 1e-6;
+  Eigen::Matrix<double, 12, 1> g0, g;
+  for (int a = 0; a < numActuators(); ++a) {
+    const ChainActuator& act = *actuators_[a];
+    for (int piece = 0; piece < act.numPieces(); ++piece) {
+      const int i0 = act.pieceFirstNode(piece);
+      Eigen::Matrix<double, 12, 12>& H = load_hessian_[load_hessian_begin_[a] + piece];
+      g0.setZero();
+      act.addPieceGradient(nodes_, piece, 1.0, g0);
+      trial_[i0] = nodes_[i0];
+      trial_[i0 + 1] = nodes_[i0 + 1];
+      for (int d = 0; d < 12; ++d) {
+        if (d >= 6 && d < 9) {
+          H.col(d) = -H.col(d - 6);
+          continue;
+        }
+        const int node = i0 + d / 6, c = d % 6;
+        const double h = c < 3 ? h_x : h_r;
+        RigidNodePose& p = trial_[node];
+        if (c < 3)
+          p.p_BN[c] += h;
+        else
+          p.q_BN = expRotation(h * Eigen::Vector3d::Unit(c - 3)) * p.q_BN;
+        g.setZero();
+        act.addPieceGradient(trial_, piece, 1.0, g);
+        H.col(d) = (g - g0) / h;
+        p = nodes_[node];
+      }
+      if (i0 == 0) H.topRows<6>().setZero(), H.leftCols<6>().setZero();
+      H = 0.5 * (H + H.transpose()).eval();
+    }
+  }
+  load_hessian_valid_ = true;
+}
+
 bool ContinuumRobotModel::assembleTangent(SpringTangent mode, const Eigen::VectorXd& actuation) {
   tangent_.setZero();
   Eigen::Matrix<double, 12, 12> K;
@@ -121,41 +168,24 @@ bool ContinuumRobotModel::assembleTangent(SpringTangent mode, const Eigen::Vecto
     springs_[k].evaluate(nodes_[k], nodes_[k + 1], nullptr, &K, mode);
     addBlock(k, 0.5 * (K + K.transpose()));
   }
-  if (mode == SpringTangent::Exact) {
-    // Load stiffness -lambda d^2m/dq^2 of each actuator piece by central differences.
-    const double h_x = 1e-6 * description_.vertebra_spacing, h_r = 1e-6;
-    Eigen::Matrix<double, 12, 1> g_plus, g_minus;
+  if (mode == SpringTangent::Exact)  // load stiffness -lambda d^2m/dq^2 (cached unit Hessians)
     for (int a = 0; a < numActuators(); ++a) {
       if (actuation[a] == 0.0) continue;
       const ChainActuator& act = *actuators_[a];
-      for (int piece = 0; piece < act.numPieces(); ++piece) {
-        const int i0 = act.pieceFirstNode(piece);
-        for (int d = 0; d < 12; ++d) {
-          const int node = i0 + d / 6, c = d % 6;
-          const double h = c < 3 ? h_x : h_r;
-          for (int sign = -1; sign <= 1; sign += 2) {
-            RigidNodePose& p = trial_[node];
-            p = nodes_[node];
-            if (c < 3)
-              p.p_BN[c] += sign * h;
-            else
-              p.q_BN = expRotation(sign * h * Eigen::Vector3d::Unit(c - 3)) * p.q_BN;
-            trial_[i0 + 1 - d / 6] = nodes_[i0 + 1 - d / 6];
-            Eigen::Matrix<double, 12, 1>& g = sign > 0 ? g_plus : g_minus;
-            g.setZero();
-            act.addPieceGradient(trial_, piece, actuation[a], g);
-          }
-          K.col(d) = -(g_plus - g_minus) / (2.0 * h);
-        }
-        if (i0 == 0) K.topRows<6>().setZero(), K.leftCols<6>().setZero();
-        addBlock(i0, 0.5 * (K + K.transpose()));
-      }
+      for (int piece = 0; piece < act.numPieces(); ++piece)
+        addBlock(act.pieceFirstNode(piece),
+                 -actuation[a] * load_hessian_[load_hessian_begin_[a] + piece]);
     }
-  }
   return tangent_.factorize();
 }
 
 bool ContinuumRobotModel::factorizeTangent(const Eigen::VectorXd& actuation) {
+  computeLoadHessians();
+  return factorizeCachedTangent(actuation);
+}
+
+bool ContinuumRobotModel::factorizeCachedTangent(const Eigen::VectorXd& actuation) {
+  if (!load_hessian_valid_) computeLoadHessians();
   return assembleTangent(SpringTangent::Exact, actuation) ||
          assembleTangent(SpringTangent::GaussNewton, actuation);
 }
@@ -195,7 +225,7 @@ ModelSolveReport ContinuumRobotModel::solveEquilibrium(const Eigen::VectorXd& ac
     if (it == settings.max_iterations) break;
     step_ = full_.tail(numDofs());
     residual_ = step_;
-    if (!factorizeTangent(actuation)) return restore(StepStatus::SolverFailed);
+    if (!factorizeCachedTangent(actuation)) return restore(StepStatus::SolverFailed);
     tangent_.solve(step_);
     // Full step if it lowers the residual; otherwise Armijo backtracking on the potential.
     applyStep(nodes_, step_, 1.0, trial_);

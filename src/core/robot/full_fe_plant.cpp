@@ -5,6 +5,8 @@
 #include <stdexcept>
 
 #include "surgical_sim/core/common/validate.h"
+#include "surgical_sim/core/robot/chamber_pressure_model.h"
+#include "surgical_sim/core/robot/pressure_chamber_actuator.h"
 #include "surgical_sim/core/robot/summed_tissue_model.h"
 #include "surgical_sim/core/robot/tendon_model.h"
 #include "surgical_sim/core/robot/tube_mesh.h"
@@ -63,6 +65,13 @@ FullFePlant::FullFePlant(const ContinuumRobotModel& model, const FullFePlantSett
   std::vector<std::unique_ptr<TissueModel>> parts;
   parts.push_back(makeTissueModel("corotational", soft, d.material));
   parts.push_back(makeTissueModel("corotational", stiff, stiff_material));
+  for (size_t a = 0; a < d.chambers.size(); ++a) {
+    const auto& chamber = dynamic_cast<const PressureChamberActuator&>(*model_.actuators()[a]);
+    auto pressure = std::make_unique<ChamberPressureModel>(
+        mesh, chamber.vertexPositions(model_.restNodes()), chamber.triangles());
+    chambers_.push_back(pressure.get());
+    parts.push_back(std::move(pressure));
+  }
   for (const CableDescription& c : d.cables) {
     std::vector<Eigen::Vector3d> eyelets;
     for (int k = 0; k <= c.last_vertebra; ++k)
@@ -134,9 +143,8 @@ void FullFePlant::fitPoses() {
 
 void FullFePlant::buildLoads(const Eigen::VectorXd& actuation) {
   wrench_.setZero();
-  const int n_chambers = static_cast<int>(model_.description().chambers.size());
-  for (int a = 0; a < n_chambers; ++a)
-    if (actuation[a] != 0.0) model_.actuators()[a]->addGradient(poses_, actuation[a], wrench_);
+  const int n_chambers = static_cast<int>(chambers_.size());
+  for (int a = 0; a < n_chambers; ++a) chambers_[a]->setPressure(actuation[a]);
   for (size_t c = 0; c < tendons_.size(); ++c) tendons_[c]->setTension(actuation[n_chambers + c]);
   wrench_.segment<3>(wrench_.size() - 6) += tip_force_;
   problem_.external_force = gravity_force_;

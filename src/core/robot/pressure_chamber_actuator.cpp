@@ -23,6 +23,7 @@ PressureChamberActuator::PressureChamberActuator(const PressureChamberDescriptio
                              chamber.radial_offset * std::sin(chamber.angle));
   for (int gap = chamber.first_gap; gap <= chamber.last_gap; ++gap) {
     piece_begin_.push_back(static_cast<int>(triangles_.size()));
+    vertex_begin_.push_back(static_cast<int>(vertices_.size()));
     const int base = static_cast<int>(vertices_.size());
     const auto add = [&](double t, const Eigen::Vector3d& yz) {
       Vertex v;
@@ -55,6 +56,12 @@ PressureChamberActuator::PressureChamberActuator(const PressureChamberDescriptio
     }
   }
   piece_begin_.push_back(static_cast<int>(triangles_.size()));
+  vertex_begin_.push_back(static_cast<int>(vertices_.size()));
+  const size_t per_gap = static_cast<size_t>(vertex_begin_[1] - vertex_begin_[0]);
+  r_a_.resize(per_gap);
+  r_b_.resize(per_gap);
+  p_.resize(per_gap);
+  f_.resize(per_gap);
 }
 
 Eigen::Vector3d PressureChamberActuator::position(const std::vector<RigidNodePose>& nodes,
@@ -62,6 +69,14 @@ Eigen::Vector3d PressureChamberActuator::position(const std::vector<RigidNodePos
   const RigidNodePose& A = nodes[v.node_a];
   const RigidNodePose& B = nodes[v.node_a + 1];
   return (1.0 - v.t) * (A.p_BN + A.q_BN * v.a_A) + v.t * (B.p_BN + B.q_BN * v.b_B);
+}
+
+std::vector<Eigen::Vector3d> PressureChamberActuator::vertexPositions(
+    const std::vector<RigidNodePose>& nodes) const {
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(vertices_.size());
+  for (const Vertex& v : vertices_) out.push_back(position(nodes, v));
+  return out;
 }
 
 double PressureChamberActuator::measure(const std::vector<RigidNodePose>& nodes) const {
@@ -78,25 +93,30 @@ double PressureChamberActuator::measure(const std::vector<RigidNodePose>& nodes)
 void PressureChamberActuator::addPieceGradient(const std::vector<RigidNodePose>& nodes, int piece,
                                                double scale,
                                                Eigen::Matrix<double, 12, 1>& g12) const {
+  const RigidNodePose& A = nodes[first_gap_ + piece];
+  const RigidNodePose& B = nodes[first_gap_ + piece + 1];
+  const int v0 = vertex_begin_[piece], nv = vertex_begin_[piece + 1] - v0;
+  const Eigen::Matrix3d R_A = A.q_BN.toRotationMatrix(), R_B = B.q_BN.toRotationMatrix();
+  for (int i = 0; i < nv; ++i) {
+    const Vertex& v = vertices_[v0 + i];
+    r_a_[i] = R_A * v.a_A;
+    r_b_[i] = R_B * v.b_B;
+    p_[i] = (1.0 - v.t) * (A.p_BN + r_a_[i]) + v.t * (B.p_BN + r_b_[i]);
+    f_[i].setZero();
+  }
   for (int t = piece_begin_[piece]; t < piece_begin_[piece + 1]; ++t) {
-    const Eigen::Vector3i& tri = triangles_[t];
-    Eigen::Vector3d p[3];
-    for (int k = 0; k < 3; ++k) p[k] = position(nodes, vertices_[tri[k]]);
+    const Eigen::Vector3i tri = triangles_[t].array() - v0;
     // Area-weighted outward normal / 3 = d(volume)/d(vertex) share of this triangle.
-    const Eigen::Vector3d f = (scale / 6.0) * (p[1] - p[0]).cross(p[2] - p[0]);
-    for (int k = 0; k < 3; ++k) {
-      const Vertex& v = vertices_[tri[k]];
-      const RigidNodePose& A = nodes[v.node_a];
-      const RigidNodePose& B = nodes[v.node_a + 1];
-      if (v.t < 1.0) {
-        g12.segment<3>(0) += (1.0 - v.t) * f;
-        g12.segment<3>(3) += (1.0 - v.t) * (A.q_BN * v.a_A).cross(f);
-      }
-      if (v.t > 0.0) {
-        g12.segment<3>(6) += v.t * f;
-        g12.segment<3>(9) += v.t * (B.q_BN * v.b_B).cross(f);
-      }
-    }
+    const Eigen::Vector3d f =
+        (scale / 6.0) * (p_[tri[1]] - p_[tri[0]]).cross(p_[tri[2]] - p_[tri[0]]);
+    for (int k = 0; k < 3; ++k) f_[tri[k]] += f;
+  }
+  for (int i = 0; i < nv; ++i) {
+    const double t = vertices_[v0 + i].t;
+    g12.segment<3>(0) += (1.0 - t) * f_[i];
+    g12.segment<3>(3) += (1.0 - t) * r_a_[i].cross(f_[i]);
+    g12.segment<3>(6) += t * f_[i];
+    g12.segment<3>(9) += t * r_b_[i].cross(f_[i]);
   }
 }
 

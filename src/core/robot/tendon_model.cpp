@@ -3,6 +3,8 @@
 #include <Eigen/Dense>
 #include <stdexcept>
 
+#include "surgical_sim/core/robot/embedded_point.h"
+
 namespace surgical_sim::core {
 
 TendonModel::TendonModel(const TetMesh& mesh, const std::vector<Eigen::Vector3d>& eyelets) {
@@ -11,23 +13,9 @@ TendonModel::TendonModel(const TetMesh& mesh, const std::vector<Eigen::Vector3d>
   rest_.resize(3 * n);
   for (int i = 0; i < n; ++i) rest_.segment<3>(3 * i) = mesh.nodes.col(i);
   mass_ = Eigen::VectorXd::Zero(3 * n);
-  for (size_t k = 0; k < eyelets.size(); ++k) {
-    bool found = false;
-    for (int e = 0; e < mesh.numElements() && !found; ++e) {
-      Eigen::Matrix3d D;
-      const Eigen::Vector3d x0 = mesh.nodes.col(mesh.elements(0, e));
-      for (int a = 0; a < 3; ++a) D.col(a) = mesh.nodes.col(mesh.elements(a + 1, e)) - x0;
-      const Eigen::Vector3d b = D.partialPivLu().solve(eyelets[k] - x0);
-      const double b0 = 1.0 - b.sum();
-      if (b.minCoeff() >= -1e-9 && b0 >= -1e-9) {
-        corners_.push_back(mesh.elements.col(e).head<4>());
-        weights_.emplace_back(b0, b[0], b[1], b[2]);
-        found = true;
-      }
-    }
-    if (!found)
-      throw std::invalid_argument("tendon.eyelets[" + std::to_string(k) +
-                                  "] lies in no element of the mesh");
+  for (const EmbeddedPoint& e : embedPoints(mesh, eyelets, "tendon.eyelets")) {
+    corners_.push_back(e.corners);
+    weights_.push_back(e.weights);
   }
   std::vector<Eigen::Triplet<double>> t;
   for (size_t k = 0; k + 1 < corners_.size(); ++k)

@@ -39,6 +39,31 @@ TEST(ContinuumRobotModel, TipDeflectionMatchesFullCorotationalFe) {
   EXPECT_LT(rel, 0.01);
 }
 
+// Same chamber pressure on the reduced model and on the full FE plant (the cavity embedded in the
+// FE mesh as a ChamberPressureModel): the tip displacements must agree.
+TEST(ContinuumRobotModel, PressureTipDisplacementMatchesFullCorotationalFe) {
+  for (const double pressure : {2e4, 2e5}) {  // [Pa]: small and large (upper bound) deflection
+    RobotSetup s(test::smallPressureRobot());
+    Eigen::VectorXd p = Eigen::VectorXd::Zero(s.model->numActuators());
+    p[0] = pressure;  // bends away from chamber p0 and extends
+    ASSERT_EQ(s.model->solveEquilibrium(p, ModelSolveSettings{}).status, StepStatus::Ok);
+    FullFePlantSettings ps;
+    ps.vertebra_stiffness_ratio = 1e4;
+    FullFePlant plant(*s.model, ps);
+    ASSERT_NE(plant.solve(p).status, StepStatus::SolverFailed);
+    const Eigen::Vector3d rest = s.model->restNodes().back().p_BN;
+    const Eigen::Vector3d u_model = s.model->tipPosition() - rest;
+    const Eigen::Vector3d u_fe = plant.tipPosition() - rest;
+    const double rel = (u_model - u_fe).norm() / u_fe.norm();
+    std::printf(
+        "[ robot    ] p = %.0f Pa: tip displacement reduced (%.4e %.4e %.4e) m, full FE "
+        "(%.4e %.4e %.4e) m, difference %.3f %%\n",
+        pressure, u_model.x(), u_model.y(), u_model.z(), u_fe.x(), u_fe.y(), u_fe.z(), 100.0 * rel);
+    EXPECT_GT(u_fe.norm(), 1e-4);  // a real deflection, not a trivial agreement at rest
+    EXPECT_LT(rel, 0.05);
+  }
+}
+
 TEST(ContinuumRobotModel, UnloadedRobotStaysAtRestAndSpringsAreRigidInvariant) {
   RobotSetup s(test::smallCableRobot());
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(s.model->numActuators());

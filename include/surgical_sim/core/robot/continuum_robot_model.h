@@ -32,7 +32,8 @@ struct ModelSolveReport {
 /// Reduced continuum-robot model (Bosman ch. 5): rigid nodes 0..n (0 = base, clamped at rest)
 /// joined by corotated equivalent springs from condensed section compliances; quasi-static
 /// equilibrium sum of spring forces + gravity + actuator loads + tip force = 0 by Newton's method
-/// (full step when it lowers the residual, else Armijo backtracking on the total potential),
+/// (full step when it lowers the residual, else Armijo backtracking on the total potential; the
+/// actuator load stiffness is reused from the last factorizeTangent, the spring part is exact),
 /// block-tridiagonal tangent (6x6 blocks, moving nodes 1..n) solved in O(n); see
 /// factorizeTangent(). All state in frame robot_base; allocation-free after
 /// construction.
@@ -76,9 +77,10 @@ class ContinuumRobotModel {
                                     const ModelSolveSettings& settings);
 
   /// Assembles and factorizes the block-tridiagonal tangent at the current poses under
-  /// `actuation`: symmetrized exact spring stiffness + actuator load stiffness (central
-  /// differences of each actuator piece's gradient); if that is not positive definite, the
-  /// Gauss-Newton spring stiffness alone. Returns false if neither factorizes.
+  /// `actuation`: symmetrized exact spring stiffness + actuator load stiffness -sum lambda_a
+  /// d^2m_a/dq^2 (unit Hessians of each actuator piece by forward differences of its gradient,
+  /// recomputed here and cached); if that is not positive definite, the Gauss-Newton spring
+  /// stiffness alone. Returns false if neither factorizes.
   bool factorizeTangent(const Eigen::VectorXd& actuation);
   /// Tangent after factorizeTangent() (assembled blocks and factor).
   const BlockTridiagonalSolver& tangent() const { return tangent_; }
@@ -87,6 +89,12 @@ class ContinuumRobotModel {
 
  private:
   bool assembleTangent(SpringTangent mode, const Eigen::VectorXd& actuation);
+  /// Unit-actuation load Hessians of every actuator piece at the current poses into the cache.
+  void computeLoadHessians();
+  /// factorizeTangent with the cached load Hessians (computed first if invalid): the Newton
+  /// tangent of solveEquilibrium, whose load term is thus evaluated at the poses of the last
+  /// factorizeTangent / reset (a chord update; the residual stays exact).
+  bool factorizeCachedTangent(const Eigen::VectorXd& actuation);
 
   ContinuumRobotDescription description_;
   std::vector<EquivalentSpring> springs_;
@@ -95,6 +103,11 @@ class ContinuumRobotModel {
   std::vector<RigidNodePose> rest_, nodes_;
   std::vector<RigidNodePose> trial_, backup_;  ///< line-search and restore work lists
   Eigen::Vector3d tip_force_ = Eigen::Vector3d::Zero();
+  /// d^2m/dq^2 per actuator piece at unit actuation, frame robot_base, shape 12x12 each;
+  /// actuator a's pieces start at load_hessian_begin_[a].
+  std::vector<Eigen::Matrix<double, 12, 12>> load_hessian_;
+  std::vector<int> load_hessian_begin_;
+  bool load_hessian_valid_ = false;
   double force_floor_ = 0.0;  ///< residual round-off floor [N]
   BlockTridiagonalSolver tangent_;
   Eigen::VectorXd full_;      ///< 6(n+1) work

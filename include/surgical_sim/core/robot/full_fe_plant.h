@@ -29,12 +29,14 @@ void validateFullFePlantSettings(const FullFePlantSettings& settings);
 
 /// Validation plant: the whole robot meshed with corotational Tet4 (makeTubeMesh over all gaps
 /// with the section resolution; vertebrae as layers of thickness vertebra_thickness with a stiff
-/// material), base face clamped, solved with the core's QuasiStaticNewton (CHOLMOD). Actuator
-/// loads are the same ChainActuator generalized forces as in the reduced model, evaluated at the
-/// vertebra poses fitted to the deformed mesh (centroid + Kabsch rotation) and spread over each
-/// vertebra's nodes as a statically equivalent nodal force field; these follower loads are
-/// converged by fixed-point passes. Cables are exact TendonModel terms of the FE model (eyelets
-/// embedded in the vertebra elements), since a frozen cable load would be a buckling dead load.
+/// material), base face clamped, solved with the core's QuasiStaticNewton (CHOLMOD). Actuators are
+/// exact FE terms: each pressure chamber is a ChamberPressureModel (the reduced model's cavity
+/// surface embedded in the mesh, wall pressure p A n / 3 on its vertices as a follower load), each
+/// cable a TendonModel (eyelets embedded in the vertebra elements; a frozen cable load would be a
+/// buckling dead load). The tip force is spread over the tip vertebra's nodes as a statically
+/// equivalent nodal force field at the fitted vertebra pose (centroid + Kabsch rotation),
+/// converged by fixed-point passes.
+class ChamberPressureModel;
 class TendonModel;
 
 class FullFePlant {
@@ -46,8 +48,8 @@ class FullFePlant {
   FullFePlant(const ContinuumRobotModel& model, const FullFePlantSettings& settings);
   ~FullFePlant();
 
-  /// Quasi-static equilibrium under `actuation` (+ tip force, gravity if enabled), warm-started
-  /// from the current state. Never throws.
+  /// Quasi-static equilibrium under `actuation` ([Pa] chambers then [N] cables; + tip force,
+  /// gravity if enabled), warm-started from the current state. Never throws.
   StepReport solve(const Eigen::VectorXd& actuation);
   /// Constant tip force [N], frame robot_base, spread over the tip vertebra.
   void setTipForce(const Eigen::Vector3d& f_B) { tip_force_ = f_B; }
@@ -66,7 +68,8 @@ class FullFePlant {
   const ContinuumRobotModel& model_;
   FullFePlantSettings settings_;
   std::unique_ptr<TissueModel> tissue_;
-  std::vector<TendonModel*> tendons_;  ///< cable terms inside tissue_ (owned by it)
+  std::vector<ChamberPressureModel*> chambers_;  ///< pressure terms inside tissue_ (owned by it)
+  std::vector<TendonModel*> tendons_;            ///< cable terms inside tissue_ (owned by it)
   std::unique_ptr<Integrator> integrator_;
   DynamicsProblem problem_;
   SimulationState state_;

@@ -13,6 +13,8 @@ namespace surgical_sim::core {
 /// Nodal force per unit pressure f_i = sum_j A_j n_j / 3 over the adjacent triangles (n_j out of
 /// the cavity), mapped to the rigid nodes by the transposed skinning Jacobian; this equals
 /// d(volume)/dq, so measure() is the cavity volume [m^3] and lambda the gauge pressure [Pa].
+/// addPieceGradient uses per-instance scratch buffers (sized in the constructor, no allocation):
+/// one instance must not be evaluated from two threads at once.
 class PressureChamberActuator final : public ChainActuator {
  public:
   /// @param chamber validated chamber description.
@@ -34,6 +36,12 @@ class PressureChamberActuator final : public ChainActuator {
   void addPieceGradient(const std::vector<RigidNodePose>& nodes, int piece, double scale,
                         Eigen::Matrix<double, 12, 1>& g12) const override;
 
+  /// Cavity surface vertices at the given rigid-node poses [m], frame robot_base (allocates; for
+  /// set-up, e.g. embedding the cavity in the full FE plant).
+  std::vector<Eigen::Vector3d> vertexPositions(const std::vector<RigidNodePose>& nodes) const;
+  /// Cavity triangles (vertex indices), oriented out of the cavity.
+  const std::vector<Eigen::Vector3i>& triangles() const { return triangles_; }
+
  private:
   struct Vertex {
     int node_a;           ///< proximal rigid node
@@ -49,7 +57,10 @@ class PressureChamberActuator final : public ChainActuator {
   std::vector<Vertex> vertices_;
   std::vector<Eigen::Vector3i> triangles_;  ///< outward (out of the cavity) orientation
   std::vector<int> piece_begin_;            ///< first triangle of each gap (+ end)
+  std::vector<int> vertex_begin_;           ///< first vertex of each gap (+ end)
   int first_gap_;
+  /// Scratch of addPieceGradient per vertex of one gap: R_A a_A, R_B b_B, position, force [m, N].
+  mutable std::vector<Eigen::Vector3d> r_a_, r_b_, p_, f_;
 };
 
 }  // namespace surgical_sim::core
