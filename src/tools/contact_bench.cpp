@@ -1,14 +1,13 @@
 // contact_bench: tool-in-contact cost of the tissue simulator (issue 3). For every case of the
 // scene's sweep it presses the scene's first tool 6 mm into the top of the body over the first
-// two thirds of `steps` (at the body's highest point), holds for the rest, and reports per case: ms per step while in contact
-// (mean, p99) split into collision / integrate / contact, the tool-pose-to-contact-model latency
-// (setToolPose() until the new linearization is available; mean, p99) and the final tool force,
-// with its error against the finest-mesh case of the first solver (the reference row has NaN).
-// Usage: contact_bench <scene.yaml> [--csv FILE] [--plot FILE]
+// two thirds of `steps` (at the body's highest point), holds for the rest, and reports per case: ms
+// per step while in contact (mean, p99) split into collision / integrate / contact, the
+// tool-pose-to-contact-model latency (setToolPose() until the new linearization is available; mean,
+// p99) and the final tool force, with its error against the finest-mesh case of the first solver
+// (the reference row has NaN). Usage: contact_bench <scene.yaml> [--csv FILE] [--plot FILE]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <limits>
@@ -16,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_cli.h"
 #include "surgical_sim/core/scene/scene_config.h"
 #include "surgical_sim/core/scene/tissue_case.h"
 #include "surgical_sim/core/scene/tissue_simulation.h"
@@ -133,27 +133,15 @@ constexpr const char* kHeader =
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string scene_path, csv_path, plot_path;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if ((arg == "--csv" || arg == "--plot") && i + 1 < argc) {
-      (arg == "--csv" ? csv_path : plot_path) = argv[++i];
-    } else if (!arg.empty() && arg[0] == '-') {
-      return usage("unknown option " + arg);
-    } else if (scene_path.empty()) {
-      scene_path = arg;
-    } else {
-      return usage("more than one scene given");
-    }
-  }
-  if (scene_path.empty()) return usage("no scene given");
-  if (!plot_path.empty() && csv_path.empty()) return usage("--plot needs --csv");
+  surgical_sim::tools::SceneBenchArgs args;
+  const std::string error = surgical_sim::tools::parseSceneBenchArgs(argc, argv, args);
+  if (!error.empty()) return usage(error);
 
   std::vector<Row> rows;
   SceneConfig scene;
   try {
-    scene = loadSceneConfig(scene_path);
-    if (scene.tools.empty()) return usage("scene " + scene_path + " has no tools");
+    scene = loadSceneConfig(args.scene);
+    if (scene.tools.empty()) return usage("scene " + args.scene + " has no tools");
     for (const CaseSpec& spec : expandSweep(scene)) {
       std::cerr << "contact_bench: " << spec.resolution.x() << " cells, " << spec.solver << "\n";
       rows.push_back(runCase(scene, spec));
@@ -175,26 +163,18 @@ int main(int argc, char** argv) {
     }
   }
   std::ofstream csv;
-  if (!csv_path.empty()) {
-    csv.open(csv_path);
-    if (!csv) {
-      std::cerr << "contact_bench: cannot write " << csv_path << "\n";
-      return 1;
-    }
-  }
+  if (!surgical_sim::tools::openCsv("contact_bench", args.csv, csv)) return 1;
   std::cout << kHeader << "\n";
   if (csv) csv << kHeader << "\n";
   for (const Row& r : rows) {
     std::cout << csvRow(scene.name, r) << "\n";
     if (csv) csv << csvRow(scene.name, r) << "\n";
   }
-  if (!plot_path.empty()) {
+  if (!args.plot.empty()) {
     csv.close();
-    const std::string cmd = std::string("/usr/bin/python3 '") + SURGICAL_SIM_SCRIPTS_DIR +
-                            "/plot_error_vs_time.py' '" + csv_path + "' '" + plot_path + "' '" +
-                            scene.name + " (force vs finest CHOLMOD)'";
-    if (std::system(cmd.c_str()) != 0) {
-      std::cerr << "contact_bench: plotting failed (" << cmd << ")\n";
+    if (!surgical_sim::tools::runPlotScript(
+            "contact_bench", "plot_error_vs_time.py",
+            {args.csv, args.plot, scene.name + " (force vs finest CHOLMOD)"})) {
       return 1;
     }
   }

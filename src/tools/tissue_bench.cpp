@@ -1,11 +1,11 @@
 // tissue_bench: runs a tissue scene's sweep headless (no roscore) and reports error against run
 // time. Usage: tissue_bench <scene.yaml> [--csv FILE] [--plot FILE]
 #include <cmath>
-#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <string>
 
+#include "bench_cli.h"
 #include "surgical_sim/core/scene/scene_config.h"
 #include "surgical_sim/core/scene/tissue_case.h"
 
@@ -21,37 +21,20 @@ int usage(const char* msg) {
 
 int main(int argc, char** argv) {
   using namespace surgical_sim::core;
-  std::string scene_path, csv_path, plot_path;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if ((arg == "--csv" || arg == "--plot") && i + 1 < argc) {
-      (arg == "--csv" ? csv_path : plot_path) = argv[++i];
-    } else if (!arg.empty() && arg[0] == '-') {
-      return usage(("unknown option " + arg).c_str());
-    } else if (scene_path.empty()) {
-      scene_path = arg;
-    } else {
-      return usage("more than one scene given");
-    }
-  }
-  if (scene_path.empty()) return usage("no scene given");
+  surgical_sim::tools::SceneBenchArgs args;
+  const std::string error = surgical_sim::tools::parseSceneBenchArgs(argc, argv, args);
+  if (!error.empty()) return usage(error.c_str());
 
   SceneConfig scene;
   try {
-    scene = loadSceneConfig(scene_path);
+    scene = loadSceneConfig(args.scene);
   } catch (const std::exception& e) {
     std::cerr << "tissue_bench: " << e.what() << "\n";
     return 1;
   }
   std::ofstream csv;
-  if (!csv_path.empty()) {
-    csv.open(csv_path);
-    if (!csv) {
-      std::cerr << "tissue_bench: cannot write " << csv_path << "\n";
-      return 1;
-    }
-    csv << caseCsvHeader() << "\n";
-  }
+  if (!surgical_sim::tools::openCsv("tissue_bench", args.csv, csv)) return 1;
+  if (csv) csv << caseCsvHeader() << "\n";
   std::cout << caseCsvHeader() << std::endl;
   int failures = 0;
   for (const CaseSpec& spec : expandSweep(scene)) {
@@ -66,14 +49,10 @@ int main(int argc, char** argv) {
                 << spec.solver << " failed to set up: " << e.what() << "\n";
     }
   }
-  if (!plot_path.empty()) {
-    if (csv_path.empty()) return usage("--plot needs --csv");
+  if (!args.plot.empty()) {
     csv.close();
-    const std::string cmd = std::string("/usr/bin/python3 '") + SURGICAL_SIM_SCRIPTS_DIR +
-                            "/plot_error_vs_time.py' '" + csv_path + "' '" + plot_path + "' '" +
-                            scene.name + "'";
-    if (std::system(cmd.c_str()) != 0) {
-      std::cerr << "tissue_bench: plotting failed (" << cmd << ")\n";
+    if (!surgical_sim::tools::runPlotScript("tissue_bench", "plot_error_vs_time.py",
+                                            {args.csv, args.plot, scene.name})) {
       return 1;
     }
   }

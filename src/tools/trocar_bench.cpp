@@ -15,6 +15,7 @@
 #include <string>
 #include <thread>
 
+#include "bench_cli.h"
 #include "surgical_sim/core/haptics/contact_rate_study.h"
 #include "surgical_sim/core/haptics/haptic_loop.h"
 #include "surgical_sim/core/haptics/stiff_wall_simulation.h"
@@ -123,13 +124,7 @@ int main(int argc, char** argv) {
   }
   if (!plot_path.empty() && csv_path.empty()) return usage("--plot needs --csv");
   std::ofstream csv;
-  if (!csv_path.empty()) {
-    csv.open(csv_path);
-    if (!csv) {
-      std::cerr << "trocar_bench: cannot write " << csv_path << "\n";
-      return 1;
-    }
-  }
+  if (!surgical_sim::tools::openCsv("trocar_bench", csv_path, csv)) return 1;
 
   runLoopTiming(seconds, rt_priority);
   runStiffWall();
@@ -154,10 +149,8 @@ int main(int argc, char** argv) {
   }
   if (!plot_path.empty()) {
     csv.close();
-    const std::string cmd = std::string("/usr/bin/python3 '") + SURGICAL_SIM_SCRIPTS_DIR +
-                            "/plot_haptics.py' '" + csv_path + "' '" + plot_path + "'";
-    if (std::system(cmd.c_str()) != 0) {
-      std::cerr << "trocar_bench: plotting failed (" << cmd << ")\n";
+    if (!surgical_sim::tools::runPlotScript("trocar_bench", "plot_haptics.py",
+                                            {csv_path, plot_path})) {
       return 1;
     }
   }

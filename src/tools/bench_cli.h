@@ -1,0 +1,59 @@
+#pragma once
+// Command-line plumbing shared by the benchmark executables in src/tools (header only: every
+// .cpp there is its own executable).
+
+#include <cstdlib>
+#include <fstream>
+#include <initializer_list>
+#include <iostream>
+#include <string>
+
+namespace surgical_sim::tools {
+
+/// Arguments of a scene benchmark: <scene.yaml> [--csv FILE] [--plot FILE].
+struct SceneBenchArgs {
+  std::string scene, csv, plot;
+};
+
+/// Parses argv into args; returns an empty string, or what is wrong with the command line.
+inline std::string parseSceneBenchArgs(int argc, char** argv, SceneBenchArgs& args) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if ((arg == "--csv" || arg == "--plot") && i + 1 < argc) {
+      (arg == "--csv" ? args.csv : args.plot) = argv[++i];
+    } else if (!arg.empty() && arg[0] == '-') {
+      return "unknown option " + arg;
+    } else if (args.scene.empty()) {
+      args.scene = arg;
+    } else {
+      return "more than one scene given";
+    }
+  }
+  if (args.scene.empty()) return "no scene given";
+  if (!args.plot.empty() && args.csv.empty()) return "--plot needs --csv";
+  return "";
+}
+
+/// Opens `path` for writing into csv unless path is empty; false (with a message on stderr
+/// prefixed by `tool`) if it cannot be written.
+inline bool openCsv(const std::string& tool, const std::string& path, std::ofstream& csv) {
+  if (path.empty()) return true;
+  csv.open(path);
+  if (csv) return true;
+  std::cerr << tool << ": cannot write " << path << "\n";
+  return false;
+}
+
+/// Runs scripts/<script> with the quoted arguments (e.g. CSV, PNG, title) through
+/// /usr/bin/python3; false (with a message on stderr prefixed by `tool`) if it fails.
+inline bool runPlotScript(const std::string& tool, const std::string& script,
+                          std::initializer_list<std::string> arguments) {
+  std::string cmd =
+      std::string("/usr/bin/python3 '") + SURGICAL_SIM_SCRIPTS_DIR + "/" + script + "'";
+  for (const std::string& a : arguments) cmd += " '" + a + "'";
+  if (std::system(cmd.c_str()) == 0) return true;
+  std::cerr << tool << ": plotting failed (" << cmd << ")\n";
+  return false;
+}
+
+}  // namespace surgical_sim::tools
