@@ -1,0 +1,237 @@
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <random>
+
+#include "surgical_sim/core/cutting/cut_beam_deflection.h"
+#include "surgical_sim/core/cutting/cut_tissue_model.h"
+#include "surgical_sim/core/cutting/tet_cutter.h"
+#include "surgical_sim/core/mesh/generators.h"
+#include "surgical_sim/core/mesh/mesh_check.h"
+#include "surgical_sim/core/solve/make_integrator.h"
+#include "surgical_sim/core/solve/make_linear_solver.h"
+
+namespace surgical_sim::core {
+namespace {
+
+/// A blade segment along y (from y = -w to w) at x = x_cut, moving down from z = z0 to z1.
+BladeSweep verticalCut(double x_cut, double w, double z0, double z1) {
+  BladeSweep s;
+  s.start.resize(3, 2);
+  s.end.resize(3, 2);
+  s.start << x_cut, x_cut, -w, w, z0, z0;
+  s.end << x_cut, x_cut, -w, w, z1, z1;
+  return s;
+}
+
+/// Errors that make a surface not closed or not manifold (duplicate rest nodes are expected).
+int topologyErrors(const TetMesh& mesh) {
+  int n = 0;
+  for (const MeshIssue& issue : checkMesh(mesh))
+    if (issue.kind == MeshIssueKind::NonManifoldEdge || issue.kind == MeshIssueKind::NonManifoldFace ||
+        issue.kind == MeshIssueKind::InvertedElement || issue.kind == MeshIssueKind::DegenerateElement ||
+        issue.kind == MeshIssueKind::IndexOutOfRange || issue.kind == MeshIssueKind::RepeatedNodeInElement)
+      ++n;
+  return n;
+}
+
+TEST(TetCutter, RejectsBadInputNamingTheProblem) {
+  const TetMesh tet10 = makeBeam(1, 1, 1, Eigen::Vector3i(1, 1, 1), ElementType::Tet10);
+  EXPECT_THROW(TetCutter(tet10, 1000.0), std::invalid_argument);
+  const TetMesh tet4 = makeBeam(1, 1, 1, Eigen::Vector3i(1, 1, 1), ElementType::Tet4);
+  EXPECT_THROW(TetCutter(tet4, 0.0), std::invalid_argument);
+  TetCutter cutter(tet4, 1000.0);
+  BladeSweep one_point;
+  one_point.start = Eigen::Matrix3Xd::Zero(3, 1);
+  one_point.end = Eigen::Matrix3Xd::Zero(3, 1);
+  const Eigen::VectorXd x = Eigen::VectorXd::Zero(3 * tet4.numNodes());
+  EXPECT_THROW(cutter.cut(one_point, x, x), std::invalid_argument);
+  EXPECT_THROW(cutter.cut(verticalCut(0.5, 1, 1, -1), x.head(3), x), std::invalid_argument);
+}
+
+TEST(TetCutter, BladePassingThroughAnElementWithinOneStepSplitsIt) {
+  // One tet, the blade jumps from far above to far below it in a single step.
+  TetMesh tet;
+  tet.nodes.resize(3, 4);
+  tet.nodes << 0, 1, 0, 0,  //
+      0, 0, 1, 0,           //
+      0, 0, 0, 1;
+  tet.elements.resize(4, 1);
+  tet.elements << 0, 1, 2, 3;
+  TetCutter cutter(tet, 1000.0);
+  Eigen::Map<const Eigen::VectorXd> x(tet.nodes.data(), 12);
+  const CutUpdate u = cutter.cut(verticalCut(0.3, 5, 100, -100), x, x);
+  EXPECT_TRUE(u.topology_changed);
+  EXPECT_EQ(u.edges_cut, 3);  // plane x = 0.3 crosses the edges of corner 1
+  EXPECT_EQ(cutter.mesh().numElements(), 2);
+  EXPECT_EQ(cutter.numComponents(), 2);
+  EXPECT_EQ(cutter.mesh().numNodes(), 8);
+  // Corner (1,0,0) is cut off at x = 0.3: fraction 0.7^3.
+  const auto& f = cutter.elementFraction();
+  EXPECT_NEAR(std::min(f[0], f[1]), 0.343, 1e-9);
+  EXPECT_NEAR(cutter.lumpedMass().sum() / 3.0, 1000.0 / 6.0, 1e-9);
+  // Embedded cut triangle of each copy lies on the plane x = 0.3.
+  ASSERT_EQ(cutter.cutTriangles().size(), 2u);
+  for (const auto& tri : cutter.cutTriangles())
+    for (const EmbeddedCutPoint& p : tri) {
+      const Eigen::Vector3d q = (1 - p.w) * cutter.mesh().nodes.col(p.node_a) +
+                                p.w * cutter.mesh().nodes.col(p.node_b);
+      EXPECT_NEAR(q.x(), 0.3, 1e-9);
+    }
+  EXPECT_EQ(topologyErrors(cutter.mesh()), 0);
+}
+
+TEST(TetCutter, PartialCutDoesNotSeparateUntilTheBladeGoesThrough) {
+  const TetMesh beam = makeBeam(0.1, 0.02, 0.02, Eigen::Vector3i(10, 2, 2), ElementType::Tet4);
+  TetCutter cutter(beam, 1000.0);
+  Eigen::Map<const Eigen::VectorXd> x(beam.nodes.data(), 3 * beam.numNodes());
+  const double x_cut = 0.0525;  // inside the 6th layer of cells
+  const CutUpdate first = cutter.cut(verticalCut(x_cut, 0.05, 0.05, 0.0025), x, x);
+  EXPECT_GT(first.edges_cut, 0);
+  EXPECT_EQ(cutter.numComponents(), 1);
+  cutter.cut(verticalCut(x_cut, 0.05, 0.0025, -0.05), x, x);
+  EXPECT_EQ(cutter.numComponents(), 2);
+}
+
+TEST(TetCutter, BeamCutThroughGivesTwoBodiesWithTheMassAndTheFreePieceFalls) {
+  const double rho = 1000.0;
+  const TetMesh beam = makeBeam(0.1, 0.02, 0.02, Eigen::Vector3i(10, 2, 2), ElementType::Tet4);
+  TetCutter cutter(beam, rho);
+  Eigen::Map<const Eigen::VectorXd> x0(beam.nodes.data(), 3 * beam.numNodes());
+  cutter.cut(verticalCut(0.0525, 0.05, 0.05, -0.05), x0, x0);
+  ASSERT_EQ(cutter.numComponents(), 2);
+  const double total = rho * 0.1 * 0.02 * 0.02;
+  const Eigen::VectorXd& m = cutter.lumpedMass();
+  std::array<double, 2> piece{0, 0};
+  for (int v = 0; v < cutter.mesh().numNodes(); ++v) piece[cutter.nodeComponent()[v]] += m[3 * v];
+  EXPECT_NEAR(piece[0] + piece[1], total, 1e-12 * total);
+  // The cut at x = 0.0525 leaves 52.5 % of the beam on the clamped side.
+  const int clamped = cutter.nodeComponent()[0];  // node 0 is at x = 0
+  EXPECT_NEAR(piece[clamped], 0.525 * total, 1e-9 * total);
+
+  // Clamp x = 0 and simulate with linearized implicit Euler under gravity.
+  const Material material = Material::create(5e4, 0.3, rho);
+  const auto model = makeCutTissueModel("corotational", cutter, material);
+  DynamicsProblem problem;
+  problem.model = model.get();
+  const Eigen::Vector3d g(0, 0, -9.81);
+  problem.external_force = model->bodyForce(g);
+  for (int v = 0; v < cutter.mesh().numNodes(); ++v)
+    if (cutter.mesh().nodes(0, v) < 1e-12)
+      for (int k = 0; k < 3; ++k) problem.dirichlet.dofs.push_back(3 * v + k);
+  problem.dirichlet.positions = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(problem.dirichlet.dofs.size()));
+  for (std::size_t i = 0; i < problem.dirichlet.dofs.size(); ++i)
+    problem.dirichlet.positions[static_cast<Eigen::Index>(i)] = model->restPositions()[problem.dirichlet.dofs[i]];
+  SimulationState state{model->restPositions(), Eigen::VectorXd::Zero(model->restPositions().size()), 0.0};
+  const auto integrator = makeIntegrator("implicit_euler_linearized", {}, makeLinearSolver("cholmod", {}));
+  const double dt = 0.01;
+  const int steps = 20;
+  for (int i = 0; i < steps; ++i) ASSERT_EQ(integrator->step(problem, dt, state).status, StepStatus::Ok);
+  // Free piece: internal forces cancel, so its mass centre falls exactly as implicit Euler
+  // integrates free fall: z_n = -g dt^2 n (n + 1) / 2.
+  double free_mass = 0.0, free_dz = 0.0, clamped_dz = 0.0;
+  for (int v = 0; v < cutter.mesh().numNodes(); ++v) {
+    const double dz = state.x[3 * v + 2] - model->restPositions()[3 * v + 2];
+    if (cutter.nodeComponent()[v] == clamped) {
+      clamped_dz = std::min(clamped_dz, dz);
+    } else {
+      free_mass += m[3 * v];
+      free_dz += m[3 * v] * dz;
+    }
+  }
+  const double expected = -9.81 * dt * dt * steps * (steps + 1) / 2.0;
+  EXPECT_NEAR(free_dz / free_mass, expected, 1e-6 * std::abs(expected));
+  EXPECT_GT(clamped_dz, 0.2 * expected);  // the clamped half only sags
+}
+
+TEST(TetCutter, HalfWidthCutAtMidLengthIncreasesTheBendDeflection) {
+  // T3(c): hexagonal beam, side a, length 10 a, clamped at x = 0, body force along -z; a blade
+  // along y enters from the top and stops at the axis (half the width) at mid-length.
+  const double a = 0.01, L = 0.1;
+  const TetMesh beam = makeHexagonalBeam(a, L, 20, 2, ElementType::Tet4);
+  const Material material = Material::create(1e5, 0.3, 1000.0);
+  const Eigen::Vector3d load(0, 0, -9.81);
+  TetCutter uncut(beam, 1000.0);
+  const double w_uncut = cutBeamTipDeflection(uncut, "corotational", material, load);
+  TetCutter cut(beam, 1000.0);
+  Eigen::Map<const Eigen::VectorXd> x(beam.nodes.data(), 3 * beam.numNodes());
+  cut.cut(verticalCut(0.5 * L + 0.25 * L / 20, 2 * a, 2 * a, 1e-4 * a), x, x);
+  EXPECT_EQ(cut.numComponents(), 1);
+  const double w_cut = cutBeamTipDeflection(cut, "corotational", material, load);
+  ASSERT_TRUE(std::isfinite(w_uncut) && std::isfinite(w_cut));
+  EXPECT_GT(w_uncut, 0.0);
+  EXPECT_GT(w_cut, 1.05 * w_uncut);
+  EXPECT_NEAR(cut.lumpedMass().sum(), uncut.lumpedMass().sum(), 1e-12 * uncut.lumpedMass().sum());
+}
+
+TEST(TetCutter, ElementRemovalAboveAStrainThresholdKeepsTheMass) {
+  const TetMesh beam = makeBeam(0.1, 0.02, 0.02, Eigen::Vector3i(10, 2, 2), ElementType::Tet4);
+  TetCutter cutter(beam, 1000.0);
+  Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(beam.nodes.data(), 3 * beam.numNodes());
+  const double mass = cutter.lumpedMass().sum();
+  x[3 * 0 + 2] -= 0.01;  // pull node 0 down by half a cell: only its elements are strained
+  const std::vector<int> strained = cutter.overstrainedElements(x, 0.1);
+  ASSERT_FALSE(strained.empty());
+  for (int e : strained) {
+    bool has_node0 = false;
+    for (int i = 0; i < 4; ++i) has_node0 = has_node0 || beam.elements(i, e) == 0;
+    EXPECT_TRUE(has_node0);
+  }
+  const CutUpdate u = cutter.removeElements(strained);
+  EXPECT_TRUE(u.topology_changed);
+  EXPECT_EQ(cutter.mesh().numElements(), beam.numElements() - static_cast<int>(strained.size()));
+  EXPECT_NEAR(cutter.lumpedMass().sum() + 3.0 * cutter.removedMass(), mass, 1e-12 * mass);
+  EXPECT_EQ(topologyErrors(cutter.mesh()), 0);
+  EXPECT_THROW(cutter.removeElements({-1}), std::invalid_argument);
+}
+
+/// Random blade sweeps over the organ blob (fixed seed): every cut keeps positive rest volumes,
+/// the total mass, finite masses and a closed manifold surface; a short simulation stays finite.
+void fuzzOrgan(int sweeps, int cells) {
+  const Eigen::Vector3d semi(0.075, 0.05, 0.03);
+  const TetMesh organ = makeOrganBlob(semi, cells, ElementType::Tet4);
+  TetCutter cutter(organ, 1000.0);
+  const double mass = cutter.lumpedMass().sum();
+  std::mt19937 rng(20261122);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  auto point = [&] { return Eigen::Vector3d(semi.x() * u(rng), semi.y() * u(rng), semi.z() * u(rng)); };
+  for (int i = 0; i < sweeps; ++i) {
+    BladeSweep s;
+    s.start.resize(3, 3);
+    s.end.resize(3, 3);
+    const Eigen::Vector3d motion = 0.5 * point();
+    for (int k = 0; k < 3; ++k) {
+      s.start.col(k) = point();
+      s.end.col(k) = s.start.col(k) + motion;
+    }
+    // Tissue moves too: a random rigid shift of up to 5 mm over the step.
+    const Eigen::VectorXd x0 = Eigen::Map<const Eigen::VectorXd>(cutter.mesh().nodes.data(), 3 * cutter.mesh().numNodes());
+    Eigen::VectorXd x1 = x0;
+    const Eigen::Vector3d shift = 0.005 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+    for (int v = 0; v < cutter.mesh().numNodes(); ++v) x1.segment<3>(3 * v) += shift;
+    cutter.cut(s, x0, x1);
+    ASSERT_TRUE(cutter.lumpedMass().allFinite()) << "sweep " << i;
+    ASSERT_TRUE((cutter.lumpedMass().array() > 0).all()) << "sweep " << i;
+    ASSERT_NEAR(cutter.lumpedMass().sum(), mass, 1e-12 * mass) << "sweep " << i;
+    for (int e = 0; e < cutter.mesh().numElements(); ++e)
+      ASSERT_GT(signedVolume(cutter.mesh(), e), 0.0) << "sweep " << i;
+    ASSERT_EQ(topologyErrors(cutter.mesh()), 0) << "sweep " << i;
+  }
+  EXPECT_GT(cutter.numCutEdges(), 0);
+  EXPECT_GT(cutter.numComponents(), 1);
+  // A few steps of the cut organ under gravity, pinned at its thick end.
+  const auto model = makeCutTissueModel("corotational", cutter, Material::create(5e3, 0.45, 1000.0));
+  DynamicsProblem problem;
+  problem.model = model.get();
+  problem.external_force = model->bodyForce(Eigen::Vector3d(0, 0, -9.81));
+  SimulationState state{model->restPositions(), Eigen::VectorXd::Zero(model->restPositions().size()), 0.0};
+  const auto integrator = makeIntegrator("implicit_euler_linearized", {}, makeLinearSolver("cholmod", {}));
+  for (int i = 0; i < 5; ++i) ASSERT_EQ(integrator->step(problem, 0.01, state).status, StepStatus::Ok);
+  EXPECT_TRUE(state.x.allFinite());
+}
+
+TEST(TetCutter, FuzzRandomSweepsOverTheOrgan) { fuzzOrgan(200, 6); }
+
+}  // namespace
+}  // namespace surgical_sim::core
