@@ -27,8 +27,8 @@ double cutBeamTipDeflection(const TetCutter& cutter, const std::string& model_na
   for (std::size_t i = 0; i < problem.dirichlet.dofs.size(); ++i)
     problem.dirichlet.positions[static_cast<Eigen::Index>(i)] =
         model->restPositions()[problem.dirichlet.dofs[i]];
-  SimulationState state{model->restPositions(), Eigen::VectorXd::Zero(model->restPositions().size()),
-                        0.0};
+  SimulationState state{model->restPositions(),
+                        Eigen::VectorXd::Zero(model->restPositions().size()), 0.0};
   IntegratorSettings settings;
   settings.relative_tolerance = 1e-10;
   const auto integrator = makeIntegrator("quasi_static", settings, makeLinearSolver("cholmod", {}));

@@ -12,9 +12,9 @@ CutTissueModel::CutTissueModel(std::unique_ptr<TissueModel> elastic, Eigen::Vect
     : elastic_(std::move(elastic)), mass_(std::move(lumped_mass)) {
   if (!elastic_) throw std::invalid_argument("CutTissueModel: elastic model is null");
   if (mass_.size() != elastic_->restPositions().size())
-    throw std::invalid_argument("CutTissueModel: lumped_mass has size " +
-                                std::to_string(mass_.size()) + ", expected 3 n = " +
-                                std::to_string(elastic_->restPositions().size()));
+    throw std::invalid_argument(
+        "CutTissueModel: lumped_mass has size " + std::to_string(mass_.size()) +
+        ", expected 3 n = " + std::to_string(elastic_->restPositions().size()));
   if (!(mass_.array() > 0.0).all())
     throw std::invalid_argument("CutTissueModel: lumped_mass must be > 0 kg everywhere");
 }

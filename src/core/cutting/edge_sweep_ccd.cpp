@@ -51,17 +51,15 @@ Eigen::Vector4d coplanarityCubic(const Eigen::Vector3d& b0_start, const Eigen::V
 }
 
 std::optional<EdgeSweepHit> edgeSweepCrossing(
-    const Eigen::Vector3d& b0_start, const Eigen::Vector3d& b1_start,
-    const Eigen::Vector3d& b0_end, const Eigen::Vector3d& b1_end,
-    const Eigen::Vector3d& e0_start, const Eigen::Vector3d& e1_start,
+    const Eigen::Vector3d& b0_start, const Eigen::Vector3d& b1_start, const Eigen::Vector3d& b0_end,
+    const Eigen::Vector3d& b1_end, const Eigen::Vector3d& e0_start, const Eigen::Vector3d& e1_start,
     const Eigen::Vector3d& e0_end, const Eigen::Vector3d& e1_end, double tolerance) {
-  const Eigen::Vector4d c = coplanarityCubic(b0_start, b1_start, b0_end, b1_end, e0_start,
-                                             e1_start, e0_end, e1_end);
+  const Eigen::Vector4d c =
+      coplanarityCubic(b0_start, b1_start, b0_end, b1_end, e0_start, e1_start, e0_end, e1_end);
   // Length scale of the configuration, for the "f is zero" test [m].
-  const double scale =
-      std::max({(b1_start - b0_start).norm(), (e1_start - e0_start).norm(),
-                (b0_start - e0_start).norm(), (b0_end - b0_start).norm(),
-                (e0_end - e0_start).norm(), tolerance});
+  const double scale = std::max({(b1_start - b0_start).norm(), (e1_start - e0_start).norm(),
+                                 (b0_start - e0_start).norm(), (b0_end - b0_start).norm(),
+                                 (e0_end - e0_start).norm(), tolerance});
   const double f_zero = 1e-12 * scale * scale * scale;
 
   std::array<double, 16> candidates{};

@@ -33,8 +33,7 @@ int lowestCorner(int mask) {
 }
 
 /// Raw (unclamped) fraction of a singleton {a} or a pair {a, b}.
-double rawFraction(const Eigen::Matrix<double, 3, 4>& X, const std::array<double, 6>& s,
-                   int mask) {
+double rawFraction(const Eigen::Matrix<double, 3, 4>& X, const std::array<double, 6>& s, int mask) {
   const int a = lowestCorner(mask);
   if (popcount4(mask) == 1) {
     double f = 1.0;
@@ -46,11 +45,10 @@ double rawFraction(const Eigen::Matrix<double, 3, 4>& X, const std::array<double
   const int rest = 0xF & ~mask;
   const int c = lowestCorner(rest);
   const int d = lowestCorner(rest & ~(1 << c));
-  const Eigen::Vector3d v[6] = {X.col(a),           cutPoint(X, s, a, c), cutPoint(X, s, a, d),
-                                X.col(b),           cutPoint(X, s, b, c), cutPoint(X, s, b, d)};
-  const double prism =
-      tetVolume(v[0], v[1], v[2], v[3]) + tetVolume(v[1], v[2], v[3], v[4]) +
-      tetVolume(v[2], v[3], v[4], v[5]);
+  const Eigen::Vector3d v[6] = {X.col(a), cutPoint(X, s, a, c), cutPoint(X, s, a, d),
+                                X.col(b), cutPoint(X, s, b, c), cutPoint(X, s, b, d)};
+  const double prism = tetVolume(v[0], v[1], v[2], v[3]) + tetVolume(v[1], v[2], v[3], v[4]) +
+                       tetVolume(v[2], v[3], v[4], v[5]);
   return prism / tetVolume(X.col(0), X.col(1), X.col(2), X.col(3));
 }
 

@@ -36,8 +36,8 @@ int localCornerOf(const TetMesh& mesh, int element, int node) {
 TetCutter::TetCutter(const TetMesh& rest_mesh, double density)
     : original_(rest_mesh), density_(density) {
   if (rest_mesh.type != ElementType::Tet4)
-    throw std::invalid_argument(std::string("TetCutter: mesh.type = ") +
-                                toString(rest_mesh.type) + " is not supported (cutting needs tet4)");
+    throw std::invalid_argument(std::string("TetCutter: mesh.type = ") + toString(rest_mesh.type) +
+                                " is not supported (cutting needs tet4)");
   if (!std::isfinite(density) || density <= 0.0)
     throw std::invalid_argument("TetCutter: density = " + std::to_string(density) +
                                 " kg/m^3 must be finite and > 0");
@@ -47,7 +47,7 @@ TetCutter::TetCutter(const TetMesh& rest_mesh, double density)
       rest_mesh.nodes.rowwise().maxCoeff() - rest_mesh.nodes.rowwise().minCoeff();
   tolerance_ = 1e-9 * extent.norm();
 
-  // Unique edges, element -> edges, edge -> elements.
+  // Unique edges and element -> edges.
   std::vector<std::array<int, 3>> keyed;  // (lo, hi, element * 6 + local edge)
   keyed.reserve(static_cast<std::size_t>(6 * m));
   for (int e = 0; e < m; ++e)
@@ -61,13 +61,10 @@ TetCutter::TetCutter(const TetMesh& rest_mesh, double density)
   for (std::size_t i = 0; i < keyed.size(); ++i) {
     if (i == 0 || keyed[i][0] != keyed[i - 1][0] || keyed[i][1] != keyed[i - 1][1]) {
       edges_.push_back({keyed[i][0], keyed[i][1]});
-      edge_element_offsets_.push_back(static_cast<int>(i));
     }
     const int id = static_cast<int>(edges_.size()) - 1;
     element_edges_[static_cast<std::size_t>(keyed[i][2] / 6)][keyed[i][2] % 6] = id;
-    edge_elements_.push_back(keyed[i][2] / 6);
   }
-  edge_element_offsets_.push_back(static_cast<int>(keyed.size()));
 
   // Face neighbours and the original boundary.
   face_neighbour_.assign(static_cast<std::size_t>(4 * m), {-1, -1});
@@ -86,7 +83,8 @@ TetCutter::TetCutter(const TetMesh& rest_mesh, double density)
   std::sort(boundary_faces_.begin(), boundary_faces_.end());
 
   element_volume_.resize(static_cast<std::size_t>(m));
-  for (int e = 0; e < m; ++e) element_volume_[static_cast<std::size_t>(e)] = signedVolume(rest_mesh, e);
+  for (int e = 0; e < m; ++e)
+    element_volume_[static_cast<std::size_t>(e)] = signedVolume(rest_mesh, e);
   edge_cut_.assign(edges_.size(), 0);
   edge_s_.assign(edges_.size(), 0.0);
   removed_.assign(static_cast<std::size_t>(m), 0);
@@ -119,42 +117,15 @@ std::array<double, 6> TetCutter::localCutParameters(int element) const {
   for (int k = 0; k < 6; ++k) {
     const int id = element_edges_[static_cast<std::size_t>(element)][k];
     const int a = original_.elements(kTetLocalEdges[k][0], element);
-    s[k] = a == edges_[static_cast<std::size_t>(id)][0] ? edge_s_[static_cast<std::size_t>(id)]
-                                                         : 1.0 - edge_s_[static_cast<std::size_t>(id)];
+    s[k] = a == edges_[static_cast<std::size_t>(id)][0]
+               ? edge_s_[static_cast<std::size_t>(id)]
+               : 1.0 - edge_s_[static_cast<std::size_t>(id)];
   }
   return s;
 }
 
 void TetCutter::rebuild() {
   const int m = original_.numElements();
-  // 1. Effective cut flags: a crossed edge whose ends stay connected inside some element around it
-  // (through its other corners) does not separate; repeat until no flag changes.
-  std::vector<std::uint8_t> cut = edge_cut_;
-  std::vector<int> touched;
-  for (std::size_t id = 0; id < edges_.size(); ++id)
-    if (cut[id])
-      for (int i = edge_element_offsets_[id]; i < edge_element_offsets_[id + 1]; ++i)
-        touched.push_back(edge_elements_[static_cast<std::size_t>(i)]);
-  std::sort(touched.begin(), touched.end());
-  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-  for (bool changed = true; changed;) {
-    changed = false;
-    for (int e : touched) {
-      std::array<int, 4> masks{};
-      partition(e, cut, masks);
-      for (int k = 0; k < 6; ++k) {
-        const auto id = static_cast<std::size_t>(element_edges_[static_cast<std::size_t>(e)][k]);
-        const int bits = (1 << kTetLocalEdges[k][0]) | (1 << kTetLocalEdges[k][1]);
-        const bool together = std::any_of(masks.begin(), masks.end(),
-                                          [bits](int mk) { return (mk & bits) == bits; });
-        if (cut[id] && together) {
-          cut[id] = 0;
-          changed = true;
-        }
-      }
-    }
-  }
-
   // 2. One copy per fragment of every remaining element.
   const std::vector<Copy> old_copies = copies_;
   const std::vector<int> old_offsets = copy_offsets_;
@@ -166,7 +137,7 @@ void TetCutter::rebuild() {
     copy_offsets_[static_cast<std::size_t>(e)] = static_cast<int>(copies_.size());
     if (removed_[static_cast<std::size_t>(e)]) continue;
     std::array<int, 4> masks{};
-    const int count = partition(e, cut, masks);
+    const int count = partition(e, edge_cut_, masks);
     Eigen::Matrix<double, 3, 4> X;
     for (int i = 0; i < 4; ++i) X.col(i) = original_.nodes.col(original_.elements(i, e));
     const std::array<double, 4> f = fragmentVolumeFractions(X, localCutParameters(e), masks, count);
@@ -175,7 +146,9 @@ void TetCutter::rebuild() {
   copy_offsets_[static_cast<std::size_t>(m)] = static_cast<int>(copies_.size());
   const int num_copies = static_cast<int>(copies_.size());
 
-  // 3. Glue copies across shared faces when they hold the same real nodes on the face.
+  // 3. Glue copies across shared faces: all three corners when they hold the same real nodes on
+  // the face (the material continues across it, virtual nodes included), otherwise only the
+  // real nodes both hold (at a cut front, material on both sides still meets at these nodes).
   UnionFind slots(4 * num_copies);
   for (int e = 0; e < m; ++e)
     for (int lf = 0; lf < 4; ++lf) {
@@ -194,17 +167,50 @@ void TetCutter::rebuild() {
             same = same && r1 == r2;
             any = any || r1;
           }
-          if (!same || !any) continue;
-          for (int k = 0; k < 3; ++k) slots.unite(4 * c + corners[k], 4 * c2 + corners2[k]);
+          for (int k = 0; k < 3; ++k) {
+            const bool shared =
+                (copies_[c].mask & (1 << corners[k])) && (copies_[c2].mask & (1 << corners2[k]));
+            if ((same && any) || shared) slots.unite(4 * c + corners[k], 4 * c2 + corners2[k]);
+          }
         }
     }
 
-  // 4. Nodes are the classes of slots; parents come from the old copy containing the fragment.
+  // 4. Nodes are the classes of slots. The first class of each original node (in copy order) keeps
+  // the original index, the others are numbered after them; indices of original nodes that lost
+  // all their elements are closed up, keeping the order (an uncut mesh keeps its numbering).
+  // Parents come from the old copy containing the fragment.
+  const int n_orig = original_.numNodes();
   std::vector<int> node_of_root(static_cast<std::size_t>(4 * num_copies), -1);
+  std::vector<int> slot_node(static_cast<std::size_t>(4 * num_copies));
+  std::vector<int> origin_of(static_cast<std::size_t>(n_orig), -1);  // extended below
+  std::vector<char> primary_used(static_cast<std::size_t>(n_orig), 0);
+  int extra = 0;
+  for (int c = 0; c < num_copies; ++c)
+    for (int i = 0; i < 4; ++i) {
+      int& node = node_of_root[static_cast<std::size_t>(slots.find(4 * c + i))];
+      if (node < 0) {
+        const int origin = original_.elements(i, copies_[static_cast<std::size_t>(c)].element);
+        if (!primary_used[static_cast<std::size_t>(origin)]) {
+          primary_used[static_cast<std::size_t>(origin)] = 1;
+          node = origin;
+        } else {
+          node = n_orig + extra++;
+          origin_of.push_back(origin);
+        }
+        origin_of[static_cast<std::size_t>(node)] = origin;
+      }
+      slot_node[static_cast<std::size_t>(4 * c + i)] = node;
+    }
+  std::vector<int> compact(origin_of.size(), -1);
+  node_origin_.clear();
+  for (std::size_t v = 0; v < origin_of.size(); ++v)
+    if (v >= static_cast<std::size_t>(n_orig) || primary_used[v]) {
+      compact[v] = static_cast<int>(node_origin_.size());
+      node_origin_.push_back(origin_of[v]);
+    }
+  parent_node_.assign(node_origin_.size(), -1);
   mesh_.type = ElementType::Tet4;
   mesh_.elements.resize(4, num_copies);
-  node_origin_.clear();
-  parent_node_.clear();
   element_origin_.resize(static_cast<std::size_t>(num_copies));
   element_fraction_.resize(static_cast<std::size_t>(num_copies));
   for (int c = 0; c < num_copies; ++c) {
@@ -218,14 +224,11 @@ void TetCutter::rebuild() {
       }
     }
     for (int i = 0; i < 4; ++i) {
-      int& node = node_of_root[static_cast<std::size_t>(slots.find(4 * c + i))];
-      if (node < 0) {
-        node = static_cast<int>(node_origin_.size());
-        const int origin = original_.elements(i, copy.element);
-        node_origin_.push_back(origin);
-        parent_node_.push_back(parent_copy >= 0 ? old_elements(i, parent_copy) : origin);
-      }
+      const int node =
+          compact[static_cast<std::size_t>(slot_node[static_cast<std::size_t>(4 * c + i)])];
       mesh_.elements(i, c) = node;
+      int& parent = parent_node_[static_cast<std::size_t>(node)];
+      if (parent < 0) parent = parent_copy >= 0 ? old_elements(i, parent_copy) : node_origin_[node];
     }
     element_origin_[static_cast<std::size_t>(c)] = copy.element;
     element_fraction_[static_cast<std::size_t>(c)] = copy.fraction;
@@ -243,7 +246,8 @@ void TetCutter::rebuild() {
   for (int c = 0; c < num_copies; ++c) {
     const Copy& copy = copies_[static_cast<std::size_t>(c)];
     const double quarter = 0.25 * density_ * element_volume_[copy.element] * copy.fraction;
-    for (int i = 0; i < 4; ++i) lumped_mass_.segment<3>(3 * mesh_.elements(i, c)).array() += quarter;
+    for (int i = 0; i < 4; ++i)
+      lumped_mass_.segment<3>(3 * mesh_.elements(i, c)).array() += quarter;
   }
   for (int e = 0; e < m; ++e) {
     if (!removed_[static_cast<std::size_t>(e)]) continue;
@@ -287,8 +291,9 @@ void TetCutter::rebuild() {
       const auto id = static_cast<std::size_t>(element_edges_[copy.element][k]);
       if (edge_cut_[id] || !(copy.mask & (1 << i)) || !(copy.mask & (1 << j))) continue;
       const bool forward = original_.elements(i, copy.element) == edges_[id][0];
-      edge_representative_[id] = forward ? std::array<int, 2>{mesh_.elements(i, c), mesh_.elements(j, c)}
-                                         : std::array<int, 2>{mesh_.elements(j, c), mesh_.elements(i, c)};
+      edge_representative_[id] =
+          forward ? std::array<int, 2>{mesh_.elements(i, c), mesh_.elements(j, c)}
+                  : std::array<int, 2>{mesh_.elements(j, c), mesh_.elements(i, c)};
     }
   }
 
@@ -321,8 +326,10 @@ void TetCutter::rebuild() {
     for (auto& tri : tris) {
       Eigen::Vector3d p[3];
       for (int k = 0; k < 3; ++k)
-        p[k] = (1.0 - tri[k].w) * mesh_.nodes.col(tri[k].node_a) + tri[k].w * mesh_.nodes.col(tri[k].node_b);
-      if ((p[1] - p[0]).cross(p[2] - p[0]).dot(p[0] - real_centroid) < 0.0) std::swap(tri[1], tri[2]);
+        p[k] = (1.0 - tri[k].w) * mesh_.nodes.col(tri[k].node_a) +
+               tri[k].w * mesh_.nodes.col(tri[k].node_b);
+      if ((p[1] - p[0]).cross(p[2] - p[0]).dot(p[0] - real_centroid) < 0.0)
+        std::swap(tri[1], tri[2]);
       cut_triangles_.push_back(tri);
     }
   }
@@ -333,16 +340,17 @@ CutUpdate TetCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd& x_start
   validateBladeSweep(sweep);
   const Eigen::Index size = 3 * static_cast<Eigen::Index>(mesh_.numNodes());
   if (x_start.size() != size || x_end.size() != size)
-    throw std::invalid_argument("TetCutter::cut: positions have sizes " +
-                                std::to_string(x_start.size()) + " and " +
-                                std::to_string(x_end.size()) + ", expected 3 n = " +
-                                std::to_string(size));
+    throw std::invalid_argument(
+        "TetCutter::cut: positions have sizes " + std::to_string(x_start.size()) + " and " +
+        std::to_string(x_end.size()) + ", expected 3 n = " + std::to_string(size));
   CutUpdate update;
   Stopwatch detect;
   const Eigen::Vector3d blade_lo =
-      sweep.start.rowwise().minCoeff().cwiseMin(sweep.end.rowwise().minCoeff()).array() - tolerance_;
+      sweep.start.rowwise().minCoeff().cwiseMin(sweep.end.rowwise().minCoeff()).array() -
+      tolerance_;
   const Eigen::Vector3d blade_hi =
-      sweep.start.rowwise().maxCoeff().cwiseMax(sweep.end.rowwise().maxCoeff()).array() + tolerance_;
+      sweep.start.rowwise().maxCoeff().cwiseMax(sweep.end.rowwise().maxCoeff()).array() +
+      tolerance_;
   for (std::size_t id = 0; id < edges_.size(); ++id) {
     const auto [a, b] = edge_representative_[id];
     if (edge_cut_[id] || a < 0) continue;
@@ -353,9 +361,9 @@ CutUpdate TetCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd& x_start
     if ((lo.array() > blade_hi.array()).any() || (hi.array() < blade_lo.array()).any()) continue;
     double best_t = 2.0;
     for (Eigen::Index k = 0; k + 1 < sweep.start.cols(); ++k) {
-      const auto hit = edgeSweepCrossing(sweep.start.col(k), sweep.start.col(k + 1),
-                                         sweep.end.col(k), sweep.end.col(k + 1), a0, b0, a1, b1,
-                                         tolerance_);
+      const auto hit =
+          edgeSweepCrossing(sweep.start.col(k), sweep.start.col(k + 1), sweep.end.col(k),
+                            sweep.end.col(k + 1), a0, b0, a1, b1, tolerance_);
       if (hit && hit->t < best_t) {
         best_t = hit->t;
         edge_s_[id] = hit->s;
@@ -413,8 +421,8 @@ std::vector<int> TetCutter::overstrainedElements(const Eigen::VectorXd& x,
 Eigen::VectorXd TetCutter::transfer(const Eigen::VectorXd& old_values) const {
   if (old_values.size() != 3 * static_cast<Eigen::Index>(old_num_nodes_))
     throw std::invalid_argument("TetCutter::transfer: vector of size " +
-                                std::to_string(old_values.size()) + ", expected 3 n_old = " +
-                                std::to_string(3 * old_num_nodes_));
+                                std::to_string(old_values.size()) +
+                                ", expected 3 n_old = " + std::to_string(3 * old_num_nodes_));
   Eigen::VectorXd out(3 * static_cast<Eigen::Index>(parent_node_.size()));
   for (std::size_t v = 0; v < parent_node_.size(); ++v)
     out.segment<3>(3 * static_cast<Eigen::Index>(v)) = old_values.segment<3>(3 * parent_node_[v]);

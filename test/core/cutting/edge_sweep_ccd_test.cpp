@@ -26,9 +26,9 @@ TEST(EdgeSweepCcd, CubicMatchesTheTripleProductAtAnyTime) {
 
 TEST(EdgeSweepCcd, FastBladeCrossingAStaticEdgeIsFoundWithTimeAndParameters) {
   // Blade along y at x = -1 moves to x = +1; static edge along z at x = 0.5, y = 0.25.
-  const auto hit = edgeSweepCrossing(V(-1, -1, 0), V(-1, 1, 0), V(1, -1, 0), V(1, 1, 0),
-                                     V(0.5, 0.25, -1), V(0.5, 0.25, 3), V(0.5, 0.25, -1),
-                                     V(0.5, 0.25, 3), 1e-9);
+  const auto hit =
+      edgeSweepCrossing(V(-1, -1, 0), V(-1, 1, 0), V(1, -1, 0), V(1, 1, 0), V(0.5, 0.25, -1),
+                        V(0.5, 0.25, 3), V(0.5, 0.25, -1), V(0.5, 0.25, 3), 1e-9);
   ASSERT_TRUE(hit);
   EXPECT_NEAR(hit->t, 0.75, 1e-9);   // x(t) = -1 + 2 t = 0.5
   EXPECT_NEAR(hit->s, 0.25, 1e-9);   // z = 0 is a quarter of the way from -1 to 3
@@ -36,8 +36,8 @@ TEST(EdgeSweepCcd, FastBladeCrossingAStaticEdgeIsFoundWithTimeAndParameters) {
 }
 
 TEST(EdgeSweepCcd, StaticBladeWithTissueMovingThroughItIsFound) {
-  const auto hit = edgeSweepCrossing(V(0, -1, 0), V(0, 1, 0), V(0, -1, 0), V(0, 1, 0),
-                                     V(-2, 0, -1), V(-2, 0, 1), V(2, 0, -1), V(2, 0, 1), 1e-9);
+  const auto hit = edgeSweepCrossing(V(0, -1, 0), V(0, 1, 0), V(0, -1, 0), V(0, 1, 0), V(-2, 0, -1),
+                                     V(-2, 0, 1), V(2, 0, -1), V(2, 0, 1), 1e-9);
   ASSERT_TRUE(hit);
   EXPECT_NEAR(hit->t, 0.5, 1e-9);
   EXPECT_NEAR(hit->s, 0.5, 1e-9);
@@ -46,9 +46,9 @@ TEST(EdgeSweepCcd, StaticBladeWithTissueMovingThroughItIsFound) {
 TEST(EdgeSweepCcd, EdgeEnteringTheSweptAreaAfterTheBladePassedIsNotCut) {
   // The blade moves from x = 0 to x = 1; the edge starts behind it and follows it into the swept
   // area, but more slowly (Magnoux's situation 2).
-  const auto miss = edgeSweepCrossing(V(0, -1, 0), V(0, 1, 0), V(1, -1, 0), V(1, 1, 0),
-                                      V(-0.5, 0, 0.5), V(-0.5, 0, 2), V(0.9, 0, 0.5),
-                                      V(0.9, 0, 2), 1e-9);
+  const auto miss =
+      edgeSweepCrossing(V(0, -1, 0), V(0, 1, 0), V(1, -1, 0), V(1, 1, 0), V(-0.5, 0, 0.5),
+                        V(-0.5, 0, 2), V(0.9, 0, 0.5), V(0.9, 0, 2), 1e-9);
   EXPECT_FALSE(miss);  // x_edge(t) = -0.5 + 1.4 t never reaches x_blade(t) = t
   const auto parallel = edgeSweepCrossing(V(0, -1, 0), V(0, 1, 0), V(0, -1, 1), V(0, 1, 1),
                                           V(1, -1, 0), V(1, 1, 0), V(1, -1, 0), V(1, 1, 0), 1e-9);
@@ -58,9 +58,9 @@ TEST(EdgeSweepCcd, EdgeEnteringTheSweptAreaAfterTheBladePassedIsNotCut) {
 TEST(EdgeSweepCcd, EdgeGrazedByTheBladeTipIsFound) {
   // Blade from the origin to a tip moving from (0.5, -0.5, 0) to (0.5, 0.5, 0): the tip passes
   // through the edge along z at (0.5, 0) at t = 0.5.
-  const auto hit = edgeSweepCrossing(V(0, 0, 0), V(0.5, -0.5, 0), V(0, 0, 0), V(0.5, 0.5, 0),
-                                     V(0.5, 0, -1), V(0.5, 0, 1), V(0.5, 0, -1), V(0.5, 0, 1),
-                                     1e-9);
+  const auto hit =
+      edgeSweepCrossing(V(0, 0, 0), V(0.5, -0.5, 0), V(0, 0, 0), V(0.5, 0.5, 0), V(0.5, 0, -1),
+                        V(0.5, 0, 1), V(0.5, 0, -1), V(0.5, 0, 1), 1e-9);
   ASSERT_TRUE(hit);
   EXPECT_NEAR(hit->t, 0.5, 1e-9);
   EXPECT_NEAR(hit->u, 1.0, 1e-9);

@@ -47,7 +47,7 @@ TEST(FragmentVolume, ManyFragmentsSumToOneAndTinyOnesAreClamped) {
   std::array<double, 6> s{0.5, 0.5, 0.5, 0.5, 0.5, 0.5};
   const auto four = fragmentVolumeFractions(unitTet(), s, {1, 2, 4, 8}, 4);
   EXPECT_NEAR(four[0] + four[1] + four[2] + four[3], 1.0, 1e-15);
-  EXPECT_NEAR(four[0], 0.25, 1e-12);  // all singletons 1/8 before normalization
+  EXPECT_NEAR(four[0], 0.25, 1e-12);                // all singletons 1/8 before normalization
   std::array<double, 6> at_node{0, 0, 0, 0, 0, 0};  // cut through corner 0
   const auto f = fragmentVolumeFractions(unitTet(), at_node, {0b0001, 0b1110, 0, 0}, 2);
   EXPECT_NEAR(f[0], kMinFragmentFraction / (1.0 + kMinFragmentFraction), 1e-15);

@@ -9,6 +9,8 @@
 #include "surgical_sim/core/cutting/tet_cutter.h"
 #include "surgical_sim/core/mesh/generators.h"
 #include "surgical_sim/core/mesh/mesh_check.h"
+#include "surgical_sim/core/mesh/surface.h"
+#include "surgical_sim/core/mesh/surface_closure.h"
 #include "surgical_sim/core/solve/make_integrator.h"
 #include "surgical_sim/core/solve/make_linear_solver.h"
 
@@ -25,15 +27,25 @@ BladeSweep verticalCut(double x_cut, double w, double z0, double z1) {
   return s;
 }
 
-/// Errors that make a surface not closed or not manifold (duplicate rest nodes are expected).
+/// Element errors (inverted, degenerate, bad indices, faces shared by more than two elements) plus
+/// open surface edges (duplicate rest nodes are expected after a cut).
 int topologyErrors(const TetMesh& mesh) {
   int n = 0;
   for (const MeshIssue& issue : checkMesh(mesh))
-    if (issue.kind == MeshIssueKind::NonManifoldEdge || issue.kind == MeshIssueKind::NonManifoldFace ||
-        issue.kind == MeshIssueKind::InvertedElement || issue.kind == MeshIssueKind::DegenerateElement ||
-        issue.kind == MeshIssueKind::IndexOutOfRange || issue.kind == MeshIssueKind::RepeatedNodeInElement)
+    if (issue.kind == MeshIssueKind::NonManifoldFace ||
+        issue.kind == MeshIssueKind::InvertedElement ||
+        issue.kind == MeshIssueKind::DegenerateElement ||
+        issue.kind == MeshIssueKind::IndexOutOfRange ||
+        issue.kind == MeshIssueKind::RepeatedNodeInElement) {
       ++n;
-  return n;
+      ADD_FAILURE() << issue.message;
+    }
+  return n + checkSurfaceClosure(extractSurface(mesh).triangles).open_edges;
+}
+
+/// Edges where more than two surface triangles meet.
+int pinchedEdges(const TetMesh& mesh) {
+  return checkSurfaceClosure(extractSurface(mesh).triangles).pinched_edges;
 }
 
 TEST(TetCutter, RejectsBadInputNamingTheProblem) {
@@ -75,8 +87,8 @@ TEST(TetCutter, BladePassingThroughAnElementWithinOneStepSplitsIt) {
   ASSERT_EQ(cutter.cutTriangles().size(), 2u);
   for (const auto& tri : cutter.cutTriangles())
     for (const EmbeddedCutPoint& p : tri) {
-      const Eigen::Vector3d q = (1 - p.w) * cutter.mesh().nodes.col(p.node_a) +
-                                p.w * cutter.mesh().nodes.col(p.node_b);
+      const Eigen::Vector3d q =
+          (1 - p.w) * cutter.mesh().nodes.col(p.node_a) + p.w * cutter.mesh().nodes.col(p.node_b);
       EXPECT_NEAR(q.x(), 0.3, 1e-9);
     }
   EXPECT_EQ(topologyErrors(cutter.mesh()), 0);
@@ -85,13 +97,19 @@ TEST(TetCutter, BladePassingThroughAnElementWithinOneStepSplitsIt) {
 TEST(TetCutter, PartialCutDoesNotSeparateUntilTheBladeGoesThrough) {
   const TetMesh beam = makeBeam(0.1, 0.02, 0.02, Eigen::Vector3i(10, 2, 2), ElementType::Tet4);
   TetCutter cutter(beam, 1000.0);
-  Eigen::Map<const Eigen::VectorXd> x(beam.nodes.data(), 3 * beam.numNodes());
   const double x_cut = 0.0525;  // inside the 6th layer of cells
+  Eigen::Map<const Eigen::VectorXd> x(beam.nodes.data(), 3 * beam.numNodes());
   const CutUpdate first = cutter.cut(verticalCut(x_cut, 0.05, 0.05, 0.0025), x, x);
   EXPECT_GT(first.edges_cut, 0);
   EXPECT_EQ(cutter.numComponents(), 1);
-  cutter.cut(verticalCut(x_cut, 0.05, 0.0025, -0.05), x, x);
+  EXPECT_EQ(topologyErrors(cutter.mesh()), 0);
+  const TetMesh& cut = cutter.mesh();
+  Eigen::Map<const Eigen::VectorXd> y(cut.nodes.data(), 3 * cut.numNodes());
+  EXPECT_GT(pinchedEdges(cutter.mesh()), 0);  // the crack front, where the two lips meet
+  cutter.cut(verticalCut(x_cut, 0.05, 0.0025, -0.05), y, y);
   EXPECT_EQ(cutter.numComponents(), 2);
+  EXPECT_EQ(topologyErrors(cutter.mesh()), 0);
+  EXPECT_EQ(pinchedEdges(cutter.mesh()), 0);  // cut through: both pieces are manifold
 }
 
 TEST(TetCutter, BeamCutThroughGivesTwoBodiesWithTheMassAndTheFreePieceFalls) {
@@ -120,14 +138,19 @@ TEST(TetCutter, BeamCutThroughGivesTwoBodiesWithTheMassAndTheFreePieceFalls) {
   for (int v = 0; v < cutter.mesh().numNodes(); ++v)
     if (cutter.mesh().nodes(0, v) < 1e-12)
       for (int k = 0; k < 3; ++k) problem.dirichlet.dofs.push_back(3 * v + k);
-  problem.dirichlet.positions = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(problem.dirichlet.dofs.size()));
+  problem.dirichlet.positions =
+      Eigen::VectorXd::Zero(static_cast<Eigen::Index>(problem.dirichlet.dofs.size()));
   for (std::size_t i = 0; i < problem.dirichlet.dofs.size(); ++i)
-    problem.dirichlet.positions[static_cast<Eigen::Index>(i)] = model->restPositions()[problem.dirichlet.dofs[i]];
-  SimulationState state{model->restPositions(), Eigen::VectorXd::Zero(model->restPositions().size()), 0.0};
-  const auto integrator = makeIntegrator("implicit_euler_linearized", {}, makeLinearSolver("cholmod", {}));
+    problem.dirichlet.positions[static_cast<Eigen::Index>(i)] =
+        model->restPositions()[problem.dirichlet.dofs[i]];
+  SimulationState state{model->restPositions(),
+                        Eigen::VectorXd::Zero(model->restPositions().size()), 0.0};
+  const auto integrator =
+      makeIntegrator("implicit_euler_linearized", {}, makeLinearSolver("cholmod", {}));
   const double dt = 0.01;
   const int steps = 20;
-  for (int i = 0; i < steps; ++i) ASSERT_EQ(integrator->step(problem, dt, state).status, StepStatus::Ok);
+  for (int i = 0; i < steps; ++i)
+    ASSERT_EQ(integrator->step(problem, dt, state).status, StepStatus::Ok);
   // Free piece: internal forces cancel, so its mass centre falls exactly as implicit Euler
   // integrates free fall: z_n = -g dt^2 n (n + 1) / 2.
   double free_mass = 0.0, free_dz = 0.0, clamped_dz = 0.0;
@@ -195,7 +218,9 @@ void fuzzOrgan(int sweeps, int cells) {
   const double mass = cutter.lumpedMass().sum();
   std::mt19937 rng(20261122);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  auto point = [&] { return Eigen::Vector3d(semi.x() * u(rng), semi.y() * u(rng), semi.z() * u(rng)); };
+  auto point = [&] {
+    return Eigen::Vector3d(semi.x() * u(rng), semi.y() * u(rng), semi.z() * u(rng));
+  };
   for (int i = 0; i < sweeps; ++i) {
     BladeSweep s;
     s.start.resize(3, 3);
@@ -206,7 +231,8 @@ void fuzzOrgan(int sweeps, int cells) {
       s.end.col(k) = s.start.col(k) + motion;
     }
     // Tissue moves too: a random rigid shift of up to 5 mm over the step.
-    const Eigen::VectorXd x0 = Eigen::Map<const Eigen::VectorXd>(cutter.mesh().nodes.data(), 3 * cutter.mesh().numNodes());
+    const Eigen::VectorXd x0 =
+        Eigen::Map<const Eigen::VectorXd>(cutter.mesh().nodes.data(), 3 * cutter.mesh().numNodes());
     Eigen::VectorXd x1 = x0;
     const Eigen::Vector3d shift = 0.005 * Eigen::Vector3d(u(rng), u(rng), u(rng));
     for (int v = 0; v < cutter.mesh().numNodes(); ++v) x1.segment<3>(3 * v) += shift;
@@ -221,13 +247,17 @@ void fuzzOrgan(int sweeps, int cells) {
   EXPECT_GT(cutter.numCutEdges(), 0);
   EXPECT_GT(cutter.numComponents(), 1);
   // A few steps of the cut organ under gravity, pinned at its thick end.
-  const auto model = makeCutTissueModel("corotational", cutter, Material::create(5e3, 0.45, 1000.0));
+  const auto model =
+      makeCutTissueModel("corotational", cutter, Material::create(5e3, 0.45, 1000.0));
   DynamicsProblem problem;
   problem.model = model.get();
   problem.external_force = model->bodyForce(Eigen::Vector3d(0, 0, -9.81));
-  SimulationState state{model->restPositions(), Eigen::VectorXd::Zero(model->restPositions().size()), 0.0};
-  const auto integrator = makeIntegrator("implicit_euler_linearized", {}, makeLinearSolver("cholmod", {}));
-  for (int i = 0; i < 5; ++i) ASSERT_EQ(integrator->step(problem, 0.01, state).status, StepStatus::Ok);
+  SimulationState state{model->restPositions(),
+                        Eigen::VectorXd::Zero(model->restPositions().size()), 0.0};
+  const auto integrator =
+      makeIntegrator("implicit_euler_linearized", {}, makeLinearSolver("cholmod", {}));
+  for (int i = 0; i < 5; ++i)
+    ASSERT_EQ(integrator->step(problem, 0.01, state).status, StepStatus::Ok);
   EXPECT_TRUE(state.x.allFinite());
 }
 

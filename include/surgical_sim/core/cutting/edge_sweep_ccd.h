@@ -24,9 +24,8 @@ struct EdgeSweepHit {
 /// Stateless, allocation-free.
 /// @return the earliest hit, or nothing.
 std::optional<EdgeSweepHit> edgeSweepCrossing(
-    const Eigen::Vector3d& b0_start, const Eigen::Vector3d& b1_start,
-    const Eigen::Vector3d& b0_end, const Eigen::Vector3d& b1_end,
-    const Eigen::Vector3d& e0_start, const Eigen::Vector3d& e1_start,
+    const Eigen::Vector3d& b0_start, const Eigen::Vector3d& b1_start, const Eigen::Vector3d& b0_end,
+    const Eigen::Vector3d& b1_end, const Eigen::Vector3d& e0_start, const Eigen::Vector3d& e1_start,
     const Eigen::Vector3d& e0_end, const Eigen::Vector3d& e1_end, double tolerance);
 
 /// Coefficients c (f(t) = c0 + c1 t + c2 t^2 + c3 t^3) of the coplanarity cubic of

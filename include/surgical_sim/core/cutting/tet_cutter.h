@@ -18,9 +18,9 @@ struct CutUpdate {
   /// structures, and transfer the state with TetCutter::transfer(). A blade that crosses edges
   /// without separating any element's nodes (cut front inside the tissue) leaves it false.
   bool topology_changed = false;
-  int edges_cut = 0;             ///< tissue edges newly crossed by the blade
-  double detect_seconds = 0.0;   ///< continuous blade-edge detection, wall clock [s]
-  double update_seconds = 0.0;   ///< topology rebuild (elements, masses, surface), wall clock [s]
+  int edges_cut = 0;            ///< tissue edges newly crossed by the blade
+  double detect_seconds = 0.0;  ///< continuous blade-edge detection, wall clock [s]
+  double update_seconds = 0.0;  ///< topology rebuild (elements, masses, surface), wall clock [s]
 };
 
 /// A point of the embedded cut surface: (1 - w) x[node_a] + w x[node_b], on an element edge.
@@ -35,15 +35,19 @@ struct EmbeddedCutPoint {
 ///
 /// The cutter keeps the original (uncut) mesh and, for each of its edges, whether the blade has
 /// crossed it and where (parameter s from the lower-numbered node, the same in rest and deformed
-/// configurations). Element e's nodes are split into fragments, the connected components of its
-/// 4 corners over its uncut edges; an edge counts as cut only if it separates its ends in every
-/// element around it (so a partial cut whose front stops inside the tissue never splits, and the
-/// fragments of two elements agree on their shared face). Each fragment becomes a copy of the
-/// element that keeps its real corners and gets virtual nodes for the others. Copies of
-/// neighbouring elements are glued across a shared face iff they hold the same real nodes on it;
-/// nodes are the classes of (copy, corner) under this gluing, so the two sides of a complete cut
-/// share no node. Restriction (as in Molino et al.): each element is split only by the pattern of
-/// cut edges (at most one cut surface per element), not by several crossing cuts inside it.
+/// configurations). Element e's corners are split into fragments, the connected components of its
+/// 4 corners over its uncut edges; each fragment becomes a copy of the element that keeps its
+/// real corners and gets virtual nodes for the others. Copies of neighbouring elements are glued
+/// across their shared face: at all three corners when they hold the same real nodes on it (the
+/// material continues, virtual nodes included), otherwise at the real nodes both hold. Nodes are
+/// the classes of (copy, corner) under this gluing: a node is duplicated iff the cut disconnects
+/// the material around it, so a complete cut leaves two pieces that share no node, and a partial
+/// cut opens where it crossed and stays connected around its front, which ends on element faces
+/// (an element the blade has entered without separating its corners is not split). The front's
+/// edges carry 4 surface triangles (the two lips of the crack meet there); elsewhere the surface
+/// is closed and manifold. Restriction (as in Molino et al.): an element is split by the pattern
+/// of its cut edges (at most one cut surface per element); several cuts crossing inside one
+/// element are merged into that pattern.
 ///
 /// Masses: each copy weighs rho V_e times its fragment's material fraction
 /// (fragmentVolumeFractions()), lumped equally on its 4 nodes, so the total mass is conserved
@@ -110,8 +114,8 @@ class TetCutter {
 
  private:
   struct Copy {
-    int element;    ///< original element
-    int mask;       ///< real corners (bit i = local corner i)
+    int element;  ///< original element
+    int mask;     ///< real corners (bit i = local corner i)
     double fraction;
   };
   void rebuild();
@@ -120,10 +124,9 @@ class TetCutter {
 
   TetMesh original_;
   double density_;
-  double tolerance_;  ///< CCD distance tolerance [m]
-  std::vector<std::array<int, 2>> edges_;   ///< original edges (lower node, higher node)
+  double tolerance_;                       ///< CCD distance tolerance [m]
+  std::vector<std::array<int, 2>> edges_;  ///< original edges (lower node, higher node)
   std::vector<std::array<int, 6>> element_edges_;
-  std::vector<int> edge_element_offsets_, edge_elements_;  ///< edge -> elements (CSR)
   std::vector<std::array<int, 2>> face_neighbour_;  ///< (element, local face) -> (element, face)
   std::vector<std::array<int, 3>> boundary_faces_;  ///< sorted node triples, sorted
   std::vector<double> element_volume_;
