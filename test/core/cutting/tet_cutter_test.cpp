@@ -2,14 +2,13 @@
 
 #include <Eigen/Dense>
 #include <cmath>
-#include <random>
 
 #include "surgical_sim/core/cutting/cut_beam_deflection.h"
+#include "surgical_sim/core/cutting/cut_fuzz.h"
 #include "surgical_sim/core/cutting/cut_tissue_model.h"
 #include "surgical_sim/core/cutting/tet_cutter.h"
 #include "surgical_sim/core/mesh/generators.h"
 #include "surgical_sim/core/mesh/mesh_check.h"
-#include "surgical_sim/core/mesh/surface.h"
 #include "surgical_sim/core/mesh/surface_closure.h"
 #include "surgical_sim/core/solve/make_integrator.h"
 #include "surgical_sim/core/solve/make_linear_solver.h"
@@ -27,20 +26,11 @@ BladeSweep verticalCut(double x_cut, double w, double z0, double z1) {
   return s;
 }
 
-/// Element errors (inverted, degenerate, bad indices, faces shared by more than two elements) plus
-/// open surface edges (duplicate rest nodes are expected after a cut).
+/// Problems of a cut mesh (cutMeshProblem), reported as a test failure; 0 or 1.
 int topologyErrors(const TetMesh& mesh) {
-  int n = 0;
-  for (const MeshIssue& issue : checkMesh(mesh))
-    if (issue.kind == MeshIssueKind::NonManifoldFace ||
-        issue.kind == MeshIssueKind::InvertedElement ||
-        issue.kind == MeshIssueKind::DegenerateElement ||
-        issue.kind == MeshIssueKind::IndexOutOfRange ||
-        issue.kind == MeshIssueKind::RepeatedNodeInElement) {
-      ++n;
-      ADD_FAILURE() << issue.message;
-    }
-  return n + checkSurfaceClosure(extractSurface(mesh).triangles).open_edges;
+  const std::string problem = cutMeshProblem(mesh);
+  if (!problem.empty()) ADD_FAILURE() << problem;
+  return problem.empty() ? 0 : 1;
 }
 
 /// Edges where more than two surface triangles meet.
@@ -209,59 +199,31 @@ TEST(TetCutter, ElementRemovalAboveAStrainThresholdKeepsTheMass) {
   EXPECT_THROW(cutter.removeElements({-1}), std::invalid_argument);
 }
 
-/// Random blade sweeps over the organ blob (fixed seed): every cut keeps positive rest volumes,
-/// the total mass, finite masses and a closed manifold surface; a short simulation stays finite.
-void fuzzOrgan(int sweeps, int cells) {
-  const Eigen::Vector3d semi(0.075, 0.05, 0.03);
-  const TetMesh organ = makeOrganBlob(semi, cells, ElementType::Tet4);
-  TetCutter cutter(organ, 1000.0);
-  const double mass = cutter.lumpedMass().sum();
-  std::mt19937 rng(20261122);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  auto point = [&] {
-    return Eigen::Vector3d(semi.x() * u(rng), semi.y() * u(rng), semi.z() * u(rng));
-  };
-  for (int i = 0; i < sweeps; ++i) {
-    BladeSweep s;
-    s.start.resize(3, 3);
-    s.end.resize(3, 3);
-    const Eigen::Vector3d motion = 0.5 * point();
-    for (int k = 0; k < 3; ++k) {
-      s.start.col(k) = point();
-      s.end.col(k) = s.start.col(k) + motion;
-    }
-    // Tissue moves too: a random rigid shift of up to 5 mm over the step.
-    const Eigen::VectorXd x0 =
-        Eigen::Map<const Eigen::VectorXd>(cutter.mesh().nodes.data(), 3 * cutter.mesh().numNodes());
-    Eigen::VectorXd x1 = x0;
-    const Eigen::Vector3d shift = 0.005 * Eigen::Vector3d(u(rng), u(rng), u(rng));
-    for (int v = 0; v < cutter.mesh().numNodes(); ++v) x1.segment<3>(3 * v) += shift;
-    cutter.cut(s, x0, x1);
-    ASSERT_TRUE(cutter.lumpedMass().allFinite()) << "sweep " << i;
-    ASSERT_TRUE((cutter.lumpedMass().array() > 0).all()) << "sweep " << i;
-    ASSERT_NEAR(cutter.lumpedMass().sum(), mass, 1e-12 * mass) << "sweep " << i;
-    for (int e = 0; e < cutter.mesh().numElements(); ++e)
-      ASSERT_GT(signedVolume(cutter.mesh(), e), 0.0) << "sweep " << i;
-    ASSERT_EQ(topologyErrors(cutter.mesh()), 0) << "sweep " << i;
-  }
-  EXPECT_GT(cutter.numCutEdges(), 0);
-  EXPECT_GT(cutter.numComponents(), 1);
-  // A few steps of the cut organ under gravity, pinned at its thick end.
-  const auto model =
-      makeCutTissueModel("corotational", cutter, Material::create(5e3, 0.45, 1000.0));
-  DynamicsProblem problem;
-  problem.model = model.get();
-  problem.external_force = model->bodyForce(Eigen::Vector3d(0, 0, -9.81));
-  SimulationState state{model->restPositions(),
-                        Eigen::VectorXd::Zero(model->restPositions().size()), 0.0};
-  const auto integrator =
-      makeIntegrator("implicit_euler_linearized", {}, makeLinearSolver("cholmod", {}));
-  for (int i = 0; i < 5; ++i)
-    ASSERT_EQ(integrator->step(problem, 0.01, state).status, StepStatus::Ok);
-  EXPECT_TRUE(state.x.allFinite());
+TEST(TetCutter, FuzzRandomSweepsOverTheOrgan) {
+  CutFuzzSettings settings;
+  settings.sweeps = 200;
+  settings.cells_per_axis = 6;
+  settings.seed = 20261122;
+  const CutFuzzReport r = runCutFuzz(settings);
+  EXPECT_EQ(r.failure, "");
+  EXPECT_EQ(r.sweeps, 200);
+  EXPECT_TRUE(r.finite);
+  EXPECT_LE(r.max_mass_error, 1e-12);
+  EXPECT_GT(r.min_rest_volume, 0.0);
+  EXPECT_GT(r.cut_edges, 0);
+  EXPECT_GT(r.components, 1);
 }
 
-TEST(TetCutter, FuzzRandomSweepsOverTheOrgan) { fuzzOrgan(200, 6); }
+TEST(TetCutter, FuzzReportsABrokenMesh) {
+  TetMesh mesh = makeBeam(1, 1, 1, Eigen::Vector3i(1, 1, 1), ElementType::Tet4);
+  EXPECT_EQ(cutMeshProblem(mesh), "");
+  std::swap(mesh.elements(0, 0), mesh.elements(1, 0));  // inverted
+  EXPECT_NE(cutMeshProblem(mesh), "");
+  TetMesh open = makeBeam(1, 1, 1, Eigen::Vector3i(1, 1, 1), ElementType::Tet4);
+  open.elements.conservativeResize(4, 5);
+  EXPECT_EQ(cutMeshProblem(open), "");  // removing an element keeps the surface closed
+  EXPECT_THROW(runCutFuzz(CutFuzzSettings{}), std::invalid_argument);
+}
 
 }  // namespace
 }  // namespace surgical_sim::core
