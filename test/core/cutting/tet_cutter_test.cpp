@@ -3,7 +3,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 
-#include "surgical_sim/core/cutting/cut_beam_deflection.h"
+#include "surgical_sim/core/cutting/beam_tip_deflection.h"
 #include "surgical_sim/core/cutting/cut_fuzz.h"
 #include "surgical_sim/core/cutting/cut_tissue_model.h"
 #include "surgical_sim/core/cutting/tet_cutter.h"
@@ -12,6 +12,7 @@
 #include "surgical_sim/core/mesh/surface_closure.h"
 #include "surgical_sim/core/solve/make_integrator.h"
 #include "surgical_sim/core/solve/make_linear_solver.h"
+#include "surgical_sim/core/tissue/model_factory.h"
 
 namespace surgical_sim::core {
 namespace {
@@ -158,6 +159,15 @@ TEST(TetCutter, BeamCutThroughGivesTwoBodiesWithTheMassAndTheFreePieceFalls) {
   EXPECT_GT(clamped_dz, 0.2 * expected);  // the clamped half only sags
 }
 
+TEST(BeamTipDeflection, AxialBodyForceStretchMatchesTheClosedForm) {
+  // T3(b): tip u = rho g L^2 / (2 E) for nu = 0 (no lateral contraction at the clamp).
+  const double L = 0.1, E = 1e7, rho = 1000.0, g = 9.81;
+  const TetMesh beam = makeHexagonalBeam(0.01, L, 10, 1, ElementType::Tet4);
+  const auto model = makeTissueModel("corotational", beam, Material::create(E, 0.0, rho));
+  const double u = beamTipDeflection(*model, Eigen::Vector3d(g, 0, 0));
+  EXPECT_NEAR(u, rho * g * L * L / (2 * E), 1e-3 * rho * g * L * L / (2 * E));
+}
+
 TEST(TetCutter, HalfWidthCutAtMidLengthIncreasesTheBendDeflection) {
   // T3(c): hexagonal beam, side a, length 10 a, clamped at x = 0, body force along -z; a blade
   // along y enters from the top and stops at the axis (half the width) at mid-length.
@@ -166,12 +176,12 @@ TEST(TetCutter, HalfWidthCutAtMidLengthIncreasesTheBendDeflection) {
   const Material material = Material::create(1e5, 0.3, 1000.0);
   const Eigen::Vector3d load(0, 0, -9.81);
   TetCutter uncut(beam, 1000.0);
-  const double w_uncut = cutBeamTipDeflection(uncut, "corotational", material, load);
+  const double w_uncut = beamTipDeflection(*makeCutTissueModel("corotational", uncut, material), load);
   TetCutter cut(beam, 1000.0);
   Eigen::Map<const Eigen::VectorXd> x(beam.nodes.data(), 3 * beam.numNodes());
   cut.cut(verticalCut(0.5 * L + 0.25 * L / 20, 2 * a, 2 * a, 1e-4 * a), x, x);
   EXPECT_EQ(cut.numComponents(), 1);
-  const double w_cut = cutBeamTipDeflection(cut, "corotational", material, load);
+  const double w_cut = beamTipDeflection(*makeCutTissueModel("corotational", cut, material), load);
   ASSERT_TRUE(std::isfinite(w_uncut) && std::isfinite(w_cut));
   EXPECT_GT(w_uncut, 0.0);
   EXPECT_GT(w_cut, 1.05 * w_uncut);
