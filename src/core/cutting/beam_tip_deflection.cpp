@@ -26,16 +26,26 @@ double beamTipDeflection(const TissueModel& model, const Eigen::Vector3d& load) 
   problem.dirichlet.positions.resize(static_cast<Eigen::Index>(problem.dirichlet.dofs.size()));
   for (std::size_t i = 0; i < problem.dirichlet.dofs.size(); ++i)
     problem.dirichlet.positions[static_cast<Eigen::Index>(i)] = rest[problem.dirichlet.dofs[i]];
+  problem.damping.mass_coefficient = 1e3;  // [1/s]: heavily overdamped relaxation
   SimulationState state{rest, Eigen::VectorXd::Zero(rest.size()), 0.0};
-  IntegratorSettings settings;
-  settings.relative_tolerance = 1e-10;
-  const auto integrator = makeIntegrator("quasi_static", settings, makeLinearSolver("cholmod", {}));
-  if (integrator->step(problem, 1.0, state).status != StepStatus::Ok)
-    return std::numeric_limits<double>::quiet_NaN();
+  const auto integrator =
+      makeIntegrator("implicit_euler_linearized", {}, makeLinearSolver("cholmod", {}));
   const Eigen::Vector3d direction = load.normalized();
-  double sum = 0.0;
-  for (int v : tip) sum += (state.x - rest).segment<3>(3 * v).dot(direction);
-  return sum / static_cast<double>(tip.size());
+  auto tipDeflection = [&] {
+    double sum = 0.0;
+    for (int v : tip) sum += (state.x - rest).segment<3>(3 * v).dot(direction);
+    return sum / static_cast<double>(tip.size());
+  };
+  double previous = 0.0;
+  for (int step = 0; step < 500; ++step) {
+    const StepStatus status = integrator->step(problem, 1.0, state).status;
+    if (status != StepStatus::Ok && status != StepStatus::NotConverged)
+      return std::numeric_limits<double>::quiet_NaN();
+    const double w = tipDeflection();
+    if (step > 0 && std::abs(w - previous) <= 1e-9 * std::abs(w)) return w;
+    previous = w;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
 }
 
 }  // namespace surgical_sim::core
