@@ -20,8 +20,7 @@ CuttingToolNode::CuttingToolNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
                                                 static_cast<Eigen::Index>(blade.size() / 3));
   const std::string problem = bladeProblem(blade_T_);
   if (!problem.empty()) throw std::invalid_argument("~blade: " + problem);
-  if (!(max_tool_distance_ > 0.0))
-    throw std::invalid_argument("~max_tool_distance must be > 0 m");
+  if (!(max_tool_distance_ > 0.0)) throw std::invalid_argument("~max_tool_distance must be > 0 m");
   if (!(max_step_ > 0.0)) throw std::invalid_argument("~max_step must be > 0 m");
 
   sweep_pub_ = nh.advertise<surgical_sim::BladeSweep>("cutting/blade_sweep", 100);

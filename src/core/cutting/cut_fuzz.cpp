@@ -9,6 +9,7 @@
 #include "surgical_sim/core/cutting/tet_cutter.h"
 #include "surgical_sim/core/mesh/generators.h"
 #include "surgical_sim/core/mesh/mesh_check.h"
+#include "surgical_sim/core/mesh/surface.h"
 #include "surgical_sim/core/mesh/surface_closure.h"
 #include "surgical_sim/core/solve/make_integrator.h"
 #include "surgical_sim/core/solve/make_linear_solver.h"
@@ -65,6 +66,10 @@ CutFuzzReport runCutFuzz(const CutFuzzSettings& settings) {
     for (int e = 0; e < cutter.mesh().numElements(); ++e)
       report.min_rest_volume = std::min(report.min_rest_volume, signedVolume(cutter.mesh(), e));
     std::string problem = cutMeshProblem(cutter.mesh());
+    if (problem.empty() &&
+        (cutter.surface().triangles.cols() != extractSurface(cutter.mesh()).triangles.cols() ||
+         checkSurfaceClosure(cutter.surface().triangles).open_edges > 0))
+      problem = "the cutter's surface differs from the mesh boundary";
     if (problem.empty() && !(m.array() > 0.0).all()) problem = "a node has no mass";
     if (problem.empty() && !(report.max_mass_error <= 1e-12)) problem = "mass not conserved";
     if (problem.empty() && !(report.min_rest_volume > 0.0)) problem = "non-positive element volume";

@@ -17,12 +17,6 @@ namespace surgical_sim::core {
 
 namespace {
 
-std::array<int, 3> sortedTriple(int a, int b, int c) {
-  std::array<int, 3> t{a, b, c};
-  std::sort(t.begin(), t.end());
-  return t;
-}
-
 Eigen::Vector3d nodeAt(const Eigen::VectorXd& x, int node) { return x.segment<3>(3 * node); }
 
 int localCornerOf(const TetMesh& mesh, int element, int node) {
@@ -66,13 +60,12 @@ TetCutter::TetCutter(const TetMesh& rest_mesh, double density)
     element_edges_[static_cast<std::size_t>(keyed[i][2] / 6)][keyed[i][2] % 6] = id;
   }
 
-  // Face neighbours and the original boundary.
+  // Face neighbours (-1 on the original boundary).
   face_neighbour_.assign(static_cast<std::size_t>(4 * m), {-1, -1});
   const TetFaceGroups groups = groupTetFaces(rest_mesh);
   for (int g = 0; g < groups.numGroups(); ++g) {
     const int begin = groups.group_offsets[g], size = groups.group_offsets[g + 1] - begin;
     const TetFace& f0 = groups.faces[static_cast<std::size_t>(begin)];
-    if (size == 1) boundary_faces_.push_back(sortedTriple(f0.nodes[0], f0.nodes[1], f0.nodes[2]));
     if (size != 2) continue;
     const TetFace& f1 = groups.faces[static_cast<std::size_t>(begin + 1)];
     face_neighbour_[static_cast<std::size_t>(4 * f0.element + f0.local_face)] = {f1.element,
@@ -80,7 +73,6 @@ TetCutter::TetCutter(const TetMesh& rest_mesh, double density)
     face_neighbour_[static_cast<std::size_t>(4 * f1.element + f1.local_face)] = {f0.element,
                                                                                  f0.local_face};
   }
-  std::sort(boundary_faces_.begin(), boundary_faces_.end());
 
   element_volume_.resize(static_cast<std::size_t>(m));
   for (int e = 0; e < m; ++e)
@@ -150,6 +142,7 @@ void TetCutter::rebuild() {
   // the face (the material continues across it, virtual nodes included), otherwise only the
   // real nodes both hold (at a cut front, material on both sides still meets at these nodes).
   UnionFind slots(4 * num_copies);
+  std::vector<char> face_glued(static_cast<std::size_t>(4 * num_copies), 0);  // (copy, local face)
   for (int e = 0; e < m; ++e)
     for (int lf = 0; lf < 4; ++lf) {
       const auto [e2, lf2] = face_neighbour_[static_cast<std::size_t>(4 * e + lf)];
@@ -167,6 +160,9 @@ void TetCutter::rebuild() {
             same = same && r1 == r2;
             any = any || r1;
           }
+          if (same && any)
+            face_glued[static_cast<std::size_t>(4 * c + lf)] =
+                face_glued[static_cast<std::size_t>(4 * c2 + lf2)] = 1;
           for (int k = 0; k < 3; ++k) {
             const bool shared =
                 (copies_[c].mask & (1 << corners[k])) && (copies_[c2].mask & (1 << corners2[k]));
@@ -261,15 +257,29 @@ void TetCutter::rebuild() {
     }
   }
 
-  // 6. Surface, cut faces, connected components.
-  surface_ = extractSurface(mesh_);
-  cut_faces_.resize(static_cast<std::size_t>(surface_.triangles.cols()));
-  for (Eigen::Index t = 0; t < surface_.triangles.cols(); ++t) {
-    const auto& tri = surface_.triangles.col(t);
-    cut_faces_[static_cast<std::size_t>(t)] = !std::binary_search(
-        boundary_faces_.begin(), boundary_faces_.end(),
-        sortedTriple(node_origin_[tri[0]], node_origin_[tri[1]], node_origin_[tri[2]]));
-  }
+  // 6. Surface: every face of a copy not glued to a neighbour, outward (as extractSurface());
+  // a cut face if the original element had a neighbour there. Then connected components.
+  int num_surface = 0;
+  for (char glued : face_glued) num_surface += glued ? 0 : 1;
+  surface_.triangles.resize(3, num_surface);
+  surface_.nodes.clear();
+  cut_faces_.assign(static_cast<std::size_t>(num_surface), false);
+  for (int c = 0, t = 0; c < num_copies; ++c)
+    for (int lf = 0; lf < 4; ++lf) {
+      if (face_glued[static_cast<std::size_t>(4 * c + lf)]) continue;
+      const std::array<int, 3> corners = tetFaceCorners(lf);
+      for (int k = 0; k < 3; ++k) {
+        surface_.triangles(k, t) = mesh_.elements(corners[k], c);
+        surface_.nodes.push_back(surface_.triangles(k, t));
+      }
+      const int e = copies_[static_cast<std::size_t>(c)].element;
+      cut_faces_[static_cast<std::size_t>(t)] =
+          face_neighbour_[static_cast<std::size_t>(4 * e + lf)][0] >= 0;
+      ++t;
+    }
+  std::sort(surface_.nodes.begin(), surface_.nodes.end());
+  surface_.nodes.erase(std::unique(surface_.nodes.begin(), surface_.nodes.end()),
+                       surface_.nodes.end());
   UnionFind pieces(n);
   for (int c = 0; c < num_copies; ++c)
     for (int i = 1; i < 4; ++i) pieces.unite(mesh_.elements(0, c), mesh_.elements(i, c));

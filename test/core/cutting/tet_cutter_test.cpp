@@ -118,6 +118,18 @@ TEST(TetCutter, BeamCutThroughGivesTwoBodiesWithTheMassAndTheFreePieceFalls) {
   // The cut at x = 0.0525 leaves 52.5 % of the beam on the clamped side.
   const int clamped = cutter.nodeComponent()[0];  // node 0 is at x = 0
   EXPECT_NEAR(piece[clamped], 0.525 * total, 1e-9 * total);
+  // Cut faces lie in the cut cell layer x in [0.05, 0.06]; the others on the original boundary.
+  int cut_faces = 0;
+  const SurfaceMesh& surface = cutter.surface();
+  for (Eigen::Index t = 0; t < surface.triangles.cols(); ++t) {
+    if (!cutter.cutFaces()[static_cast<std::size_t>(t)]) continue;
+    ++cut_faces;
+    for (int k = 0; k < 3; ++k) {
+      const double x = cutter.mesh().nodes(0, surface.triangles(k, t));
+      EXPECT_TRUE(x > 0.05 - 1e-12 && x < 0.06 + 1e-12) << x;
+    }
+  }
+  EXPECT_GT(cut_faces, 0);
 
   // Clamp x = 0 and simulate with linearized implicit Euler under gravity.
   const Material material = Material::create(5e4, 0.3, rho);
@@ -176,7 +188,8 @@ TEST(TetCutter, HalfWidthCutAtMidLengthIncreasesTheBendDeflection) {
   const Material material = Material::create(1e5, 0.3, 1000.0);
   const Eigen::Vector3d load(0, 0, -9.81);
   TetCutter uncut(beam, 1000.0);
-  const double w_uncut = beamTipDeflection(*makeCutTissueModel("corotational", uncut, material), load);
+  const double w_uncut =
+      beamTipDeflection(*makeCutTissueModel("corotational", uncut, material), load);
   TetCutter cut(beam, 1000.0);
   Eigen::Map<const Eigen::VectorXd> x(beam.nodes.data(), 3 * beam.numNodes());
   cut.cut(verticalCut(0.5 * L + 0.25 * L / 20, 2 * a, 2 * a, 1e-4 * a), x, x);

@@ -128,7 +128,6 @@ class TetCutter {
   std::vector<std::array<int, 2>> edges_;  ///< original edges (lower node, higher node)
   std::vector<std::array<int, 6>> element_edges_;
   std::vector<std::array<int, 2>> face_neighbour_;  ///< (element, local face) -> (element, face)
-  std::vector<std::array<int, 3>> boundary_faces_;  ///< sorted node triples, sorted
   std::vector<double> element_volume_;
   std::vector<std::uint8_t> edge_cut_;
   std::vector<double> edge_s_;
