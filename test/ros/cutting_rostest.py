@@ -38,16 +38,21 @@ class Replayer:
     def on_sweep(self, _):
         with self.lock:
             self.sweeps += 1
+            self.lock.notify_all()
 
     def replay(self, messages, dz):
-        """Replays (topic, msg) with every pose raised by dz [m]; returns the last stats."""
+        """Replays (topic, msg) with every pose raised by dz [m]; returns the last stats.
+        While the blade is active, waits for the sweep of each pose before the next pose, so
+        every sweep is applied at the step of the next pose (a deterministic replay)."""
         with self.lock:
             self.stats.clear()
             self.sweeps = 0
         last = None
+        active, poses_while_active, expected = False, 0, 0
         for topic, msg in messages:
             if topic == "cutting/activate":
                 self.activate_pub.publish(msg)
+                active, poses_while_active = msg.data, 0
                 rospy.sleep(0.3)  # let cutting_tool see it before the next pose
                 continue
             pose = PoseStamped()
@@ -61,6 +66,13 @@ class Replayer:
                 if not ok:
                     raise AssertionError("no tissue/stats for pose stamped %s" % pose.header.stamp)
                 last = self.stats[key]
+                if active:
+                    poses_while_active += 1
+                    expected += 1 if poses_while_active > 1 else 0
+                    if not self.lock.wait_for(lambda: self.sweeps >= expected, timeout=10.0):
+                        raise AssertionError("no cutting/blade_sweep for pose stamped %s" %
+                                             pose.header.stamp)
+            rospy.sleep(0.005)  # the sweep also reaches tissue_simulator before the next pose
             pose.pose.position.z -= dz
         return last
 
@@ -88,7 +100,7 @@ class CuttingTest(unittest.TestCase):
 
     def test_2_shallow_replay_leaves_one_piece(self):
         self.reset()
-        stats = self.replayer.replay(self.messages, 0.035)  # blade tip 24 mm below the top
+        stats = self.replayer.replay(self.messages, 0.035)  # blade tip 1 mm below the mid-plane
         self.assertGreater(self.replayer.sweeps, 50)
         self.assertEqual(stats.pieces, 1)
         self.assertIn("cutting", stats.components)
