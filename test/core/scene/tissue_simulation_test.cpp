@@ -136,7 +136,9 @@ TEST(TissueSimulation, CuttingSceneCutThroughByAMovingVerticalBladeGivesTwoPiece
     sim.requestCut(BladeSweep{blade(y0), blade(y1)});
     const StepStatus status = sim.step().report.status;
     ASSERT_TRUE(status == StepStatus::Ok || status == StepStatus::NotConverged) << "step " << k;
-    if (k == 50) EXPECT_EQ(sim.numComponents(), 1);  // half-way across: still one piece
+    if (k == 50) {
+      EXPECT_EQ(sim.numComponents(), 1);  // half-way across: still one piece
+    }
   }
   for (int k = 0; k < 20; ++k) sim.step();
   EXPECT_EQ(sim.numComponents(), 2);
