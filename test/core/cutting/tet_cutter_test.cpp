@@ -82,6 +82,20 @@ TEST(TetCutter, BladePassingThroughAnElementWithinOneStepSplitsIt) {
           (1 - p.w) * cutter.mesh().nodes.col(p.node_a) + p.w * cutter.mesh().nodes.col(p.node_b);
       EXPECT_NEAR(q.x(), 0.3, 1e-9);
     }
+  // Cut triangles face away from their copy's real corner(s).
+  for (const auto& tri : cutter.cutTriangles()) {
+    Eigen::Vector3d p[3];
+    for (int k = 0; k < 3; ++k)
+      p[k] = (1 - tri[k].w) * cutter.mesh().nodes.col(tri[k].node_a) +
+             tri[k].w * cutter.mesh().nodes.col(tri[k].node_b);
+    const Eigen::Vector3d n = (p[1] - p[0]).cross(p[2] - p[0]);
+    const Eigen::Vector3d real = cutter.mesh().nodes.col(tri[0].node_a);
+    EXPECT_GT(n.dot(p[0] - real), 0.0);
+  }
+  // The state transfer gives every node its parent's value: rest positions map onto themselves.
+  const Eigen::VectorXd moved = cutter.transfer(x);
+  EXPECT_TRUE(moved.isApprox(Eigen::Map<const Eigen::VectorXd>(cutter.mesh().nodes.data(), 24)));
+  EXPECT_THROW(cutter.transfer(moved), std::invalid_argument);
   EXPECT_EQ(topologyErrors(cutter.mesh()), 0);
 }
 
