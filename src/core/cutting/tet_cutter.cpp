@@ -262,7 +262,7 @@ void TetCutter::rebuild() {
   int num_surface = 0;
   for (char glued : face_glued) num_surface += glued ? 0 : 1;
   surface_.triangles.resize(3, num_surface);
-  surface_.nodes.clear();
+  std::vector<char> on_surface(static_cast<std::size_t>(n), 0);
   cut_faces_.assign(static_cast<std::size_t>(num_surface), false);
   for (int c = 0, t = 0; c < num_copies; ++c)
     for (int lf = 0; lf < 4; ++lf) {
@@ -270,16 +270,16 @@ void TetCutter::rebuild() {
       const std::array<int, 3> corners = tetFaceCorners(lf);
       for (int k = 0; k < 3; ++k) {
         surface_.triangles(k, t) = mesh_.elements(corners[k], c);
-        surface_.nodes.push_back(surface_.triangles(k, t));
+        on_surface[static_cast<std::size_t>(surface_.triangles(k, t))] = 1;
       }
       const int e = copies_[static_cast<std::size_t>(c)].element;
       cut_faces_[static_cast<std::size_t>(t)] =
           face_neighbour_[static_cast<std::size_t>(4 * e + lf)][0] >= 0;
       ++t;
     }
-  std::sort(surface_.nodes.begin(), surface_.nodes.end());
-  surface_.nodes.erase(std::unique(surface_.nodes.begin(), surface_.nodes.end()),
-                       surface_.nodes.end());
+  surface_.nodes.clear();
+  for (int v = 0; v < n; ++v)
+    if (on_surface[static_cast<std::size_t>(v)]) surface_.nodes.push_back(v);
   UnionFind pieces(n);
   for (int c = 0; c < num_copies; ++c)
     for (int i = 1; i < 4; ++i) pieces.unite(mesh_.elements(0, c), mesh_.elements(i, c));
