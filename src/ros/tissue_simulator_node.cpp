@@ -66,6 +66,7 @@ TissueSimulatorNode::TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& p
   reset_srv_ = nh.advertiseService("tissue/reset", &TissueSimulatorNode::onReset, this);
   pause_srv_ = nh.advertiseService("tissue/pause", &TissueSimulatorNode::onPause, this);
   step_srv_ = nh.advertiseService("tissue/step", &TissueSimulatorNode::onStep, this);
+  blade_sub_ = nh.subscribe("cutting/blade_sweep", 100, &TissueSimulatorNode::onBladeSweep, this);
 
   // Realtime: wall-clock paced at dt. Lockstep with tools: driven by poses. Lockstep without
   // tools: free-running as fast as possible.
@@ -90,20 +91,23 @@ bool TissueSimulatorNode::toTissueFrame(const geometry_msgs::PoseStamped& msg,
                             max_tool_distance_);
     return false;
   }
-  const Eigen::Isometry3d X_FT = toEigen(msg.pose);
-  const std::string& frame = msg.header.frame_id;
+  Eigen::Isometry3d X_SF;
+  if (!frameInTissue(msg.header.frame_id, X_SF)) return false;
+  X_ST = X_SF * toEigen(msg.pose);
+  return true;
+}
+
+bool TissueSimulatorNode::frameInTissue(const std::string& frame, Eigen::Isometry3d& X_SF) {
   if (frame == tissue_frame_) {
-    X_ST = X_FT;
+    X_SF = Eigen::Isometry3d::Identity();
   } else if (frame == world_frame_ || frame.empty()) {
-    X_ST = X_WS_.inverse() * X_FT;
+    X_SF = X_WS_.inverse();
   } else {
     try {
-      const auto t = tf_buffer_.lookupTransform(tissue_frame_, frame, ros::Time(0));
-      X_ST = tf2::transformToEigen(t) * X_FT;
+      X_SF = tf2::transformToEigen(tf_buffer_.lookupTransform(tissue_frame_, frame, ros::Time(0)));
     } catch (const tf2::TransformException& e) {
-      ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator",
-                              "rejected tool pose in unknown frame '%s': %s", frame.c_str(),
-                              e.what());
+      ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator", "rejected input in unknown frame '%s': %s",
+                              frame.c_str(), e.what());
       return false;
     }
   }
@@ -139,6 +143,23 @@ void TissueSimulatorNode::onGrip(const sensor_msgs::JointState::ConstPtr& msg, i
   sim_->setGrasp(tool, msg->position[k] <= spec.grip_closed_angle);
 }
 
+void TissueSimulatorNode::onBladeSweep(const surgical_sim::BladeSweep::ConstPtr& msg) {
+  Eigen::Isometry3d X_SF;
+  if (!frameInTissue(msg->header.frame_id, X_SF)) return;
+  core::BladeSweep sweep;
+  sweep.start.resize(3, static_cast<Eigen::Index>(msg->start.size()));
+  sweep.end.resize(3, static_cast<Eigen::Index>(msg->end.size()));
+  for (std::size_t i = 0; i < msg->start.size(); ++i)
+    sweep.start.col(static_cast<Eigen::Index>(i)) = X_SF * toEigen(msg->start[i]);
+  for (std::size_t i = 0; i < msg->end.size(); ++i)
+    sweep.end.col(static_cast<Eigen::Index>(i)) = X_SF * toEigen(msg->end[i]);
+  try {
+    sim_->requestCut(sweep);
+  } catch (const std::invalid_argument& e) {
+    ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator", "rejected cutting/blade_sweep: %s", e.what());
+  }
+}
+
 void TissueSimulatorNode::onTimer() {
   if (paused_) return;
   const double now = ros::WallTime::now().toSec();
@@ -166,12 +187,14 @@ bool TissueSimulatorNode::stepAndPublish(const ros::Time& stamp, bool publish_su
   stats.collision_time = s.collision_seconds;
   stats.integrate_time = s.integrate_seconds;
   stats.contact_time = s.contact_seconds;
+  stats.cut_time = s.cut_seconds;
   stats.publish_time = last_publish_seconds_;
   stats.newton_iterations = static_cast<unsigned>(s.report.newton_iterations);
   stats.linear_iterations = static_cast<unsigned>(s.report.linear_iterations);
   stats.residual = s.report.residual;
   stats.energy = s.report.energy;
   stats.contacts = static_cast<unsigned>(s.contacts);
+  stats.pieces = static_cast<unsigned>(sim_->numComponents());
   stats.status = core::toString(s.report.status);
   stats.components = sim_->components();
   stats_pub_.publish(stats);
@@ -232,12 +255,13 @@ void TissueSimulatorNode::publishSurface(const ros::Time& stamp) {
   m.points.resize(3 * n_tri);
   m.colors.resize(3 * n_tri);
   const Eigen::VectorXd& x0 = sim_->model().restPositions();
+  const std::vector<bool>& cut = sim_->cutFaces();
   for (std::size_t t = 0; t < n_tri; ++t)
     for (int c = 0; c < 3; ++c) {
       const int node = surface.triangles(c, static_cast<Eigen::Index>(t));
       const Eigen::Vector3d p = x.segment<3>(3 * node);
       m.points[3 * t + c] = toPointMsg(p);
-      // Tissue pink, darkening with displacement; contact nodes red.
+      // Tissue pink, darkening with displacement; contact nodes red; cut faces dark red.
       const double d = std::min(1.0, (p - x0.segment<3>(3 * node)).norm() / 0.02);
       auto& col = m.colors[3 * t + c];
       col.a = 1.0;
@@ -245,6 +269,10 @@ void TissueSimulatorNode::publishSurface(const ros::Time& stamp) {
         col.r = 1.0f;
         col.g = 0.1f;
         col.b = 0.1f;
+      } else if (!cut.empty() && cut[t]) {
+        col.r = 0.55f;
+        col.g = 0.08f;
+        col.b = 0.12f;
       } else {
         col.r = static_cast<float>(0.95 - 0.35 * d);
         col.g = static_cast<float>(0.65 - 0.35 * d);

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "surgical_sim/BladeSweep.h"
 #include "surgical_sim/StepTissue.h"
 #include "surgical_sim/core/scene/tissue_simulation.h"
 
@@ -30,6 +31,9 @@ namespace surgical_sim::ros_layer {
 ///   ~tissue_frame (string, tissue) rest frame of the organ (tf world -> tissue published)
 ///   ~surface_rate (double, 30 Hz)  rate of tissue/surface in realtime mode, (0, 1000]
 ///   ~max_tool_distance (double, 5 m) poses farther than this from the world origin are rejected
+/// Subscribes cutting/blade_sweep (BladeSweep, any frame tf can resolve): each sweep is applied
+/// before the next step; tissue/stats reports its cost (cut_time) and the pieces; the surface
+/// marker draws cut faces in dark red.
 /// Scene errors throw std::invalid_argument from the constructor (main exits naming the key).
 class TissueSimulatorNode {
  public:
@@ -47,6 +51,7 @@ class TissueSimulatorNode {
   void onGrasp(const std_msgs::Bool::ConstPtr& msg, int tool);
   /// Jaws from the tool's grip joint in a JointState (e.g. trocar_device's joint_states).
   void onGrip(const sensor_msgs::JointState::ConstPtr& msg, int tool);
+  void onBladeSweep(const surgical_sim::BladeSweep::ConstPtr& msg);
   void onTimer();
   /// Steps once and publishes everything stamped `stamp`; returns false on a failed step.
   bool stepAndPublish(const ros::Time& stamp, bool publish_surface);
@@ -56,6 +61,8 @@ class TissueSimulatorNode {
   void publishTool(int tool, const ros::Time& stamp);
   /// Resolves a pose to the tissue frame; false (with a throttled warning) if impossible.
   bool toTissueFrame(const geometry_msgs::PoseStamped& msg, Eigen::Isometry3d& X_ST);
+  /// Pose X_SF of frame F in the tissue frame S; false (with a throttled warning) if unknown.
+  bool frameInTissue(const std::string& frame, Eigen::Isometry3d& X_SF);
   bool onReset(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
   bool onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res);
   bool onStep(surgical_sim::StepTissue::Request& req, surgical_sim::StepTissue::Response& res);
@@ -74,6 +81,7 @@ class TissueSimulatorNode {
 
   std::vector<ToolIo> tools_;
   ros::Publisher surface_pub_, tool_marker_pub_, stats_pub_;
+  ros::Subscriber blade_sub_;
   ros::ServiceServer reset_srv_, pause_srv_, step_srv_;
   ros::WallTimer timer_;
   tf2_ros::Buffer tf_buffer_;

@@ -4,6 +4,7 @@
 
 #include "surgical_sim/core/common/stopwatch.h"
 #include "surgical_sim/core/contact/contact_phase.h"
+#include "surgical_sim/core/cutting/cut_tissue_model.h"
 #include "surgical_sim/core/mesh/mesh_check.h"
 #include "surgical_sim/core/scene/tissue_case.h"
 #include "surgical_sim/core/solve/make_integrator.h"
@@ -13,11 +14,9 @@
 namespace surgical_sim::core {
 
 TissueSimulation::TissueSimulation(const SceneConfig& scene) : scene_(scene) {
-  mesh_ = buildSceneMesh(scene_.mesh, scene_.mesh.resolutions.front(),
-                         scene_.mesh.element_types.front());
-  requireValidMesh(mesh_);
-  surface_ = extractSurface(mesh_);
-  model_ = makeTissueModel(scene_.models.front(), mesh_, scene_.material);
+  original_mesh_ = buildSceneMesh(scene_.mesh, scene_.mesh.resolutions.front(),
+                                  scene_.mesh.element_types.front());
+  requireValidMesh(original_mesh_);
 
   PcgSettings pcg;
   pcg.max_iterations = scene_.pcg_max_iterations;
@@ -28,12 +27,32 @@ TissueSimulation::TissueSimulation(const SceneConfig& scene) : scene_(scene) {
   settings.relative_tolerance = scene_.newton_tolerance;
   integrator_ = makeIntegrator(scene_.integrators.front(), settings,
                                makeLinearSolver(scene_.solvers.front(), pcg));
+  problem_.damping.mass_coefficient = scene_.damping_mass;
+  problem_.damping.stiffness_coefficient = scene_.damping_stiffness;
+  if (!scene_.tools.empty()) {
+    ContactPhaseSettings contact;
+    contact.solver.max_iterations = 500;
+    contact.solver.relative_tolerance = 1e-6;
+    for (const ToolSpec& t : scene_.tools) {
+      ToolSettings tool;
+      tool.radius = t.radius;
+      tool.shaft_length = t.shaft_length;
+      tool.response = t.contact == "proxy" ? ContactResponse::Proxy : ContactResponse::Constraint;
+      tool.proxy_stiffness = t.contact == "proxy" ? t.proxy_stiffness : 1.0;
+      tool.grasp_radius = t.grasp_radius > 0.0 ? t.grasp_radius : 1e-9;
+      contact.tools.push_back(tool);
+    }
+    contact_settings_ = contact;
+  }
+  reset();
+}
 
+void TissueSimulation::installModel(std::unique_ptr<TissueModel> model) {
+  model_ = std::move(model);
   problem_.model = model_.get();
   base_force_ = model_->bodyForce(scene_.gravity);
   problem_.external_force = base_force_;
-  problem_.damping.mass_coefficient = scene_.damping_mass;
-  problem_.damping.stiffness_coefficient = scene_.damping_stiffness;
+  DirichletBc bc;
   std::vector<bool> taken(static_cast<std::size_t>(3 * mesh_.numNodes()), false);
   for (std::size_t i = 0; i < scene_.fixed.size(); ++i) {
     const auto dofs = regionDofs(mesh_, scene_.fixed[i].region, scene_.fixed[i].components);
@@ -43,51 +62,49 @@ TissueSimulation::TissueSimulation(const SceneConfig& scene) : scene_(scene) {
     for (int d : dofs)
       if (!taken[static_cast<std::size_t>(d)]) {
         taken[static_cast<std::size_t>(d)] = true;
-        problem_.dirichlet.dofs.push_back(d);
+        bc.dofs.push_back(d);
       }
   }
-  DirichletBc& bc = problem_.dirichlet;
   bc.positions.resize(static_cast<Eigen::Index>(bc.dofs.size()));
   for (std::size_t i = 0; i < bc.dofs.size(); ++i)
     bc.positions[static_cast<Eigen::Index>(i)] = model_->restPositions()[bc.dofs[i]];
   base_dirichlet_ = bc;
-  if (!scene_.tools.empty()) {
-    ContactPhaseSettings settings;
-    settings.solver.max_iterations = 500;
-    settings.solver.relative_tolerance = 1e-6;
-    for (const ToolSpec& t : scene_.tools) {
-      ToolSettings tool;
-      tool.radius = t.radius;
-      tool.shaft_length = t.shaft_length;
-      tool.response = t.contact == "proxy" ? ContactResponse::Proxy : ContactResponse::Constraint;
-      tool.proxy_stiffness = t.contact == "proxy" ? t.proxy_stiffness : 1.0;
-      tool.grasp_radius = t.grasp_radius > 0.0 ? t.grasp_radius : 1e-9;
-      settings.tools.push_back(tool);
-    }
-    contact_settings_ = settings;
-  }
-  reset();
+  problem_.dirichlet = bc;
+}
+
+void TissueSimulation::rebuildContact() {
+  if (scene_.tools.empty()) return;
+  contact_ = std::make_unique<ContactPhase>(surface_, model_->restPositions(), contact_settings_,
+                                            integrator_->name() != "quasi_static");
+  for (std::size_t i = 0; i < tool_poses_.size(); ++i)
+    if (tool_poses_[i]) contact_->setToolPose(static_cast<int>(i), *tool_poses_[i]);
 }
 
 TissueSimulation::~TissueSimulation() = default;
 
 void TissueSimulation::reset() {
+  // Back to the uncut scene: the original mesh and model, no cut structures.
+  cutter_.reset();
+  pending_cuts_.clear();
+  cut_faces_.clear();
+  mesh_ = original_mesh_;
+  surface_ = extractSurface(mesh_);
+  installModel(makeTissueModel(scene_.models.front(), mesh_, scene_.material));
   state_.x = model_->restPositions();
   state_.v = Eigen::VectorXd::Zero(state_.x.size());
   state_.time = 0.0;
-  problem_.external_force = base_force_;
-  problem_.dirichlet = base_dirichlet_;
+  x_previous_ = state_.x;
   contact_nodes_.clear();
   integrator_->reset();
   // A fresh contact phase: no carried constraint force, proxy or grasp survives a reset, so a
   // replay after reset is bit-identical to the first run.
-  if (!scene_.tools.empty()) {
-    contact_ = std::make_unique<ContactPhase>(surface_, model_->restPositions(), contact_settings_,
-                                              integrator_->name() != "quasi_static");
-  }
+  tool_poses_.assign(scene_.tools.size(), std::nullopt);
+  contact_.reset();
+  rebuildContact();
 }
 
 void TissueSimulation::setToolPose(int tool, const Eigen::Isometry3d& X_ST) {
+  if (tool >= 0 && tool < numTools()) tool_poses_[static_cast<std::size_t>(tool)] = X_ST;
   if (contact_) contact_->setToolPose(tool, X_ST);
 }
 
@@ -95,9 +112,41 @@ void TissueSimulation::setGrasp(int tool, bool closed) {
   if (contact_ && tool >= 0 && tool < numTools()) contact_->setGrasp(tool, closed);
 }
 
+void TissueSimulation::requestCut(const BladeSweep& sweep) {
+  validateBladeSweep(sweep);
+  if (!cutter_) cutter_ = std::make_unique<TetCutter>(mesh_, scene_.material.density);
+  pending_cuts_.push_back(sweep);
+}
+
+bool TissueSimulation::applyCuts() {
+  bool changed = false;
+  for (const BladeSweep& sweep : pending_cuts_) {
+    if (!cutter_->cut(sweep, x_previous_, state_.x).topology_changed) continue;
+    changed = true;
+    state_.x = cutter_->transfer(state_.x);
+    state_.v = cutter_->transfer(state_.v);
+    x_previous_ = cutter_->transfer(x_previous_);
+  }
+  pending_cuts_.clear();
+  if (!changed) return false;
+  mesh_ = cutter_->mesh();
+  surface_ = cutter_->surface();
+  cut_faces_ = cutter_->cutFaces();
+  installModel(makeCutTissueModel(scene_.models.front(), *cutter_, scene_.material));
+  integrator_->reset();  // new stiffness pattern: the linear solver re-analyses it
+  rebuildContact();
+  return true;
+}
+
 SimulationStepStats TissueSimulation::step() {
   SimulationStepStats stats;
   Stopwatch step_watch;
+  if (!pending_cuts_.empty()) {
+    Stopwatch cut_watch;
+    stats.topology_changed = applyCuts();
+    stats.cut_seconds = cut_watch.seconds();
+  }
+  x_previous_ = state_.x;
   if (contact_)
     contact_->prepareStep(state_.x, base_force_, base_dirichlet_, problem_.external_force,
                           problem_.dirichlet);
@@ -128,6 +177,7 @@ std::vector<std::string> TissueSimulation::components() const {
                                 "integrator:" + integrator_->name()};
   if (problem_.damping.active()) c.push_back("damping");
   if (contact_) c.push_back("contact");
+  if (cutter_) c.push_back("cutting");
   return c;
 }
 

@@ -76,5 +76,75 @@ TEST(TissueSimulation, PalpationForceRisesWithIndentationAndVanishesAway) {
   EXPECT_EQ(sim.state().x, sim.model().restPositions());
 }
 
+/// A 20 cm blade along y at x = x_cut moving down from z_from to z_to [m].
+BladeSweep bladeDown(double x_cut, double z_from, double z_to) {
+  BladeSweep sweep;
+  sweep.start.resize(3, 2);
+  sweep.end.resize(3, 2);
+  sweep.start << x_cut, x_cut, -0.1, 0.1, z_from, z_from;
+  sweep.end << x_cut, x_cut, -0.1, 0.1, z_to, z_to;
+  return sweep;
+}
+
+double totalMass(const TissueSimulation& sim) { return sim.model().lumpedMass().sum() / 3.0; }
+
+TEST(TissueSimulation, CutThroughSplitsTheOrganKeepsItsMassAndKeepsStepping) {
+  TissueSimulation sim(palpationScene());
+  const double mass = totalMass(sim);
+  EXPECT_FALSE(has(sim.components(), "cutting"));
+  EXPECT_EQ(sim.step().cut_seconds, 0.0);
+  sim.requestCut(bladeDown(0.0031, 0.05, 0.0));  // shallow: stops at mid-height
+  SimulationStepStats s = sim.step();
+  EXPECT_TRUE(s.topology_changed);
+  EXPECT_GT(s.cut_seconds, 0.0);
+  EXPECT_TRUE(has(sim.components(), "cutting"));
+  EXPECT_EQ(sim.numComponents(), 1);
+  sim.requestCut(bladeDown(0.0031, 0.0, -0.05));  // the rest of the way
+  s = sim.step();
+  // The step right after the separation may stop its energy line search early (NotConverged:
+  // finite and usable); it must not fail.
+  EXPECT_TRUE(s.report.status == StepStatus::Ok || s.report.status == StepStatus::NotConverged);
+  EXPECT_EQ(sim.numComponents(), 2);
+  EXPECT_NEAR(totalMass(sim), mass, 1e-12 * mass);
+  EXPECT_EQ(sim.cutFaces().size(), static_cast<std::size_t>(sim.surface().triangles.cols()));
+  int cut_faces = 0;
+  for (bool c : sim.cutFaces()) cut_faces += c;
+  EXPECT_GT(cut_faces, 0);
+  for (int k = 0; k < 5; ++k) EXPECT_EQ(sim.step().report.status, StepStatus::Ok);
+  EXPECT_TRUE(sim.state().x.allFinite());
+  EXPECT_THROW(sim.requestCut(BladeSweep{}), std::invalid_argument);
+  sim.reset();
+  EXPECT_EQ(sim.numComponents(), 1);
+  EXPECT_FALSE(has(sim.components(), "cutting"));
+}
+
+TEST(TissueSimulation, CuttingSceneCutThroughByAMovingVerticalBladeGivesTwoPieces) {
+  // The motion of test/data/cutting.bag: a vertical 70 mm blade (tip 11 mm below the organ)
+  // crossing the organ along y at x = 3.1 mm in 100 steps, with the tool tip moving with it.
+  TissueSimulation sim(
+      loadSceneConfig(std::string(SURGICAL_SIM_SOURCE_DIR) + "/config/scenes/cutting.yaml"));
+  const double mass = totalMass(sim);
+  const double tip_z = -0.036, x = 0.0031;
+  auto blade = [&](double y) {
+    Eigen::Matrix3Xd b(3, 2);
+    b << x, x, y, y, tip_z, tip_z + 0.07;
+    return b;
+  };
+  for (int k = 0; k < 100; ++k) {
+    const double y0 = -0.07 + 0.0014 * k, y1 = y0 + 0.0014;
+    sim.setToolPose(0, toolAt(Eigen::Vector3d(x, y1, tip_z)));
+    sim.requestCut(BladeSweep{blade(y0), blade(y1)});
+    const StepStatus status = sim.step().report.status;
+    ASSERT_TRUE(status == StepStatus::Ok || status == StepStatus::NotConverged) << "step " << k;
+    if (k == 50) {
+      EXPECT_EQ(sim.numComponents(), 1);  // half-way across: still one piece
+    }
+  }
+  for (int k = 0; k < 20; ++k) sim.step();
+  EXPECT_EQ(sim.numComponents(), 2);
+  EXPECT_NEAR(totalMass(sim), mass, 1e-12 * mass);
+  EXPECT_TRUE(sim.state().x.allFinite());
+}
+
 }  // namespace
 }  // namespace surgical_sim::core

@@ -2,12 +2,15 @@
 
 #include <Eigen/Geometry>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "surgical_sim/core/common/status.h"
 #include "surgical_sim/core/contact/contact_phase.h"
 #include "surgical_sim/core/contact/contact_point.h"
+#include "surgical_sim/core/cutting/blade_sweep.h"
+#include "surgical_sim/core/cutting/tet_cutter.h"
 #include "surgical_sim/core/mesh/surface.h"
 #include "surgical_sim/core/mesh/tet_mesh.h"
 #include "surgical_sim/core/scene/scene_config.h"
@@ -25,6 +28,10 @@ struct SimulationStepStats {
   double collision_seconds = 0.0;
   double integrate_seconds = 0.0;
   double contact_seconds = 0.0;
+  /// Blade detection and topology update (cutter, masses, model, surface, contact) [s]; 0 for a
+  /// scene that never received a cut.
+  double cut_seconds = 0.0;
+  bool topology_changed = false;  ///< a cut changed the mesh during this step
   int contacts = 0;
 };
 
@@ -49,6 +56,17 @@ class TissueSimulation {
   void setToolPose(int tool, const Eigen::Isometry3d& X_ST);
   /// Closes (true) or opens the tool's jaws: closing attaches the nearby surface nodes.
   void setGrasp(int tool, bool closed);
+  /// Queues a blade sweep (tissue frame [m]) that the next step() applies before integrating,
+  /// with the tissue moving linearly from its positions at the previous step to the current ones.
+  /// The first request builds the cutter (no cut structures before). A cut that changes the
+  /// topology rebuilds the masses, the model (the solver re-analyses the new pattern), the
+  /// boundary conditions, the surface and the contact structures; grasps are released.
+  /// @throws std::invalid_argument for an invalid sweep or a scene mesh that is not tet4.
+  void requestCut(const BladeSweep& sweep);
+  /// Connected pieces of the tissue (1 before any cut).
+  int numComponents() const { return cutter_ ? cutter_->numComponents() : 1; }
+  /// Per surface triangle: true on a cut (empty before any cut).
+  const std::vector<bool>& cutFaces() const { return cut_faces_; }
 
   int numTools() const { return static_cast<int>(scene_.tools.size()); }
   const SceneConfig& scene() const { return scene_; }
@@ -65,7 +83,15 @@ class TissueSimulation {
   std::vector<std::string> components() const;
 
  private:
+  /// Makes `model` the simulated model: body force, boundary conditions (scene regions).
+  void installModel(std::unique_ptr<TissueModel> model);
+  /// New contact structures on the current surface, with the last tool poses.
+  void rebuildContact();
+  /// Applies the queued cuts; returns true if the topology changed.
+  bool applyCuts();
+
   SceneConfig scene_;
+  TetMesh original_mesh_;
   TetMesh mesh_;
   SurfaceMesh surface_;
   std::unique_ptr<TissueModel> model_;
@@ -77,6 +103,11 @@ class TissueSimulation {
   std::unique_ptr<ContactPhase> contact_;  ///< null for a scene without tools
   ContactPhaseSettings contact_settings_;
   std::vector<int> contact_nodes_;
+  std::vector<std::optional<Eigen::Isometry3d>> tool_poses_;  ///< last X_ST of each tool, if any
+  std::unique_ptr<TetCutter> cutter_;                         ///< null until the first cut request
+  std::vector<BladeSweep> pending_cuts_;
+  Eigen::VectorXd x_previous_;  ///< positions at the start of the last step [m]
+  std::vector<bool> cut_faces_;
 };
 
 }  // namespace surgical_sim::core

@@ -1,0 +1,20 @@
+#pragma once
+
+#include <Eigen/Core>
+
+#include "surgical_sim/core/tissue/tissue_model.h"
+
+namespace surgical_sim::core {
+
+/// Static tip deflection of a (possibly cut) cantilever along x (T3 in BENCHMARKS.md): nodes at
+/// rest x <= 1e-9 length are clamped, a uniform body acceleration `load` [m/s^2] acts on the
+/// model's masses (bodyForce). The static equilibrium is found by an overdamped relaxation
+/// (linearized implicit Euler, CHOLMOD, dt = 1 s, mass damping 1e3 1/s) until the tip moves less
+/// than 1e-9 of its deflection in a step: unlike a pure quasi-static solve, this tolerates the
+/// virtual nodes of a cut, which may hang on a single real node (a mechanism of K alone).
+/// length = largest rest x.
+/// @return mean displacement along load of the nodes at the free end (rest x >= length
+///         (1 - 1e-9)) [m], or NaN if a step fails or 500 steps do not converge.
+double beamTipDeflection(const TissueModel& model, const Eigen::Vector3d& load);
+
+}  // namespace surgical_sim::core

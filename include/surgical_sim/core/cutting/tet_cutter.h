@@ -1,0 +1,152 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "surgical_sim/core/cutting/blade_sweep.h"
+#include "surgical_sim/core/mesh/surface.h"
+#include "surgical_sim/core/mesh/tet_mesh.h"
+
+namespace surgical_sim::core {
+
+/// Result of one topology update of a TetCutter.
+struct CutUpdate {
+  /// Elements or nodes changed. Then (and only then) the caller must rebuild the tissue model
+  /// (new stiffness pattern: CHOLMOD re-analyses), the masses, the surface and the contact
+  /// structures, and transfer the state with TetCutter::transfer(). A blade that crosses edges
+  /// without separating any element's nodes (cut front inside the tissue) leaves it false.
+  bool topology_changed = false;
+  int edges_cut = 0;            ///< tissue edges newly crossed by the blade
+  double detect_seconds = 0.0;  ///< continuous blade-edge detection, wall clock [s]
+  double update_seconds = 0.0;  ///< topology rebuild (elements, masses, surface), wall clock [s]
+};
+
+/// A point of the embedded cut surface: (1 - w) x[node_a] + w x[node_b], on an element edge.
+struct EmbeddedCutPoint {
+  int node_a = 0;  ///< node of the current mesh on the fragment's side (real node)
+  int node_b = 0;  ///< node of the current mesh on the other side (virtual node of the copy)
+  double w = 0.0;  ///< [-], in [0, 1]
+};
+
+/// Progressive cutting of a Tet4 mesh with the virtual node algorithm (Molino, Bao, Fedkiw 2004),
+/// restricted to node-separating cuts.
+///
+/// The cutter keeps the original (uncut) mesh and, for each of its edges, whether the blade has
+/// crossed it and where (parameter s from the lower-numbered node, the same in rest and deformed
+/// configurations). Element e's corners are split into fragments, the connected components of its
+/// 4 corners over its uncut edges; each fragment becomes a copy of the element that keeps its
+/// real corners and gets virtual nodes for the others. Copies of neighbouring elements are glued
+/// across their shared face: at all three corners when they hold the same real nodes on it (the
+/// material continues, virtual nodes included), otherwise at the real nodes both hold. Nodes are
+/// the classes of (copy, corner) under this gluing: a node is duplicated iff the cut disconnects
+/// the material around it, so a complete cut leaves two pieces that share no node, and a partial
+/// cut opens where it crossed and stays connected around its front, which ends on element faces
+/// (an element the blade has entered without separating its corners is not split). The front's
+/// edges carry 4 surface triangles (the two lips of the crack meet there); elsewhere the surface
+/// is closed and manifold. Restriction (as in Molino et al.): an element is split by the pattern
+/// of its cut edges (at most one cut surface per element); several cuts crossing inside one
+/// element are merged into that pattern.
+///
+/// Masses: each copy weighs rho V_e times its fragment's material fraction
+/// (fragmentVolumeFractions()), lumped equally on its 4 nodes, so the total mass is conserved
+/// exactly. Each copy keeps the full element's stiffness (as in Molino et al.).
+///
+/// The simple mode of Chendeb (element removal, e.g. above a strain threshold) removes every
+/// copy of an original element; its mass goes to the remaining nodes of its corners, or to
+/// removedMass() when none remains.
+///
+/// Every topology update is a rebuild in O(m) time (m original elements).
+class TetCutter {
+ public:
+  /// @param rest_mesh Tet4 mesh [m] passing requireValidMesh().
+  /// @param density rho [kg/m^3], finite and > 0.
+  /// @throws std::invalid_argument for a Tet10 or invalid mesh or a bad density.
+  TetCutter(const TetMesh& rest_mesh, double density);
+
+  /// Cuts with a blade sweep. Nodes move linearly from x_start to x_end over the step
+  /// (deformed positions of the current mesh, tissue frame, size 3 n [m]); every uncut material
+  /// edge is tested with edgeSweepCrossing() (tolerance 1e-9 of the mesh's bounding-box
+  /// diagonal) after a swept-box rejection.
+  /// @throws std::invalid_argument for a bad sweep or position vectors not of size 3 n.
+  CutUpdate cut(const BladeSweep& sweep, const Eigen::VectorXd& x_start,
+                const Eigen::VectorXd& x_end);
+
+  /// Removes the original elements of the given current elements (all their copies).
+  /// @throws std::invalid_argument for an index out of range.
+  CutUpdate removeElements(const std::vector<int>& elements);
+
+  /// Current elements whose Green strain E = (F^T F - I) / 2 has a Frobenius norm above
+  /// max_strain [-] at deformed positions x (size 3 n) (Chendeb's removal criterion).
+  std::vector<int> overstrainedElements(const Eigen::VectorXd& x, double max_strain) const;
+
+  /// Current (virtual-node) mesh at rest [m]: copies of original elements, positively oriented.
+  const TetMesh& mesh() const { return mesh_; }
+  /// Lumped node mass [kg], size 3 n (value repeated for x, y, z).
+  const Eigen::VectorXd& lumpedMass() const { return lumped_mass_; }
+  /// Original node of each current node.
+  const std::vector<int>& nodeOrigin() const { return node_origin_; }
+  /// Original element of each current element.
+  const std::vector<int>& elementOrigin() const { return element_origin_; }
+  /// Material fraction of each current element [-].
+  const std::vector<double>& elementFraction() const { return element_fraction_; }
+  /// Node-major vector (size 3 n_old, e.g. positions or velocities) of the mesh before the last
+  /// topology change, mapped to the current nodes: each node takes the value of its parent.
+  Eigen::VectorXd transfer(const Eigen::VectorXd& old_values) const;
+  /// Outward boundary surface of the current mesh (closed for each piece).
+  const SurfaceMesh& surface() const { return surface_; }
+  /// For each surface triangle: true if it is not a face of the original boundary (it lies on a
+  /// cut: either a face of a split element or a face exposed by element removal).
+  const std::vector<bool>& cutFaces() const { return cut_faces_; }
+  /// Embedded cut surface (the part of the blade's swept surface inside each split element, as
+  /// seen by each copy), 3 points per triangle, oriented away from the copy's real nodes.
+  const std::vector<std::array<EmbeddedCutPoint, 3>>& cutTriangles() const {
+    return cut_triangles_;
+  }
+  /// Connected component (0..numComponents()-1) of each current node.
+  const std::vector<int>& nodeComponent() const { return node_component_; }
+  int numComponents() const { return num_components_; }
+  /// Original edges crossed by the blade so far.
+  int numCutEdges() const { return num_cut_edges_; }
+  /// Mass [kg] of removed elements that had no remaining node to go to.
+  double removedMass() const { return removed_mass_; }
+
+ private:
+  struct Copy {
+    int element;  ///< original element
+    int mask;     ///< real corners (bit i = local corner i)
+    double fraction;
+  };
+  void rebuild();
+  int partition(int element, const std::vector<std::uint8_t>& cut, std::array<int, 4>& masks) const;
+  std::array<double, 6> localCutParameters(int element) const;
+
+  TetMesh original_;
+  double density_;
+  double tolerance_;                       ///< CCD distance tolerance [m]
+  std::vector<std::array<int, 2>> edges_;  ///< original edges (lower node, higher node)
+  std::vector<std::array<int, 6>> element_edges_;
+  std::vector<std::array<int, 2>> face_neighbour_;  ///< (element, local face) -> (element, face)
+  std::vector<double> element_volume_;
+  std::vector<std::uint8_t> edge_cut_;
+  std::vector<double> edge_s_;
+  std::vector<std::uint8_t> removed_;
+  int num_cut_edges_ = 0;
+  double removed_mass_ = 0.0;
+
+  std::vector<Copy> copies_;
+  std::vector<int> copy_offsets_;  ///< copies of element e: [copy_offsets_[e], [e + 1])
+  TetMesh mesh_;
+  Eigen::VectorXd lumped_mass_;
+  std::vector<int> node_origin_, element_origin_, parent_node_, node_component_;
+  std::vector<double> element_fraction_;
+  std::vector<std::array<int, 2>> edge_representative_;  ///< current nodes of an uncut edge
+  SurfaceMesh surface_;
+  std::vector<bool> cut_faces_;
+  std::vector<std::array<EmbeddedCutPoint, 3>> cut_triangles_;
+  int num_components_ = 0;
+  int old_num_nodes_ = 0;
+};
+
+}  // namespace surgical_sim::core

@@ -1,0 +1,92 @@
+#!/usr/bin/python3
+"""Plots the P2 cutting benchmark (cutting_bench) CSVs of a report directory.
+
+usage: plot_cutting.py DIR
+Reads DIR/cutting_update.csv, cutting_step.csv, cutting_error.csv, cutting_t3c.csv and writes
+DIR/cutting_update.png (update time per topology change against the sweep index, one series per
+mesh size), cutting_step.png (step and cut time per step at ~10k elements) and cutting_error.png
+(cut-surface error against update time, embedded cut surface and element faces).
+"""
+import csv
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def rows(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def plot_update(d):
+    series = {}
+    for r in rows(os.path.join(d, "cutting_update.csv")):
+        if r["topology_changed"] == "1":
+            series.setdefault(int(r["elements"]), []).append(
+                (int(r["sweep"]), float(r["total_ms"])))
+    fig, ax = plt.subplots(figsize=(7.5, 5))
+    for elements, pts in sorted(series.items()):
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], ".-", label="%d elements" % elements)
+    ax.set_xlabel("blade sweep (10 cuts x 10 sweeps)")
+    ax.set_ylabel("detection + topology update [ms]")
+    ax.set_yscale("log")
+    ax.set_title("P2: cut update time per sweep that changed the topology")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(d, "cutting_update.png"), dpi=120)
+
+
+def plot_step(d):
+    data = rows(os.path.join(d, "cutting_step.csv"))
+    steps = [int(r["step"]) for r in data]
+    fig, ax = plt.subplots(figsize=(7.5, 5))
+    for key, label in (("step_ms", "whole step"), ("cut_ms", "cut (detection, topology, rebuild)"),
+                       ("integrate_ms", "integrator")):
+        ax.plot(steps, [float(r[key]) for r in data], label=label)
+    ax.axhline(30.0, color="k", linestyle="--", linewidth=0.8, label="30 ms target")
+    ax.set_xlabel("step (blade active in steps 40-99)")
+    ax.set_ylabel("wall time [ms]")
+    ax.set_title("P2: palpation organ, %s elements at the end" % data[-1]["elements"])
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(d, "cutting_step.png"), dpi=120)
+
+
+def plot_error(d):
+    data = rows(os.path.join(d, "cutting_error.csv"))
+    t = [float(r["update_ms"]) for r in data]
+    fig, ax = plt.subplots(figsize=(7.5, 5))
+    ax.plot(t, [max(float(r["embedded_max_m"]), 1e-18) for r in data], "o-",
+            label="embedded cut surface (max)")
+    ax.plot(t, [float(r["faces_rms_m"]) for r in data], "s-", label="element faces of the cut (rms)")
+    for r, x in zip(data, t):
+        ax.annotate(r["elements"], (x, float(r["faces_rms_m"])), fontsize=7)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("cut update time [ms]")
+    ax.set_ylabel("distance to the blade's swept surface [m]")
+    ax.set_title("P2: cut-surface error vs update time (labels: elements)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(d, "cutting_error.png"), dpi=120)
+
+
+def main(argv):
+    if len(argv) != 2:
+        print(__doc__, file=sys.stderr)
+        return 2
+    plot_update(argv[1])
+    plot_step(argv[1])
+    plot_error(argv[1])
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

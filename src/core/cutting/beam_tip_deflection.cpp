@@ -1,0 +1,51 @@
+#include "surgical_sim/core/cutting/beam_tip_deflection.h"
+
+#include <limits>
+#include <vector>
+
+#include "surgical_sim/core/solve/make_integrator.h"
+#include "surgical_sim/core/solve/make_linear_solver.h"
+
+namespace surgical_sim::core {
+
+double beamTipDeflection(const TissueModel& model, const Eigen::Vector3d& load) {
+  const Eigen::VectorXd& rest = model.restPositions();
+  const int n = model.numNodes();
+  double length = 0.0;
+  for (int v = 0; v < n; ++v) length = std::max(length, rest[3 * v]);
+  DynamicsProblem problem;
+  problem.model = &model;
+  problem.external_force = model.bodyForce(load);
+  std::vector<int> tip;
+  for (int v = 0; v < n; ++v) {
+    const double x = rest[3 * v];
+    if (x <= 1e-9 * length)
+      for (int k = 0; k < 3; ++k) problem.dirichlet.dofs.push_back(3 * v + k);
+    if (x >= length * (1.0 - 1e-9)) tip.push_back(v);
+  }
+  problem.dirichlet.positions.resize(static_cast<Eigen::Index>(problem.dirichlet.dofs.size()));
+  for (std::size_t i = 0; i < problem.dirichlet.dofs.size(); ++i)
+    problem.dirichlet.positions[static_cast<Eigen::Index>(i)] = rest[problem.dirichlet.dofs[i]];
+  problem.damping.mass_coefficient = 1e3;  // [1/s]: heavily overdamped relaxation
+  SimulationState state{rest, Eigen::VectorXd::Zero(rest.size()), 0.0};
+  const auto integrator =
+      makeIntegrator("implicit_euler_linearized", {}, makeLinearSolver("cholmod", {}));
+  const Eigen::Vector3d direction = load.normalized();
+  auto tipDeflection = [&] {
+    double sum = 0.0;
+    for (int v : tip) sum += (state.x - rest).segment<3>(3 * v).dot(direction);
+    return sum / static_cast<double>(tip.size());
+  };
+  double previous = 0.0;
+  for (int step = 0; step < 500; ++step) {
+    const StepStatus status = integrator->step(problem, 1.0, state).status;
+    if (status != StepStatus::Ok && status != StepStatus::NotConverged)
+      return std::numeric_limits<double>::quiet_NaN();
+    const double w = tipDeflection();
+    if (step > 0 && std::abs(w - previous) <= 1e-9 * std::abs(w)) return w;
+    previous = w;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+}  // namespace surgical_sim::core

@@ -1,0 +1,266 @@
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+
+#include "surgical_sim/core/cutting/beam_tip_deflection.h"
+#include "surgical_sim/core/cutting/cut_fuzz.h"
+#include "surgical_sim/core/cutting/cut_tissue_model.h"
+#include "surgical_sim/core/cutting/tet_cutter.h"
+#include "surgical_sim/core/mesh/generators.h"
+#include "surgical_sim/core/mesh/mesh_check.h"
+#include "surgical_sim/core/mesh/surface_closure.h"
+#include "surgical_sim/core/solve/make_integrator.h"
+#include "surgical_sim/core/solve/make_linear_solver.h"
+#include "surgical_sim/core/tissue/model_factory.h"
+
+namespace surgical_sim::core {
+namespace {
+
+/// A blade segment along y (from y = -w to w) at x = x_cut, moving down from z = z0 to z1.
+BladeSweep verticalCut(double x_cut, double w, double z0, double z1) {
+  BladeSweep s;
+  s.start.resize(3, 2);
+  s.end.resize(3, 2);
+  s.start << x_cut, x_cut, -w, w, z0, z0;
+  s.end << x_cut, x_cut, -w, w, z1, z1;
+  return s;
+}
+
+/// Problems of a cut mesh (cutMeshProblem), reported as a test failure; 0 or 1.
+int topologyErrors(const TetMesh& mesh) {
+  const std::string problem = cutMeshProblem(mesh);
+  if (!problem.empty()) ADD_FAILURE() << problem;
+  return problem.empty() ? 0 : 1;
+}
+
+/// Edges where more than two surface triangles meet.
+int pinchedEdges(const TetMesh& mesh) {
+  return checkSurfaceClosure(extractSurface(mesh).triangles).pinched_edges;
+}
+
+TEST(TetCutter, RejectsBadInputNamingTheProblem) {
+  const TetMesh tet10 = makeBeam(1, 1, 1, Eigen::Vector3i(1, 1, 1), ElementType::Tet10);
+  EXPECT_THROW(TetCutter(tet10, 1000.0), std::invalid_argument);
+  const TetMesh tet4 = makeBeam(1, 1, 1, Eigen::Vector3i(1, 1, 1), ElementType::Tet4);
+  EXPECT_THROW(TetCutter(tet4, 0.0), std::invalid_argument);
+  TetCutter cutter(tet4, 1000.0);
+  BladeSweep one_point;
+  one_point.start = Eigen::Matrix3Xd::Zero(3, 1);
+  one_point.end = Eigen::Matrix3Xd::Zero(3, 1);
+  const Eigen::VectorXd x = Eigen::VectorXd::Zero(3 * tet4.numNodes());
+  EXPECT_THROW(cutter.cut(one_point, x, x), std::invalid_argument);
+  EXPECT_THROW(cutter.cut(verticalCut(0.5, 1, 1, -1), x.head(3), x), std::invalid_argument);
+}
+
+TEST(TetCutter, BladePassingThroughAnElementWithinOneStepSplitsIt) {
+  // One tet, the blade jumps from far above to far below it in a single step.
+  TetMesh tet;
+  tet.nodes.resize(3, 4);
+  tet.nodes << 0, 1, 0, 0,  //
+      0, 0, 1, 0,           //
+      0, 0, 0, 1;
+  tet.elements.resize(4, 1);
+  tet.elements << 0, 1, 2, 3;
+  TetCutter cutter(tet, 1000.0);
+  Eigen::Map<const Eigen::VectorXd> x(tet.nodes.data(), 12);
+  const CutUpdate u = cutter.cut(verticalCut(0.3, 5, 100, -100), x, x);
+  EXPECT_TRUE(u.topology_changed);
+  EXPECT_EQ(u.edges_cut, 3);  // plane x = 0.3 crosses the edges of corner 1
+  EXPECT_EQ(cutter.mesh().numElements(), 2);
+  EXPECT_EQ(cutter.numComponents(), 2);
+  EXPECT_EQ(cutter.mesh().numNodes(), 8);
+  // Corner (1,0,0) is cut off at x = 0.3: fraction 0.7^3.
+  const auto& f = cutter.elementFraction();
+  EXPECT_NEAR(std::min(f[0], f[1]), 0.343, 1e-9);
+  EXPECT_NEAR(cutter.lumpedMass().sum() / 3.0, 1000.0 / 6.0, 1e-9);
+  // Embedded cut triangle of each copy lies on the plane x = 0.3.
+  ASSERT_EQ(cutter.cutTriangles().size(), 2u);
+  for (const auto& tri : cutter.cutTriangles())
+    for (const EmbeddedCutPoint& p : tri) {
+      const Eigen::Vector3d q =
+          (1 - p.w) * cutter.mesh().nodes.col(p.node_a) + p.w * cutter.mesh().nodes.col(p.node_b);
+      EXPECT_NEAR(q.x(), 0.3, 1e-9);
+    }
+  // Cut triangles face away from their copy's real corner(s).
+  for (const auto& tri : cutter.cutTriangles()) {
+    Eigen::Vector3d p[3];
+    for (int k = 0; k < 3; ++k)
+      p[k] = (1 - tri[k].w) * cutter.mesh().nodes.col(tri[k].node_a) +
+             tri[k].w * cutter.mesh().nodes.col(tri[k].node_b);
+    const Eigen::Vector3d n = (p[1] - p[0]).cross(p[2] - p[0]);
+    const Eigen::Vector3d real = cutter.mesh().nodes.col(tri[0].node_a);
+    EXPECT_GT(n.dot(p[0] - real), 0.0);
+  }
+  // The state transfer gives every node its parent's value: rest positions map onto themselves.
+  const Eigen::VectorXd moved = cutter.transfer(x);
+  EXPECT_TRUE(moved.isApprox(Eigen::Map<const Eigen::VectorXd>(cutter.mesh().nodes.data(), 24)));
+  EXPECT_THROW(cutter.transfer(moved), std::invalid_argument);
+  EXPECT_EQ(topologyErrors(cutter.mesh()), 0);
+}
+
+TEST(TetCutter, PartialCutDoesNotSeparateUntilTheBladeGoesThrough) {
+  const TetMesh beam = makeBeam(0.1, 0.02, 0.02, Eigen::Vector3i(10, 2, 2), ElementType::Tet4);
+  TetCutter cutter(beam, 1000.0);
+  const double x_cut = 0.0525;  // inside the 6th layer of cells
+  Eigen::Map<const Eigen::VectorXd> x(beam.nodes.data(), 3 * beam.numNodes());
+  const CutUpdate first = cutter.cut(verticalCut(x_cut, 0.05, 0.05, 0.0025), x, x);
+  EXPECT_GT(first.edges_cut, 0);
+  EXPECT_EQ(cutter.numComponents(), 1);
+  EXPECT_EQ(topologyErrors(cutter.mesh()), 0);
+  const TetMesh& cut = cutter.mesh();
+  Eigen::Map<const Eigen::VectorXd> y(cut.nodes.data(), 3 * cut.numNodes());
+  EXPECT_GT(pinchedEdges(cutter.mesh()), 0);  // the crack front, where the two lips meet
+  cutter.cut(verticalCut(x_cut, 0.05, 0.0025, -0.05), y, y);
+  EXPECT_EQ(cutter.numComponents(), 2);
+  EXPECT_EQ(topologyErrors(cutter.mesh()), 0);
+  EXPECT_EQ(pinchedEdges(cutter.mesh()), 0);  // cut through: both pieces are manifold
+}
+
+TEST(TetCutter, BeamCutThroughGivesTwoBodiesWithTheMassAndTheFreePieceFalls) {
+  const double rho = 1000.0;
+  const TetMesh beam = makeBeam(0.1, 0.02, 0.02, Eigen::Vector3i(10, 2, 2), ElementType::Tet4);
+  TetCutter cutter(beam, rho);
+  Eigen::Map<const Eigen::VectorXd> x0(beam.nodes.data(), 3 * beam.numNodes());
+  cutter.cut(verticalCut(0.0525, 0.05, 0.05, -0.05), x0, x0);
+  ASSERT_EQ(cutter.numComponents(), 2);
+  const double total = rho * 0.1 * 0.02 * 0.02;
+  const Eigen::VectorXd& m = cutter.lumpedMass();
+  std::array<double, 2> piece{0, 0};
+  for (int v = 0; v < cutter.mesh().numNodes(); ++v) piece[cutter.nodeComponent()[v]] += m[3 * v];
+  EXPECT_NEAR(piece[0] + piece[1], total, 1e-12 * total);
+  // The cut at x = 0.0525 leaves 52.5 % of the beam on the clamped side.
+  const int clamped = cutter.nodeComponent()[0];  // node 0 is at x = 0
+  EXPECT_NEAR(piece[clamped], 0.525 * total, 1e-9 * total);
+  // Cut faces lie in the cut cell layer x in [0.05, 0.06]; the others on the original boundary.
+  int cut_faces = 0;
+  const SurfaceMesh& surface = cutter.surface();
+  for (Eigen::Index t = 0; t < surface.triangles.cols(); ++t) {
+    if (!cutter.cutFaces()[static_cast<std::size_t>(t)]) continue;
+    ++cut_faces;
+    for (int k = 0; k < 3; ++k) {
+      const double x = cutter.mesh().nodes(0, surface.triangles(k, t));
+      EXPECT_TRUE(x > 0.05 - 1e-12 && x < 0.06 + 1e-12) << x;
+    }
+  }
+  EXPECT_GT(cut_faces, 0);
+
+  // Clamp x = 0 and simulate with linearized implicit Euler under gravity.
+  const Material material = Material::create(5e4, 0.3, rho);
+  const auto model = makeCutTissueModel("corotational", cutter, material);
+  DynamicsProblem problem;
+  problem.model = model.get();
+  const Eigen::Vector3d g(0, 0, -9.81);
+  problem.external_force = model->bodyForce(g);
+  for (int v = 0; v < cutter.mesh().numNodes(); ++v)
+    if (cutter.mesh().nodes(0, v) < 1e-12)
+      for (int k = 0; k < 3; ++k) problem.dirichlet.dofs.push_back(3 * v + k);
+  problem.dirichlet.positions =
+      Eigen::VectorXd::Zero(static_cast<Eigen::Index>(problem.dirichlet.dofs.size()));
+  for (std::size_t i = 0; i < problem.dirichlet.dofs.size(); ++i)
+    problem.dirichlet.positions[static_cast<Eigen::Index>(i)] =
+        model->restPositions()[problem.dirichlet.dofs[i]];
+  SimulationState state{model->restPositions(),
+                        Eigen::VectorXd::Zero(model->restPositions().size()), 0.0};
+  const auto integrator =
+      makeIntegrator("implicit_euler_linearized", {}, makeLinearSolver("cholmod", {}));
+  const double dt = 0.01;
+  const int steps = 20;
+  for (int i = 0; i < steps; ++i)
+    ASSERT_EQ(integrator->step(problem, dt, state).status, StepStatus::Ok);
+  // Free piece: internal forces cancel, so its mass centre falls exactly as implicit Euler
+  // integrates free fall: z_n = -g dt^2 n (n + 1) / 2.
+  double free_mass = 0.0, free_dz = 0.0, clamped_dz = 0.0;
+  for (int v = 0; v < cutter.mesh().numNodes(); ++v) {
+    const double dz = state.x[3 * v + 2] - model->restPositions()[3 * v + 2];
+    if (cutter.nodeComponent()[v] == clamped) {
+      clamped_dz = std::min(clamped_dz, dz);
+    } else {
+      free_mass += m[3 * v];
+      free_dz += m[3 * v] * dz;
+    }
+  }
+  const double expected = -9.81 * dt * dt * steps * (steps + 1) / 2.0;
+  EXPECT_NEAR(free_dz / free_mass, expected, 1e-6 * std::abs(expected));
+  EXPECT_GT(clamped_dz, 0.2 * expected);  // the clamped half only sags
+}
+
+TEST(BeamTipDeflection, AxialBodyForceStretchMatchesTheClosedForm) {
+  // T3(b): tip u = rho g L^2 / (2 E) for nu = 0 (no lateral contraction at the clamp).
+  const double L = 0.1, E = 1e7, rho = 1000.0, g = 9.81;
+  const TetMesh beam = makeHexagonalBeam(0.01, L, 10, 1, ElementType::Tet4);
+  const auto model = makeTissueModel("corotational", beam, Material::create(E, 0.0, rho));
+  const double u = beamTipDeflection(*model, Eigen::Vector3d(g, 0, 0));
+  EXPECT_NEAR(u, rho * g * L * L / (2 * E), 1e-3 * rho * g * L * L / (2 * E));
+}
+
+TEST(TetCutter, HalfWidthCutAtMidLengthIncreasesTheBendDeflection) {
+  // T3(c): hexagonal beam, side a, length 10 a, clamped at x = 0, body force along -z; a blade
+  // along y enters from the top and stops at the axis (half the width) at mid-length.
+  const double a = 0.01, L = 0.1;
+  const TetMesh beam = makeHexagonalBeam(a, L, 20, 2, ElementType::Tet4);
+  const Material material = Material::create(1e5, 0.3, 1000.0);
+  const Eigen::Vector3d load(0, 0, -9.81);
+  TetCutter uncut(beam, 1000.0);
+  const double w_uncut =
+      beamTipDeflection(*makeCutTissueModel("corotational", uncut, material), load);
+  TetCutter cut(beam, 1000.0);
+  Eigen::Map<const Eigen::VectorXd> x(beam.nodes.data(), 3 * beam.numNodes());
+  cut.cut(verticalCut(0.5 * L + 0.25 * L / 20, 2 * a, 2 * a, 1e-4 * a), x, x);
+  EXPECT_EQ(cut.numComponents(), 1);
+  const double w_cut = beamTipDeflection(*makeCutTissueModel("corotational", cut, material), load);
+  ASSERT_TRUE(std::isfinite(w_uncut) && std::isfinite(w_cut));
+  EXPECT_GT(w_uncut, 0.0);
+  EXPECT_GT(w_cut, 1.05 * w_uncut);
+  EXPECT_NEAR(cut.lumpedMass().sum(), uncut.lumpedMass().sum(), 1e-12 * uncut.lumpedMass().sum());
+}
+
+TEST(TetCutter, ElementRemovalAboveAStrainThresholdKeepsTheMass) {
+  const TetMesh beam = makeBeam(0.1, 0.02, 0.02, Eigen::Vector3i(10, 2, 2), ElementType::Tet4);
+  TetCutter cutter(beam, 1000.0);
+  Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(beam.nodes.data(), 3 * beam.numNodes());
+  const double mass = cutter.lumpedMass().sum();
+  x[3 * 0 + 2] -= 0.01;  // pull node 0 down by half a cell: only its elements are strained
+  const std::vector<int> strained = cutter.overstrainedElements(x, 0.1);
+  ASSERT_FALSE(strained.empty());
+  for (int e : strained) {
+    bool has_node0 = false;
+    for (int i = 0; i < 4; ++i) has_node0 = has_node0 || beam.elements(i, e) == 0;
+    EXPECT_TRUE(has_node0);
+  }
+  const CutUpdate u = cutter.removeElements(strained);
+  EXPECT_TRUE(u.topology_changed);
+  EXPECT_EQ(cutter.mesh().numElements(), beam.numElements() - static_cast<int>(strained.size()));
+  EXPECT_NEAR(cutter.lumpedMass().sum() + 3.0 * cutter.removedMass(), mass, 1e-12 * mass);
+  EXPECT_EQ(topologyErrors(cutter.mesh()), 0);
+  EXPECT_THROW(cutter.removeElements({-1}), std::invalid_argument);
+}
+
+TEST(TetCutter, FuzzRandomSweepsOverTheOrgan) {
+  CutFuzzSettings settings;
+  settings.sweeps = 200;
+  settings.cells_per_axis = 6;
+  settings.seed = 20261122;
+  const CutFuzzReport r = runCutFuzz(settings);
+  EXPECT_EQ(r.failure, "");
+  EXPECT_EQ(r.sweeps, 200);
+  EXPECT_TRUE(r.finite);
+  EXPECT_LE(r.max_mass_error, 1e-12);
+  EXPECT_GT(r.min_rest_volume, 0.0);
+  EXPECT_GT(r.cut_edges, 0);
+  EXPECT_GT(r.components, 1);
+}
+
+TEST(TetCutter, FuzzReportsABrokenMesh) {
+  TetMesh mesh = makeBeam(1, 1, 1, Eigen::Vector3i(1, 1, 1), ElementType::Tet4);
+  EXPECT_EQ(cutMeshProblem(mesh), "");
+  std::swap(mesh.elements(0, 0), mesh.elements(1, 0));  // inverted
+  EXPECT_NE(cutMeshProblem(mesh), "");
+  TetMesh open = makeBeam(1, 1, 1, Eigen::Vector3i(1, 1, 1), ElementType::Tet4);
+  open.elements.conservativeResize(4, 5);
+  EXPECT_EQ(cutMeshProblem(open), "");  // removing an element keeps the surface closed
+  EXPECT_THROW(runCutFuzz(CutFuzzSettings{}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace surgical_sim::core
