@@ -22,6 +22,17 @@ def rows(path):
         return list(csv.DictReader(f))
 
 
+def finish(fig, ax, d, name, xlabel, ylabel, title):
+    """Labels, grid and legend of one figure, written to d/name."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(d, name), dpi=120)
+
+
 def plot_update(d):
     series = {}
     for r in rows(os.path.join(d, "cutting_update.csv")):
@@ -31,14 +42,10 @@ def plot_update(d):
     fig, ax = plt.subplots(figsize=(7.5, 5))
     for elements, pts in sorted(series.items()):
         ax.plot([p[0] for p in pts], [p[1] for p in pts], ".-", label="%d elements" % elements)
-    ax.set_xlabel("blade sweep (10 cuts x 10 sweeps)")
-    ax.set_ylabel("detection + topology update [ms]")
     ax.set_yscale("log")
-    ax.set_title("P2: cut update time per sweep that changed the topology")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(os.path.join(d, "cutting_update.png"), dpi=120)
+    finish(fig, ax, d, "cutting_update.png", "blade sweep (10 cuts x 10 sweeps)",
+           "detection + topology update [ms]",
+           "P2: cut update time per sweep that changed the topology")
 
 
 def plot_step(d):
@@ -49,13 +56,8 @@ def plot_step(d):
                        ("integrate_ms", "integrator")):
         ax.plot(steps, [float(r[key]) for r in data], label=label)
     ax.axhline(30.0, color="k", linestyle="--", linewidth=0.8, label="30 ms target")
-    ax.set_xlabel("step (blade active in steps 40-99)")
-    ax.set_ylabel("wall time [ms]")
-    ax.set_title("P2: palpation organ, %s elements at the end" % data[-1]["elements"])
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(os.path.join(d, "cutting_step.png"), dpi=120)
+    finish(fig, ax, d, "cutting_step.png", "step (blade active in steps 40-99)", "wall time [ms]",
+           "P2: palpation organ, %s elements at the end" % data[-1]["elements"])
 
 
 def plot_error(d):
@@ -69,13 +71,9 @@ def plot_error(d):
         ax.annotate(r["elements"], (x, float(r["faces_rms_m"])), fontsize=7)
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel("cut update time [ms]")
-    ax.set_ylabel("distance to the blade's swept surface [m]")
-    ax.set_title("P2: cut-surface error vs update time (labels: elements)")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(os.path.join(d, "cutting_error.png"), dpi=120)
+    finish(fig, ax, d, "cutting_error.png", "cut update time [ms]",
+           "distance to the blade's swept surface [m]",
+           "P2: cut-surface error vs update time (labels: elements)")
 
 
 def main(argv):

@@ -239,10 +239,12 @@ void TissueSimulatorNode::publishSurface(const ros::Time& stamp) {
   if (surface_pub_.getNumSubscribers() == 0 && step_count_ > 1) return;
   const core::SurfaceMesh& surface = sim_->surface();
   const Eigen::VectorXd& x = sim_->state().x;
-  std::vector<char> in_contact(static_cast<std::size_t>(sim_->mesh().numNodes()), 0);
+  // Reused members: no allocation per publish once the surface size is known.
+  std::vector<char>& in_contact = contact_flags_;
+  in_contact.assign(static_cast<std::size_t>(sim_->mesh().numNodes()), 0);
   for (int n : sim_->contactNodes()) in_contact[static_cast<std::size_t>(n)] = 1;
 
-  visualization_msgs::Marker m;
+  visualization_msgs::Marker& m = surface_marker_;
   m.header.stamp = stamp;
   m.header.frame_id = tissue_frame_;
   m.ns = "tissue";

@@ -11,7 +11,7 @@ from geometry_msgs.msg import PoseStamped
 from rosgraph_msgs.msg import Log
 from std_srvs.srv import SetBool
 
-from node_probe import run_node
+from node_probe import run_node, wait_for_subscribers
 
 
 class BadInputTest(unittest.TestCase):
@@ -26,9 +26,7 @@ class BadInputTest(unittest.TestCase):
         rospy.wait_for_service("tissue/pause", timeout=60.0)
         cls.pause = rospy.ServiceProxy("tissue/pause", SetBool)
         cls.pub = rospy.Publisher("tool/pose", PoseStamped, queue_size=10)
-        deadline = rospy.get_time() + 30.0
-        while cls.pub.get_num_connections() == 0 and rospy.get_time() < deadline:
-            rospy.sleep(0.05)
+        wait_for_subscribers(cls.pub)
 
     @classmethod
     def on_log(cls, msg):

@@ -13,6 +13,8 @@ from std_srvs.srv import Empty
 from surgical_sim.msg import BladeSweep, TissueStats
 from surgical_sim.srv import SetBlade
 
+from node_probe import wait_for_subscribers
+
 
 class Replayer:
     """Publishes the bag's messages in time order, one pose at a time, waiting for its stats."""
@@ -25,10 +27,7 @@ class Replayer:
         self.activate_pub = rospy.Publisher("cutting/activate", Bool, queue_size=10, latch=True)
         rospy.Subscriber("tissue/stats", TissueStats, self.on_stats, queue_size=1000)
         rospy.Subscriber("cutting/blade_sweep", BladeSweep, self.on_sweep, queue_size=1000)
-        deadline = rospy.get_time() + 30.0
-        while rospy.get_time() < deadline and (self.pose_pub.get_num_connections() < 2 or
-                                               self.activate_pub.get_num_connections() < 1):
-            rospy.sleep(0.05)
+        wait_for_subscribers((self.pose_pub, 2), self.activate_pub)
 
     def on_stats(self, msg):
         with self.lock:

@@ -10,6 +10,7 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool
 from std_srvs.srv import Empty
 
+from node_probe import wait_for_subscribers
 from palpation_rostest import Collector
 
 TOP_Z = 0.024  # organ top under the tool in `world` [m] (as in scripts/make_bags)
@@ -33,10 +34,7 @@ class GraspTest(unittest.TestCase):
         cls.grasp_pub = rospy.Publisher("tool/grasp", Bool, queue_size=10)
         cls.joint_pub = rospy.Publisher("joint_states", JointState, queue_size=10)
         cls.collector = Collector()
-        deadline = rospy.get_time() + 30.0
-        while rospy.get_time() < deadline and (cls.grasp_pub.get_num_connections() == 0 or
-                                               cls.joint_pub.get_num_connections() == 0):
-            rospy.sleep(0.05)
+        wait_for_subscribers(cls.grasp_pub, cls.joint_pub)
 
     def set_jaws(self, how, closed):
         if how == "bool":

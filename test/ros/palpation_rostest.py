@@ -13,6 +13,8 @@ from geometry_msgs.msg import PoseStamped, WrenchStamped
 from std_srvs.srv import Empty
 from surgical_sim.msg import ContactModel
 
+from node_probe import wait_for_subscribers
+
 
 class Collector:
     """Publishes one pose at a time and waits for the wrench and contact model it produced."""
@@ -24,9 +26,7 @@ class Collector:
         self.pub = rospy.Publisher("tool/pose", PoseStamped, queue_size=1000)
         rospy.Subscriber("tissue/wrench", WrenchStamped, self.on_wrench, queue_size=1000)
         rospy.Subscriber("tissue/contact_model", ContactModel, self.on_model, queue_size=1000)
-        deadline = rospy.get_time() + 30.0
-        while self.pub.get_num_connections() == 0 and rospy.get_time() < deadline:
-            rospy.sleep(0.05)
+        wait_for_subscribers(self.pub)
 
     def on_wrench(self, msg):
         with self.lock:

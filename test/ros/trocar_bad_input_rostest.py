@@ -15,7 +15,7 @@ from std_srvs.srv import Trigger
 from surgical_sim.msg import ContactModel, LoopStats
 from surgical_sim.srv import SetTrocarLimits
 
-from node_probe import run_node
+from node_probe import run_node, wait_for_subscribers
 
 JOINTS = ["trocar_pitch", "trocar_yaw", "trocar_spin", "trocar_insertion", "trocar_grip"]
 ENCODER_PITCH = math.radians(0.01)  # pitch encoder step [rad]
@@ -38,10 +38,7 @@ class TrocarBadInputTest(unittest.TestCase):
         cls.set_limits = rospy.ServiceProxy("trocar/set_limits", SetTrocarLimits)
         cls.command_pub = rospy.Publisher("trocar/joint_command", JointState, queue_size=10)
         cls.model_pub = rospy.Publisher("tissue/contact_model", ContactModel, queue_size=10)
-        deadline = rospy.get_time() + 30.0
-        while (cls.command_pub.get_num_connections() == 0 or
-               cls.model_pub.get_num_connections() == 0) and rospy.get_time() < deadline:
-            rospy.sleep(0.05)
+        wait_for_subscribers(cls.command_pub, cls.model_pub)
 
     @classmethod
     def on_log(cls, msg):

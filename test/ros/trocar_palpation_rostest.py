@@ -20,6 +20,8 @@ import rostest
 from sensor_msgs.msg import JointState
 from surgical_sim.msg import ContactModel
 
+from node_probe import wait_for_subscribers
+
 LIMITS = {"trocar_pitch": 6.0, "trocar_yaw": 6.0, "trocar_spin": 0.2, "trocar_insertion": 5.0,
           "trocar_grip": 0.3}  # [N m] revolute, [N] insertion
 TIP_OFFSET = 0.020  # tip depth below the fulcrum at insertion 0 [m] (TrocarGeometry)
@@ -37,9 +39,7 @@ class Chain:
         self.pub = rospy.Publisher("trocar/joint_command", JointState, queue_size=1000)
         rospy.Subscriber("tissue/contact_model", ContactModel, self.on_model, queue_size=1000)
         rospy.Subscriber("trocar/motor_effort", JointState, self.on_effort, queue_size=1000)
-        deadline = rospy.get_time() + 30.0
-        while self.pub.get_num_connections() == 0 and rospy.get_time() < deadline:
-            rospy.sleep(0.05)
+        wait_for_subscribers(self.pub)
 
     def on_model(self, msg):
         with self.lock:

@@ -9,6 +9,7 @@
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
+#include <visualization_msgs/Marker.h>
 
 #include <Eigen/Geometry>
 #include <memory>
@@ -81,6 +82,8 @@ class TissueSimulatorNode {
 
   std::vector<ToolIo> tools_;
   ros::Publisher surface_pub_, tool_marker_pub_, stats_pub_;
+  visualization_msgs::Marker surface_marker_;  ///< tissue/surface, reused between publishes
+  std::vector<char> contact_flags_;            ///< per node: touched by a tool (work vector)
   ros::Subscriber blade_sub_;
   ros::ServiceServer reset_srv_, pause_srv_, step_srv_;
   ros::WallTimer timer_;

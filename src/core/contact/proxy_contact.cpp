@@ -59,9 +59,22 @@ void ProxyContact::update(const Eigen::Vector3d& p_tip_S, double search_radius,
 
 void ProxyContact::enterIfInside(double search_radius, const Eigen::Matrix3Xi& triangles,
                                  const Eigen::VectorXd& x, SurfaceBvh& bvh) {
-  const Eigen::Vector3d extent = Eigen::Vector3d::Constant(search_radius);
+  if (!moveToClosestSurfacePoint(search_radius, triangles, x, bvh)) return;
+  normal_ = outwardNormal(nodes_, x);
+  in_contact_ = normal_.dot(p_tip_ - p_proxy_) < 0.0;  // tip behind the closest triangle
+}
+
+void ProxyContact::slide(const Eigen::Matrix3Xi& triangles, const Eigen::VectorXd& x,
+                         SurfaceBvh& bvh) {
+  moveToClosestSurfacePoint((p_tip_ - p_proxy_).norm(), triangles, x, bvh);
+  normal_ = outwardNormal(nodes_, x);
+}
+
+bool ProxyContact::moveToClosestSurfacePoint(double radius, const Eigen::Matrix3Xi& triangles,
+                                             const Eigen::VectorXd& x, SurfaceBvh& bvh) {
+  const Eigen::Vector3d extent = Eigen::Vector3d::Constant(radius);
   bvh.query(Eigen::AlignedBox3d(p_tip_ - extent, p_tip_ + extent), candidates_);
-  double best = search_radius * search_radius;
+  double best = radius * radius;
   bool found = false;
   for (const int t : candidates_) {
     const Eigen::Vector3i nodes = triangles.col(t);
@@ -74,28 +87,7 @@ void ProxyContact::enterIfInside(double search_radius, const Eigen::Matrix3Xi& t
     weights_ = closest.barycentric;
     p_proxy_ = closest.point;
   }
-  if (!found) return;
-  normal_ = outwardNormal(nodes_, x);
-  in_contact_ = normal_.dot(p_tip_ - p_proxy_) < 0.0;  // tip behind the closest triangle
-}
-
-void ProxyContact::slide(const Eigen::Matrix3Xi& triangles, const Eigen::VectorXd& x,
-                         SurfaceBvh& bvh) {
-  const double reach = (p_tip_ - p_proxy_).norm();
-  const Eigen::Vector3d extent = Eigen::Vector3d::Constant(reach);
-  bvh.query(Eigen::AlignedBox3d(p_tip_ - extent, p_tip_ + extent), candidates_);
-  double best = reach * reach;
-  for (const int t : candidates_) {
-    const Eigen::Vector3i nodes = triangles.col(t);
-    const TrianglePointClosest closest = closestPointOnTriangle(
-        x.segment<3>(3 * nodes[0]), x.segment<3>(3 * nodes[1]), x.segment<3>(3 * nodes[2]), p_tip_);
-    if (closest.distance_squared >= best) continue;
-    best = closest.distance_squared;
-    nodes_ = nodes;
-    weights_ = closest.barycentric;
-    p_proxy_ = closest.point;
-  }
-  normal_ = outwardNormal(nodes_, x);
+  return found;
 }
 
 void ProxyContact::addTissueForce(Eigen::VectorXd& f_ext) const {

@@ -143,19 +143,6 @@ void applyLoadFactor(CaseSetup& c, double factor) {
         c.prescribed.rest[i] + factor * c.prescribed.unit_displacement[i];
 }
 
-std::unique_ptr<Integrator> makeCaseIntegrator(const SceneConfig& scene,
-                                               const std::string& integrator,
-                                               const std::string& solver, double tolerance) {
-  PcgSettings pcg;
-  pcg.max_iterations = scene.pcg_max_iterations;
-  pcg.relative_tolerance = scene.pcg_tolerance;
-  pcg.refresh_interval = scene.pcg_refresh_interval;
-  IntegratorSettings settings;
-  settings.max_iterations = scene.newton_max_iterations;
-  settings.relative_tolerance = tolerance;
-  return makeIntegrator(integrator, settings, makeLinearSolver(solver, pcg));
-}
-
 /// Runs the load / time stepping of one case; returns positions; fills timing and status.
 struct RunOutcome {
   Eigen::VectorXd x;
@@ -232,6 +219,19 @@ RunOutcome runLoading(const SceneConfig& scene, CaseSetup& c, Integrator& integr
 }
 
 }  // namespace
+
+std::unique_ptr<Integrator> makeCaseIntegrator(const SceneConfig& scene,
+                                               const std::string& integrator,
+                                               const std::string& solver, double tolerance) {
+  PcgSettings pcg;
+  pcg.max_iterations = scene.pcg_max_iterations;
+  pcg.relative_tolerance = scene.pcg_tolerance;
+  pcg.refresh_interval = scene.pcg_refresh_interval;
+  IntegratorSettings settings;
+  settings.max_iterations = scene.newton_max_iterations;
+  settings.relative_tolerance = tolerance;
+  return makeIntegrator(integrator, settings, makeLinearSolver(solver, pcg));
+}
 
 std::vector<CaseSpec> expandSweep(const SceneConfig& scene) {
   std::vector<CaseSpec> cases;

@@ -7,8 +7,6 @@
 #include "surgical_sim/core/cutting/cut_tissue_model.h"
 #include "surgical_sim/core/mesh/mesh_check.h"
 #include "surgical_sim/core/scene/tissue_case.h"
-#include "surgical_sim/core/solve/make_integrator.h"
-#include "surgical_sim/core/solve/make_linear_solver.h"
 #include "surgical_sim/core/tissue/model_factory.h"
 
 namespace surgical_sim::core {
@@ -18,15 +16,8 @@ TissueSimulation::TissueSimulation(const SceneConfig& scene) : scene_(scene) {
                                   scene_.mesh.element_types.front());
   requireValidMesh(original_mesh_);
 
-  PcgSettings pcg;
-  pcg.max_iterations = scene_.pcg_max_iterations;
-  pcg.relative_tolerance = scene_.pcg_tolerance;
-  pcg.refresh_interval = scene_.pcg_refresh_interval;
-  IntegratorSettings settings;
-  settings.max_iterations = scene_.newton_max_iterations;
-  settings.relative_tolerance = scene_.newton_tolerance;
-  integrator_ = makeIntegrator(scene_.integrators.front(), settings,
-                               makeLinearSolver(scene_.solvers.front(), pcg));
+  integrator_ = makeCaseIntegrator(scene_, scene_.integrators.front(), scene_.solvers.front(),
+                                   scene_.newton_tolerance);
   problem_.damping.mass_coefficient = scene_.damping_mass;
   problem_.damping.stiffness_coefficient = scene_.damping_stiffness;
   if (!scene_.tools.empty()) {

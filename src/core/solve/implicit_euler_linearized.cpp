@@ -21,7 +21,7 @@ std::string ImplicitEulerLinearized::name() const { return "implicit_euler_linea
 
 void ImplicitEulerLinearized::reset() {
   model_ = nullptr;
-  compliance_ready_ = false;
+  compliance_.invalidate();
 }
 
 void ImplicitEulerLinearized::setUp(const TissueModel& model) {
@@ -41,7 +41,6 @@ void ImplicitEulerLinearized::setUp(const TissueModel& model) {
   start_.setZero(size);
   direction_.setZero(size);
   offset_.setZero(size);
-  compliance_rhs_.setZero(size);
   last_x_.resize(0);
 }
 
@@ -65,7 +64,7 @@ double ImplicitEulerLinearized::incrementalPotential(const DynamicsProblem& prob
 StepReport ImplicitEulerLinearized::step(const DynamicsProblem& problem, double dt,
                                          SimulationState& state) {
   StepReport report;
-  compliance_ready_ = false;
+  compliance_.invalidate();
   if (findProblemError(problem, state) != nullptr || !std::isfinite(dt) || !(dt > 0.0)) {
     report.status = StepStatus::SolverFailed;
     return report;
@@ -145,8 +144,7 @@ StepReport ImplicitEulerLinearized::step(const DynamicsProblem& problem, double 
   }
   last_x_ = state.x;
   last_elastic_energy_ = w_new;
-  last_dt_ = dt;
-  compliance_ready_ = true;
+  compliance_.markFactorized(dt * dt);
   state.time += dt;
   report.newton_iterations = 1;
   report.residual = solve.relative_residual;
@@ -155,14 +153,8 @@ StepReport ImplicitEulerLinearized::step(const DynamicsProblem& problem, double 
 }
 
 bool ImplicitEulerLinearized::applyStepCompliance(const Eigen::VectorXd& f, Eigen::VectorXd& dx) {
-  if (!compliance_ready_ || f.size() != compliance_rhs_.size()) return false;
-  compliance_rhs_ = (last_dt_ * last_dt_) * f;
-  for (Eigen::Index i = 0; i < f.size(); ++i) {
-    if (mask_[static_cast<size_t>(i)] != 0) compliance_rhs_[i] = 0.0;
-  }
-  dx.setZero(f.size());
-  const LinearSolveReport solve = solver_->solve(compliance_rhs_, dx);
-  return solve.ok && dx.allFinite();
+  // The step itself factorized A, so the compliance is never stale.
+  return compliance_.apply(*solver_, mask_, f, dx, [] { return false; });
 }
 
 }  // namespace surgical_sim::core

@@ -24,7 +24,7 @@ std::string ImplicitEulerNewton::name() const { return "implicit_euler_newton"; 
 
 void ImplicitEulerNewton::reset() {
   model_ = nullptr;
-  compliance_ = Compliance::Unavailable;
+  compliance_.invalidate();
 }
 
 void ImplicitEulerNewton::setUp(const TissueModel& model) {
@@ -37,12 +37,11 @@ void ImplicitEulerNewton::setUp(const TissueModel& model) {
   system_.setPattern(stiffness_);
   solver_->analyzePattern(system_.matrix());
   mask_.assign(static_cast<size_t>(size), 0);
-  for (Eigen::VectorXd* v :
-       {&x0_, &v0_, &x_hat_, &force_, &residual_, &rhs_, &dx_, &trial_, &offset_, &damping_product_,
-        &work_, &compliance_x_, &compliance_rhs_}) {
+  for (Eigen::VectorXd* v : {&x0_, &v0_, &x_hat_, &force_, &residual_, &rhs_, &dx_, &trial_,
+                             &offset_, &damping_product_, &work_, &compliance_x_}) {
     v->setZero(size);
   }
-  compliance_ = Compliance::Unavailable;
+  compliance_.invalidate();
 }
 
 void ImplicitEulerNewton::applyFrozenDamping(const DynamicsProblem& problem,
@@ -117,7 +116,7 @@ bool ImplicitEulerNewton::newtonDirection(const DynamicsProblem& problem, double
 StepReport ImplicitEulerNewton::step(const DynamicsProblem& problem, double dt,
                                      SimulationState& state) {
   StepReport report;
-  compliance_ = Compliance::Unavailable;
+  compliance_.invalidate();
   if (findProblemError(problem, state) != nullptr || !std::isfinite(dt) || !(dt > 0.0)) {
     report.status = StepStatus::SolverFailed;
     return report;
@@ -194,7 +193,7 @@ StepReport ImplicitEulerNewton::step(const DynamicsProblem& problem, double dt,
   compliance_x_ = state.x;
   last_dt_ = dt;
   last_damping_ = problem.damping;
-  compliance_ = Compliance::Stale;
+  compliance_.markStale(dt * dt);
   report.energy = energy;
   return report;
 }
@@ -215,21 +214,7 @@ bool ImplicitEulerNewton::factorizeCompliance() {
 }
 
 bool ImplicitEulerNewton::applyStepCompliance(const Eigen::VectorXd& f, Eigen::VectorXd& dx) {
-  if (compliance_ == Compliance::Unavailable || f.size() != compliance_x_.size()) return false;
-  if (compliance_ == Compliance::Stale) {
-    if (!factorizeCompliance()) {
-      compliance_ = Compliance::Unavailable;
-      return false;
-    }
-    compliance_ = Compliance::Factorized;
-  }
-  compliance_rhs_ = (last_dt_ * last_dt_) * f;
-  for (Eigen::Index i = 0; i < f.size(); ++i) {
-    if (mask_[static_cast<size_t>(i)] != 0) compliance_rhs_[i] = 0.0;
-  }
-  dx.setZero(f.size());
-  const LinearSolveReport solve = solver_->solve(compliance_rhs_, dx);
-  return solve.ok && dx.allFinite();
+  return compliance_.apply(*solver_, mask_, f, dx, [this] { return factorizeCompliance(); });
 }
 
 }  // namespace surgical_sim::core

@@ -22,7 +22,7 @@ std::string QuasiStaticNewton::name() const { return "quasi_static"; }
 
 void QuasiStaticNewton::reset() {
   model_ = nullptr;
-  compliance_ = Compliance::Unavailable;
+  compliance_.invalidate();
 }
 
 void QuasiStaticNewton::setUp(const TissueModel& model) {
@@ -35,10 +35,10 @@ void QuasiStaticNewton::setUp(const TissueModel& model) {
   solver_->analyzePattern(system_.matrix());
   mask_.assign(static_cast<size_t>(size), 0);
   for (Eigen::VectorXd* v : {&x0_, &v0_, &previous_load_, &load_, &targets_, &internal_, &residual_,
-                             &rhs_, &dx_, &trial_, &work_, &compliance_x_, &compliance_rhs_}) {
+                             &rhs_, &dx_, &trial_, &work_, &compliance_x_}) {
     v->setZero(size);
   }
-  compliance_ = Compliance::Unavailable;
+  compliance_.invalidate();
 }
 
 double QuasiStaticNewton::computeResidual(const DynamicsProblem& problem, const Eigen::VectorXd& x,
@@ -119,7 +119,7 @@ StepStatus QuasiStaticNewton::solveIncrement(const DynamicsProblem& problem, Eig
 StepReport QuasiStaticNewton::step(const DynamicsProblem& problem, double dt,
                                    SimulationState& state) {
   StepReport report;
-  compliance_ = Compliance::Unavailable;
+  compliance_.invalidate();
   if (findProblemError(problem, state) != nullptr || !std::isfinite(dt)) {
     report.status = StepStatus::SolverFailed;
     return report;
@@ -172,7 +172,7 @@ StepReport QuasiStaticNewton::step(const DynamicsProblem& problem, double dt,
   if (status == StepStatus::Ok) previous_load_ = problem.external_force;
   state.time += dt;
   compliance_x_ = state.x;
-  compliance_ = Compliance::Stale;
+  compliance_.markStale(1.0);
   report.status = status;
   report.energy = energy;
   return report;
@@ -189,21 +189,7 @@ bool QuasiStaticNewton::factorizeCompliance() {
 }
 
 bool QuasiStaticNewton::applyStepCompliance(const Eigen::VectorXd& f, Eigen::VectorXd& dx) {
-  if (compliance_ == Compliance::Unavailable || f.size() != compliance_x_.size()) return false;
-  if (compliance_ == Compliance::Stale) {
-    if (!factorizeCompliance()) {
-      compliance_ = Compliance::Unavailable;
-      return false;
-    }
-    compliance_ = Compliance::Factorized;
-  }
-  compliance_rhs_ = f;
-  for (Eigen::Index i = 0; i < f.size(); ++i) {
-    if (mask_[static_cast<size_t>(i)] != 0) compliance_rhs_[i] = 0.0;
-  }
-  dx.setZero(f.size());
-  const LinearSolveReport solve = solver_->solve(compliance_rhs_, dx);
-  return solve.ok && dx.allFinite();
+  return compliance_.apply(*solver_, mask_, f, dx, [this] { return factorizeCompliance(); });
 }
 
 }  // namespace surgical_sim::core

@@ -50,6 +50,10 @@ class ProxyContact {
                      const Eigen::VectorXd& x, SurfaceBvh& bvh);
   /// Moves the proxy to the surface point closest to the tip within |tip - proxy|.
   void slide(const Eigen::Matrix3Xi& triangles, const Eigen::VectorXd& x, SurfaceBvh& bvh);
+  /// Puts the proxy (nodes_, weights_, p_proxy_) at the surface point closest to the tip if one
+  /// lies within `radius` [m]; returns whether one did (otherwise nothing changes).
+  bool moveToClosestSurfacePoint(double radius, const Eigen::Matrix3Xi& triangles,
+                                 const Eigen::VectorXd& x, SurfaceBvh& bvh);
 
   double stiffness_;
   bool in_contact_ = false;

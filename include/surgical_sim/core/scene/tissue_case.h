@@ -1,12 +1,14 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "surgical_sim/core/common/status.h"
 #include "surgical_sim/core/mesh/tet_mesh.h"
 #include "surgical_sim/core/scene/scene_config.h"
+#include "surgical_sim/core/solve/integrator.h"
 
 namespace surgical_sim::core {
 
@@ -47,6 +49,13 @@ TetMesh buildSceneMesh(const MeshSpec& spec, const Eigen::Vector3i& resolution, 
 /// Node-major DOF indices of every node in `region` for the set components.
 std::vector<int> regionDofs(const TetMesh& mesh, const Region& region,
                             const Eigen::Vector3i& components);
+
+/// The integrator `integrator` with linear solver `solver` and the scene's Newton / PCG
+/// settings, Newton converging at `tolerance` (relative residual).
+/// @throws std::invalid_argument on an unknown integrator or solver name.
+std::unique_ptr<Integrator> makeCaseIntegrator(const SceneConfig& scene,
+                                               const std::string& integrator,
+                                               const std::string& solver, double tolerance);
 
 /// Runs one case headless and measures it against the scene's reference.
 /// @throws std::invalid_argument when the scene and case do not fit (e.g. an empty BC region).

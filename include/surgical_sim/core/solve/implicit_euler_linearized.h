@@ -9,6 +9,7 @@
 
 #include "surgical_sim/core/solve/integrator.h"
 #include "surgical_sim/core/solve/linear_solver.h"
+#include "surgical_sim/core/solve/step_compliance.h"
 #include "surgical_sim/core/solve/system_matrix.h"
 
 namespace surgical_sim::core {
@@ -63,9 +64,7 @@ class ImplicitEulerLinearized final : public Integrator {
   /// from the same positions, i.e. nothing moved the state in between).
   Eigen::VectorXd last_x_;
   double last_elastic_energy_ = 0.0;
-  Eigen::VectorXd compliance_rhs_;  ///< dt^2 f, projected (applyStepCompliance work vector)
-  double last_dt_ = 0.0;            ///< dt of the last successful step [s]
-  bool compliance_ready_ = false;   ///< the factorization belongs to a successful last step
+  StepCompliance compliance_;  ///< dt^2 A^-1 of the last successful step (factorized by it)
 };
 
 }  // namespace surgical_sim::core

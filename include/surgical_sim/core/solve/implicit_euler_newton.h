@@ -10,6 +10,7 @@
 #include "surgical_sim/core/solve/integrator.h"
 #include "surgical_sim/core/solve/integrator_settings.h"
 #include "surgical_sim/core/solve/linear_solver.h"
+#include "surgical_sim/core/solve/step_compliance.h"
 #include "surgical_sim/core/solve/system_matrix.h"
 
 namespace surgical_sim::core {
@@ -74,19 +75,12 @@ class ImplicitEulerNewton final : public Integrator {
       work_;
   double stiffness_round_off_ = 0.0;  ///< || |K| |x| || of the last assembly [N]
 
-  /// State of the step compliance operator.
-  enum class Compliance {
-    Unavailable,  ///< no usable step since setUp / reset, or the last step failed
-    Stale,        ///< a step finished; the factorization is not yet the one at its end point
-    Factorized,   ///< the solver holds the factorization of the compliance matrix
-  };
   /// Assembles and factorizes the compliance matrix at compliance_x_. Returns false on failure.
   bool factorizeCompliance();
-  Compliance compliance_ = Compliance::Unavailable;
-  Eigen::VectorXd compliance_x_;    ///< end point of the last step [m], size 3n
-  Eigen::VectorXd compliance_rhs_;  ///< projected right-hand side (work vector), size 3n
-  double last_dt_ = 0.0;            ///< dt of the last usable step [s]
-  RayleighDamping last_damping_;    ///< damping of the last usable step
+  StepCompliance compliance_;     ///< dt^2 A^-1 at the end point of the last step
+  Eigen::VectorXd compliance_x_;  ///< end point of the last step [m], size 3n
+  double last_dt_ = 0.0;          ///< dt of the last usable step [s]
+  RayleighDamping last_damping_;  ///< damping of the last usable step
 };
 
 }  // namespace surgical_sim::core

@@ -10,6 +10,7 @@
 #include "surgical_sim/core/solve/integrator.h"
 #include "surgical_sim/core/solve/integrator_settings.h"
 #include "surgical_sim/core/solve/linear_solver.h"
+#include "surgical_sim/core/solve/step_compliance.h"
 #include "surgical_sim/core/solve/system_matrix.h"
 
 namespace surgical_sim::core {
@@ -75,17 +76,10 @@ class QuasiStaticNewton final : public Integrator {
       trial_, work_;
   double stiffness_round_off_ = 0.0;  ///< || |K| |x| || of the last assembly [N]
 
-  /// State of the step compliance operator.
-  enum class Compliance {
-    Unavailable,  ///< no usable step since setUp / reset, or the last step failed
-    Stale,        ///< a step finished; the factorization is not yet the one at its end point
-    Factorized,   ///< the solver holds the factorization of the compliance matrix
-  };
   /// Assembles and factorizes the compliance matrix at compliance_x_. Returns false on failure.
   bool factorizeCompliance();
-  Compliance compliance_ = Compliance::Unavailable;
-  Eigen::VectorXd compliance_x_;    ///< end point of the last step [m], size 3n
-  Eigen::VectorXd compliance_rhs_;  ///< projected right-hand side (work vector), size 3n
+  StepCompliance compliance_;     ///< K^-1 at the end point of the last step
+  Eigen::VectorXd compliance_x_;  ///< end point of the last step [m], size 3n
 };
 
 }  // namespace surgical_sim::core
