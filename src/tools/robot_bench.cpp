@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <exception>
 #include <string>
 #include <vector>
 
@@ -131,9 +132,8 @@ RunStats follow(Robot& robot, const std::string& case_name, const std::string& p
   return st;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+/// The benchmark proper (main() reports its exceptions).
+int runBench(int argc, char** argv) {
   const std::string config =
       argc > 1 ? argv[1]
                : std::string(SURGICAL_SIM_SCRIPTS_DIR) + "/../config/continuum_robot.yaml";
@@ -255,4 +255,19 @@ int main(int argc, char** argv) {
                           "/plot_robot.py' '" + out_dir + "'";
   if (std::system(cmd.c_str()) != 0) std::fprintf(stderr, "plotting failed (%s)\n", cmd.c_str());
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc > 1 && argv[1][0] == '-') {
+    std::fprintf(stderr, "usage: robot_bench [robot.yaml [out_dir [R1|R2|all]]]\n");
+    return 2;
+  }
+  try {
+    return runBench(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "robot_bench: %s\n", e.what());
+    return 1;
+  }
 }
