@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 
@@ -27,8 +28,8 @@ int localCornerOf(const TetMesh& mesh, int element, int node) {
 
 }  // namespace
 
-TetCutter::TetCutter(const TetMesh& rest_mesh, double density)
-    : original_(rest_mesh), density_(density) {
+TetCutter::TetCutter(const TetMesh& rest_mesh, double density, CutUpdateMode mode)
+    : original_(rest_mesh), density_(density), mode_(mode) {
   if (rest_mesh.type != ElementType::Tet4)
     throw std::invalid_argument(std::string("TetCutter: mesh.type = ") + toString(rest_mesh.type) +
                                 " is not supported (cutting needs tet4)");
@@ -52,13 +53,30 @@ TetCutter::TetCutter(const TetMesh& rest_mesh, double density)
     }
   std::sort(keyed.begin(), keyed.end());
   element_edges_.resize(static_cast<std::size_t>(m));
+  edge_offsets_.push_back(0);
   for (std::size_t i = 0; i < keyed.size(); ++i) {
     if (i == 0 || keyed[i][0] != keyed[i - 1][0] || keyed[i][1] != keyed[i - 1][1]) {
+      if (i > 0) edge_offsets_.push_back(static_cast<int>(i));
       edges_.push_back({keyed[i][0], keyed[i][1]});
     }
     const int id = static_cast<int>(edges_.size()) - 1;
     element_edges_[static_cast<std::size_t>(keyed[i][2] / 6)][keyed[i][2] % 6] = id;
+    edge_elements_.push_back(keyed[i][2] / 6);
   }
+  edge_offsets_.push_back(static_cast<int>(keyed.size()));
+
+  // Original node -> elements.
+  const int n = rest_mesh.numNodes();
+  vertex_offsets_.assign(static_cast<std::size_t>(n + 1), 0);
+  for (int e = 0; e < m; ++e)
+    for (int i = 0; i < 4; ++i)
+      ++vertex_offsets_[static_cast<std::size_t>(rest_mesh.elements(i, e) + 1)];
+  for (int v = 0; v < n; ++v) vertex_offsets_[v + 1] += vertex_offsets_[v];
+  vertex_elements_.resize(static_cast<std::size_t>(4 * m));
+  std::vector<int> fill(vertex_offsets_.begin(), vertex_offsets_.end() - 1);
+  for (int e = 0; e < m; ++e)
+    for (int i = 0; i < 4; ++i)
+      vertex_elements_[static_cast<std::size_t>(fill[rest_mesh.elements(i, e)]++)] = e;
 
   // Face neighbours (-1 on the original boundary).
   face_neighbour_.assign(static_cast<std::size_t>(4 * m), {-1, -1});
@@ -80,14 +98,23 @@ TetCutter::TetCutter(const TetMesh& rest_mesh, double density)
   edge_cut_.assign(edges_.size(), 0);
   edge_s_.assign(edges_.size(), 0.0);
   removed_.assign(static_cast<std::size_t>(m), 0);
+  element_stamp_.assign(static_cast<std::size_t>(m), 0);
+  changed_stamp_.assign(static_cast<std::size_t>(m), 0);
+  origin_stamp_.assign(static_cast<std::size_t>(n), 0);
   rebuild();
 }
 
-int TetCutter::partition(int element, const std::vector<std::uint8_t>& cut,
-                         std::array<int, 4>& masks) const {
+bool TetCutter::firstVisit(std::vector<int>& stamps, int i) const {
+  int& s = stamps[static_cast<std::size_t>(i)];
+  if (s == stamp_) return false;
+  s = stamp_;
+  return true;
+}
+
+int TetCutter::partition(int element, std::array<int, 4>& masks) const {
   std::array<int, 4> comp{0, 1, 2, 3};
   for (int k = 0; k < 6; ++k) {
-    if (cut[static_cast<std::size_t>(element_edges_[static_cast<std::size_t>(element)][k])])
+    if (edge_cut_[static_cast<std::size_t>(element_edges_[static_cast<std::size_t>(element)][k])])
       continue;
     const int from = comp[kTetLocalEdges[k][1]], to = comp[kTetLocalEdges[k][0]];
     for (int& c : comp)
@@ -116,65 +143,80 @@ std::array<double, 6> TetCutter::localCutParameters(int element) const {
   return s;
 }
 
+std::array<int, 3> TetCutter::neighbourCorners(int element, int local_face) const {
+  const int e2 = face_neighbour_[static_cast<std::size_t>(4 * element + local_face)][0];
+  const std::array<int, 3> corners = tetFaceCorners(local_face);
+  std::array<int, 3> corners2{};
+  for (int k = 0; k < 3; ++k)
+    corners2[k] = localCornerOf(original_, e2, original_.elements(corners[k], element));
+  return corners2;
+}
+
+TetCutter::FaceGlue TetCutter::glue(int copy, int local_face, int copy2,
+                                    const std::array<int, 3>& corners2) const {
+  const std::array<int, 3> corners = tetFaceCorners(local_face);
+  const int mask = copies_[static_cast<std::size_t>(copy)].mask;
+  const int mask2 = copies_[static_cast<std::size_t>(copy2)].mask;
+  FaceGlue g;
+  bool same = true, any = false;
+  for (int k = 0; k < 3; ++k) {
+    const bool r1 = mask & (1 << corners[k]);
+    const bool r2 = mask2 & (1 << corners2[k]);
+    same = same && r1 == r2;
+    any = any || r1;
+    g.corner[k] = r1 && r2;
+  }
+  g.whole = same && any;
+  if (g.whole) g.corner = {true, true, true};
+  return g;
+}
+
 void TetCutter::rebuild() {
+  ++full_rebuilds_;
   const int m = original_.numElements();
-  // 2. One copy per fragment of every remaining element.
+  // 1. One copy per fragment of every remaining element.
   const std::vector<Copy> old_copies = copies_;
-  const std::vector<int> old_offsets = copy_offsets_;
+  const std::vector<CopyList> old_lists = element_copies_;
   const Eigen::MatrixXi old_elements = mesh_.elements;
   old_num_nodes_ = mesh_.numNodes();
   copies_.clear();
-  copy_offsets_.assign(static_cast<std::size_t>(m + 1), 0);
+  element_copies_.assign(static_cast<std::size_t>(m), CopyList{});
   for (int e = 0; e < m; ++e) {
-    copy_offsets_[static_cast<std::size_t>(e)] = static_cast<int>(copies_.size());
     if (removed_[static_cast<std::size_t>(e)]) continue;
     std::array<int, 4> masks{};
-    const int count = partition(e, edge_cut_, masks);
+    const int count = partition(e, masks);
     Eigen::Matrix<double, 3, 4> X;
     for (int i = 0; i < 4; ++i) X.col(i) = original_.nodes.col(original_.elements(i, e));
     const std::array<double, 4> f = fragmentVolumeFractions(X, localCutParameters(e), masks, count);
-    for (int k = 0; k < count; ++k) copies_.push_back({e, masks[k], f[k]});
+    CopyList& list = element_copies_[static_cast<std::size_t>(e)];
+    for (int k = 0; k < count; ++k) {
+      list.ids[static_cast<std::size_t>(list.count++)] = static_cast<int>(copies_.size());
+      copies_.push_back({e, masks[k], f[k]});
+    }
   }
-  copy_offsets_[static_cast<std::size_t>(m)] = static_cast<int>(copies_.size());
   const int num_copies = static_cast<int>(copies_.size());
 
-  // 3. Glue copies across shared faces: all three corners when they hold the same real nodes on
-  // the face (the material continues across it, virtual nodes included), otherwise only the
-  // real nodes both hold (at a cut front, material on both sides still meets at these nodes).
+  // 2. Nodes are the classes of slots (copy, corner) glued across shared faces (glue()). The
+  // first class of each original node (in copy order) keeps the original index, the others are
+  // numbered after them; indices of original nodes that lost all their elements are closed up,
+  // keeping the order (an uncut mesh keeps its numbering). Parents come from the old copy
+  // containing the fragment.
   UnionFind slots(4 * num_copies);
-  std::vector<char> face_glued(static_cast<std::size_t>(4 * num_copies), 0);  // (copy, local face)
   for (int e = 0; e < m; ++e)
     for (int lf = 0; lf < 4; ++lf) {
-      const auto [e2, lf2] = face_neighbour_[static_cast<std::size_t>(4 * e + lf)];
+      const int e2 = face_neighbour_[static_cast<std::size_t>(4 * e + lf)][0];
       if (e2 < e) continue;  // each interior face once (and skips the boundary, e2 = -1)
-      const std::array<int, 3> corners = tetFaceCorners(lf);
-      std::array<int, 3> corners2{};
-      for (int k = 0; k < 3; ++k)
-        corners2[k] = localCornerOf(original_, e2, original_.elements(corners[k], e));
-      for (int c = copy_offsets_[e]; c < copy_offsets_[e + 1]; ++c)
-        for (int c2 = copy_offsets_[e2]; c2 < copy_offsets_[e2 + 1]; ++c2) {
-          bool same = true, any = false;
-          for (int k = 0; k < 3; ++k) {
-            const bool r1 = copies_[c].mask & (1 << corners[k]);
-            const bool r2 = copies_[c2].mask & (1 << corners2[k]);
-            same = same && r1 == r2;
-            any = any || r1;
-          }
-          if (same && any)
-            face_glued[static_cast<std::size_t>(4 * c + lf)] =
-                face_glued[static_cast<std::size_t>(4 * c2 + lf2)] = 1;
-          for (int k = 0; k < 3; ++k) {
-            const bool shared =
-                (copies_[c].mask & (1 << corners[k])) && (copies_[c2].mask & (1 << corners2[k]));
-            if ((same && any) || shared) slots.unite(4 * c + corners[k], 4 * c2 + corners2[k]);
-          }
+      const std::array<int, 3> corners = tetFaceCorners(lf), corners2 = neighbourCorners(e, lf);
+      const CopyList &list = element_copies_[static_cast<std::size_t>(e)],
+                     &list2 = element_copies_[static_cast<std::size_t>(e2)];
+      for (int i = 0; i < list.count; ++i)
+        for (int j = 0; j < list2.count; ++j) {
+          const FaceGlue g = glue(list.ids[i], lf, list2.ids[j], corners2);
+          for (int k = 0; k < 3; ++k)
+            if (g.corner[k])
+              slots.unite(4 * list.ids[i] + corners[k], 4 * list2.ids[j] + corners2[k]);
         }
     }
-
-  // 4. Nodes are the classes of slots. The first class of each original node (in copy order) keeps
-  // the original index, the others are numbered after them; indices of original nodes that lost
-  // all their elements are closed up, keeping the order (an uncut mesh keeps its numbering).
-  // Parents come from the old copy containing the fragment.
   const int n_orig = original_.numNodes();
   std::vector<int> node_of_root(static_cast<std::size_t>(4 * num_copies), -1);
   std::vector<int> slot_node(static_cast<std::size_t>(4 * num_copies));
@@ -204,7 +246,8 @@ void TetCutter::rebuild() {
       compact[v] = static_cast<int>(node_origin_.size());
       node_origin_.push_back(origin_of[v]);
     }
-  parent_node_.assign(node_origin_.size(), -1);
+  const int n = static_cast<int>(node_origin_.size());
+  parent_node_.assign(static_cast<std::size_t>(n), -1);
   mesh_.type = ElementType::Tet4;
   mesh_.elements.resize(4, num_copies);
   element_origin_.resize(static_cast<std::size_t>(num_copies));
@@ -213,8 +256,9 @@ void TetCutter::rebuild() {
     const Copy& copy = copies_[static_cast<std::size_t>(c)];
     int parent_copy = -1;
     if (!old_copies.empty()) {
-      for (int o = old_offsets[copy.element]; o < old_offsets[copy.element + 1]; ++o) {
-        const int om = old_copies[static_cast<std::size_t>(o)].mask;
+      const CopyList& old = old_lists[static_cast<std::size_t>(copy.element)];
+      for (int k = 0; k < old.count; ++k) {
+        const int o = old.ids[k], om = old_copies[static_cast<std::size_t>(o)].mask;
         if ((om & copy.mask) == copy.mask) parent_copy = o;
         if (parent_copy < 0 && (om & copy.mask)) parent_copy = o;
       }
@@ -229,57 +273,359 @@ void TetCutter::rebuild() {
     element_origin_[static_cast<std::size_t>(c)] = copy.element;
     element_fraction_[static_cast<std::size_t>(c)] = copy.fraction;
   }
-  const int n = static_cast<int>(node_origin_.size());
   mesh_.nodes.resize(3, n);
-  for (int v = 0; v < n; ++v) mesh_.nodes.col(v) = original_.nodes.col(node_origin_[v]);
-
-  // 5. Masses: rho V_e f_c per copy, a quarter on each corner; removed elements' mass goes to a
-  // remaining node of each corner.
-  lumped_mass_.setZero(3 * n);
-  std::vector<int> node_of_origin(static_cast<std::size_t>(original_.numNodes()), -1);
-  for (int v = n - 1; v >= 0; --v) node_of_origin[static_cast<std::size_t>(node_origin_[v])] = v;
-  removed_mass_ = 0.0;
-  for (int c = 0; c < num_copies; ++c) {
-    const Copy& copy = copies_[static_cast<std::size_t>(c)];
-    const double quarter = 0.25 * density_ * element_volume_[copy.element] * copy.fraction;
-    for (int i = 0; i < 4; ++i)
-      lumped_mass_.segment<3>(3 * mesh_.elements(i, c)).array() += quarter;
+  origin_nodes_.assign(static_cast<std::size_t>(n_orig), {});
+  for (int v = 0; v < n; ++v) {
+    mesh_.nodes.col(v) = original_.nodes.col(node_origin_[v]);
+    origin_nodes_[static_cast<std::size_t>(node_origin_[v])].push_back(v);
   }
-  for (int e = 0; e < m; ++e) {
-    if (!removed_[static_cast<std::size_t>(e)]) continue;
-    const double quarter = 0.25 * density_ * element_volume_[static_cast<std::size_t>(e)];
-    for (int i = 0; i < 4; ++i) {
-      const int v = node_of_origin[static_cast<std::size_t>(original_.elements(i, e))];
-      if (v >= 0)
-        lumped_mass_.segment<3>(3 * v).array() += quarter;
-      else
-        removed_mass_ += quarter;
+
+  // 3. Masses, faces and edge representatives of everything.
+  std::vector<int> all_elements(static_cast<std::size_t>(m)),
+      all_origins(static_cast<std::size_t>(n_orig));
+  std::iota(all_elements.begin(), all_elements.end(), 0);
+  std::iota(all_origins.begin(), all_origins.end(), 0);
+  lumped_mass_.setZero(3 * n);
+  removed_mass_ = 0.0;
+  recomputeMasses(all_origins);
+  triangles_.clear();
+  triangle_face_.clear();
+  triangle_cut_.clear();
+  face_triangle_.assign(static_cast<std::size_t>(4 * num_copies), -1);
+  refreshFaces(all_elements);
+  edge_representative_.assign(edges_.size(), {-1, -1});
+  refreshEdgeRepresentatives(all_elements);
+  publishSurface();
+}
+
+void TetCutter::starClasses(int v, StarClasses& out) {
+  out.slots.clear();
+  for (const int* p = starBegin(v); p != starEnd(v); ++p) {
+    const CopyList& list = element_copies_[static_cast<std::size_t>(*p)];
+    const int corner = localCornerOf(original_, *p, v);
+    for (int k = 0; k < list.count; ++k) {
+      copy_slot_[static_cast<std::size_t>(list.ids[k])] = static_cast<int>(out.slots.size());
+      out.slots.push_back({list.ids[k], corner});
     }
   }
-
-  // 6. Surface: every face of a copy not glued to a neighbour, outward (as extractSurface());
-  // a cut face if the original element had a neighbour there. Then connected components.
-  int num_surface = 0;
-  for (char glued : face_glued) num_surface += glued ? 0 : 1;
-  surface_.triangles.resize(3, num_surface);
-  std::vector<char> on_surface(static_cast<std::size_t>(n), 0);
-  cut_faces_.assign(static_cast<std::size_t>(num_surface), false);
-  for (int c = 0, t = 0; c < num_copies; ++c)
+  UnionFind classes(static_cast<int>(out.slots.size()));
+  for (const int* p = starBegin(v); p != starEnd(v); ++p) {
+    const int e = *p;
+    const int corner = localCornerOf(original_, e, v);
     for (int lf = 0; lf < 4; ++lf) {
-      if (face_glued[static_cast<std::size_t>(4 * c + lf)]) continue;
-      const std::array<int, 3> corners = tetFaceCorners(lf);
-      for (int k = 0; k < 3; ++k) {
-        surface_.triangles(k, t) = mesh_.elements(corners[k], c);
-        on_surface[static_cast<std::size_t>(surface_.triangles(k, t))] = 1;
+      const int e2 = face_neighbour_[static_cast<std::size_t>(4 * e + lf)][0];
+      if (lf == corner || e2 < e) continue;  // faces at v, each once, boundary skipped
+      const std::array<int, 3> corners = tetFaceCorners(lf), corners2 = neighbourCorners(e, lf);
+      const int k_v = corners[0] == corner ? 0 : corners[1] == corner ? 1 : 2;
+      const CopyList &list = element_copies_[static_cast<std::size_t>(e)],
+                     &list2 = element_copies_[static_cast<std::size_t>(e2)];
+      for (int i = 0; i < list.count; ++i)
+        for (int j = 0; j < list2.count; ++j)
+          if (glue(list.ids[i], lf, list2.ids[j], corners2).corner[k_v])
+            classes.unite(copy_slot_[static_cast<std::size_t>(list.ids[i])],
+                          copy_slot_[static_cast<std::size_t>(list2.ids[j])]);
+    }
+  }
+  // A class keeps the (lowest) node of its slots in unchanged copies; the slots of changed
+  // copies only carry the node of the copy they come from.
+  out.slot_class.assign(out.slots.size(), -1);
+  std::vector<int> kept_by;  // per class: node of its unchanged slots, or -1
+  std::vector<int> carried;  // per class: node carried by its first slot
+  std::vector<int> class_of_root(out.slots.size(), -1);
+  for (std::size_t s = 0; s < out.slots.size(); ++s) {
+    const auto [copy, corner] = out.slots[s];
+    const int node = mesh_.elements(corner, copy);
+    int& cls = class_of_root[static_cast<std::size_t>(classes.find(static_cast<int>(s)))];
+    if (cls < 0) {
+      cls = static_cast<int>(kept_by.size());
+      kept_by.push_back(-1);
+      carried.push_back(node);
+    }
+    out.slot_class[s] = cls;
+    const int element = copies_[static_cast<std::size_t>(copy)].element;
+    int& kept = kept_by[static_cast<std::size_t>(cls)];
+    if (changed_stamp_[static_cast<std::size_t>(element)] != stamp_ && (kept < 0 || node < kept))
+      kept = node;
+  }
+  // Classes with unchanged slots claim their node first, then the others the carried one; a
+  // class whose node is taken gets a new node split from it. Nodes left unclaimed vanish (the
+  // change merged them into others).
+  const std::size_t num_classes = kept_by.size();
+  out.class_node.assign(num_classes, -1);
+  out.class_parent.assign(num_classes, -1);
+  std::vector<int> claimed;
+  for (int pass = 0; pass < 2; ++pass)
+    for (std::size_t c = 0; c < num_classes; ++c) {
+      if ((kept_by[c] >= 0) != (pass == 0)) continue;
+      const int node = pass == 0 ? kept_by[c] : carried[c];
+      if (std::find(claimed.begin(), claimed.end(), node) != claimed.end()) {
+        out.class_parent[c] = node;
+      } else {
+        out.class_node[c] = node;
+        claimed.push_back(node);
       }
-      const int e = copies_[static_cast<std::size_t>(c)].element;
-      cut_faces_[static_cast<std::size_t>(t)] =
-          face_neighbour_[static_cast<std::size_t>(4 * e + lf)][0] >= 0;
-      ++t;
+    }
+  out.vanished.clear();
+  for (const auto& [copy, corner] : out.slots) {
+    const int node = mesh_.elements(corner, copy);
+    if (std::find(claimed.begin(), claimed.end(), node) == claimed.end() &&
+        std::find(out.vanished.begin(), out.vanished.end(), node) == out.vanished.end())
+      out.vanished.push_back(node);
+  }
+}
+
+void TetCutter::applyStarClasses(int v, const StarClasses& star) {
+  std::vector<int> node = star.class_node;
+  for (std::size_t c = 0; c < node.size(); ++c) {
+    if (node[c] >= 0) continue;
+    node[c] = static_cast<int>(node_origin_.size());
+    parent_node_.push_back(star.class_parent[c]);
+    node_origin_.push_back(v);
+    origin_nodes_[static_cast<std::size_t>(v)].push_back(node[c]);
+  }
+  for (std::size_t s = 0; s < star.slots.size(); ++s)
+    mesh_.elements(star.slots[s][1], star.slots[s][0]) =
+        node[static_cast<std::size_t>(star.slot_class[s])];
+}
+
+int TetCutter::removeNode(int node) {
+  const auto erase = [](std::vector<int>& list, int value) {
+    list.erase(std::find(list.begin(), list.end(), value));
+  };
+  erase(origin_nodes_[static_cast<std::size_t>(node_origin_[node])], node);
+  const int last = static_cast<int>(node_origin_.size()) - 1, origin = node_origin_[last];
+  if (node != last) {
+    for (const int* p = starBegin(origin); p != starEnd(origin); ++p) {
+      const int corner = localCornerOf(original_, *p, origin);
+      const CopyList& list = element_copies_[static_cast<std::size_t>(*p)];
+      for (int k = 0; k < list.count; ++k)
+        if (mesh_.elements(corner, list.ids[k]) == last) mesh_.elements(corner, list.ids[k]) = node;
+    }
+    std::replace(origin_nodes_[static_cast<std::size_t>(origin)].begin(),
+                 origin_nodes_[static_cast<std::size_t>(origin)].end(), last, node);
+    node_origin_[node] = origin;
+    parent_node_[static_cast<std::size_t>(node)] = parent_node_.back();
+  }
+  node_origin_.pop_back();
+  parent_node_.pop_back();
+  return origin;
+}
+
+void TetCutter::recomputeMasses(const std::vector<int>& origins) {
+  for (int v : origins)
+    for (int node : origin_nodes_[static_cast<std::size_t>(v)])
+      lumped_mass_.segment<3>(3 * node).setZero();
+  for (int v : origins) {
+    const std::vector<int>& nodes = origin_nodes_[static_cast<std::size_t>(v)];
+    for (const int* p = starBegin(v); p != starEnd(v); ++p) {
+      const int e = *p;
+      const double quarter = 0.25 * density_ * element_volume_[static_cast<std::size_t>(e)];
+      const int corner = localCornerOf(original_, e, v);
+      const CopyList& list = element_copies_[static_cast<std::size_t>(e)];
+      for (int k = 0; k < list.count; ++k)
+        lumped_mass_.segment<3>(3 * mesh_.elements(corner, list.ids[k])).array() +=
+            quarter * copies_[static_cast<std::size_t>(list.ids[k])].fraction;
+      // A removed element's share goes to the lowest remaining node of the corner.
+      if (!removed_[static_cast<std::size_t>(e)]) continue;
+      if (nodes.empty())
+        removed_mass_ += quarter;
+      else
+        lumped_mass_.segment<3>(3 * *std::min_element(nodes.begin(), nodes.end())).array() +=
+            quarter;
+    }
+  }
+}
+
+void TetCutter::setTriangle(int face_slot, bool present) {
+  int& t = face_triangle_[static_cast<std::size_t>(face_slot)];
+  if (!present) {
+    if (t < 0) return;
+    triangles_[static_cast<std::size_t>(t)] = triangles_.back();
+    triangle_face_[static_cast<std::size_t>(t)] = triangle_face_.back();
+    triangle_cut_[static_cast<std::size_t>(t)] = triangle_cut_.back();
+    face_triangle_[static_cast<std::size_t>(triangle_face_[static_cast<std::size_t>(t)])] = t;
+    triangles_.pop_back();
+    triangle_face_.pop_back();
+    triangle_cut_.pop_back();
+    face_triangle_[static_cast<std::size_t>(face_slot)] = -1;
+    return;
+  }
+  const int c = face_slot / 4, lf = face_slot % 4;
+  const int e = copies_[static_cast<std::size_t>(c)].element;
+  const std::array<int, 3> corners = tetFaceCorners(lf);
+  const std::array<int, 3> tri{mesh_.elements(corners[0], c), mesh_.elements(corners[1], c),
+                               mesh_.elements(corners[2], c)};
+  if (t < 0) {
+    t = static_cast<int>(triangles_.size());
+    triangles_.push_back(tri);
+    triangle_face_.push_back(face_slot);
+    triangle_cut_.push_back(face_neighbour_[static_cast<std::size_t>(4 * e + lf)][0] >= 0);
+  } else {
+    triangles_[static_cast<std::size_t>(t)] = tri;
+  }
+}
+
+void TetCutter::refreshFaces(const std::vector<int>& elements) {
+  // A copy's face is on the surface unless a copy of the neighbour continues the material there.
+  for (int e : elements) {
+    const CopyList& list = element_copies_[static_cast<std::size_t>(e)];
+    for (int i = 0; i < list.count; ++i)
+      for (int lf = 0; lf < 4; ++lf) {
+        const int e2 = face_neighbour_[static_cast<std::size_t>(4 * e + lf)][0];
+        bool glued = false;
+        if (e2 >= 0) {
+          const std::array<int, 3> corners2 = neighbourCorners(e, lf);
+          const CopyList& list2 = element_copies_[static_cast<std::size_t>(e2)];
+          for (int j = 0; j < list2.count && !glued; ++j)
+            glued = glue(list.ids[i], lf, list2.ids[j], corners2).whole;
+        }
+        setTriangle(4 * list.ids[i] + lf, !glued);
+      }
+  }
+}
+
+void TetCutter::refreshEdgeRepresentatives(const std::vector<int>& elements) {
+  for (int e : elements) {
+    const CopyList& list = element_copies_[static_cast<std::size_t>(e)];
+    for (int i = 0; i < list.count; ++i) {
+      const int c = list.ids[i], mask = copies_[static_cast<std::size_t>(c)].mask;
+      for (int k = 0; k < 6; ++k) {
+        const int a = kTetLocalEdges[k][0], b = kTetLocalEdges[k][1];
+        const auto id = static_cast<std::size_t>(element_edges_[static_cast<std::size_t>(e)][k]);
+        if (edge_cut_[id] || !(mask & (1 << a)) || !(mask & (1 << b))) continue;
+        const bool forward = original_.elements(a, e) == edges_[id][0];
+        edge_representative_[id] =
+            forward ? std::array<int, 2>{mesh_.elements(a, c), mesh_.elements(b, c)}
+                    : std::array<int, 2>{mesh_.elements(b, c), mesh_.elements(a, c)};
+      }
+    }
+  }
+}
+
+void TetCutter::publishSurface() {
+  const int n = mesh_.numNodes();
+  surface_.triangles.resize(3, static_cast<Eigen::Index>(triangles_.size()));
+  std::vector<char> on_surface(static_cast<std::size_t>(n), 0);
+  for (std::size_t t = 0; t < triangles_.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      surface_.triangles(k, static_cast<Eigen::Index>(t)) = triangles_[t][k];
+      on_surface[static_cast<std::size_t>(triangles_[t][k])] = 1;
     }
   surface_.nodes.clear();
   for (int v = 0; v < n; ++v)
     if (on_surface[static_cast<std::size_t>(v)]) surface_.nodes.push_back(v);
+  cut_faces_ = triangle_cut_;
+  derived_valid_ = false;
+}
+
+bool TetCutter::updateIncrementally(const std::vector<int>& new_cut_edges) {
+  ++stamp_;
+  old_num_nodes_ = mesh_.numNodes();
+  parent_node_.resize(static_cast<std::size_t>(old_num_nodes_));
+  std::iota(parent_node_.begin(), parent_node_.end(), 0);
+  // 1. New fragments of the elements at the new cut edges; a fragment reuses the copy it comes
+  // from (the first fragment of it) or is appended.
+  std::vector<int> changed;
+  std::vector<std::array<int, 2>> appended;  // (new copy, copy whose nodes it starts from)
+  for (int id : new_cut_edges)
+    for (int p = edge_offsets_[id]; p < edge_offsets_[id + 1]; ++p) {
+      const int e = edge_elements_[static_cast<std::size_t>(p)];
+      if (!firstVisit(element_stamp_, e) || removed_[static_cast<std::size_t>(e)]) continue;
+      std::array<int, 4> masks{};
+      const int count = partition(e, masks);
+      Eigen::Matrix<double, 3, 4> X;
+      for (int i = 0; i < 4; ++i) X.col(i) = original_.nodes.col(original_.elements(i, e));
+      const std::array<double, 4> f =
+          fragmentVolumeFractions(X, localCutParameters(e), masks, count);
+      CopyList& list = element_copies_[static_cast<std::size_t>(e)];
+      bool same = count == list.count;
+      for (int k = 0; k < count && same; ++k) {
+        const Copy& c = copies_[static_cast<std::size_t>(list.ids[k])];
+        same = c.mask == masks[k] && c.fraction == f[k];
+      }
+      if (same) continue;
+      changed.push_back(e);
+      changed_stamp_[static_cast<std::size_t>(e)] = stamp_;
+      const CopyList old = list;
+      std::array<bool, 4> reused{};
+      list.count = 0;
+      for (int k = 0; k < count; ++k) {
+        int j = 0;
+        while (j < old.count &&
+               (copies_[static_cast<std::size_t>(old.ids[j])].mask & masks[k]) != masks[k])
+          ++j;
+        int c = old.ids[j];
+        if (reused[j]) {
+          c = static_cast<int>(copies_.size());
+          copies_.push_back({});
+          appended.push_back({c, old.ids[j]});
+        }
+        reused[j] = true;
+        list.ids[k] = c;
+        ++list.count;
+      }
+      for (int k = 0; k < count; ++k)
+        copies_[static_cast<std::size_t>(list.ids[k])] = {e, masks[k], f[k]};
+    }
+  if (changed.empty()) return false;
+  const int num_copies = static_cast<int>(copies_.size());
+  mesh_.elements.conservativeResize(4, num_copies);
+  for (const auto& [c, from] : appended) mesh_.elements.col(c) = mesh_.elements.col(from);
+  copy_slot_.resize(static_cast<std::size_t>(num_copies));
+
+  // 2. Node classes around every corner of the changed elements (all computed before any is
+  // applied), then the nodes that vanished are closed up by moving the last node into them.
+  std::vector<int> origins;
+  for (int e : changed)
+    for (int i = 0; i < 4; ++i)
+      if (firstVisit(origin_stamp_, original_.elements(i, e)))
+        origins.push_back(original_.elements(i, e));
+  std::vector<StarClasses> stars(origins.size());
+  std::vector<int> vanished;
+  for (std::size_t k = 0; k < origins.size(); ++k) {
+    starClasses(origins[k], stars[k]);
+    vanished.insert(vanished.end(), stars[k].vanished.begin(), stars[k].vanished.end());
+  }
+  for (std::size_t k = 0; k < origins.size(); ++k) applyStarClasses(origins[k], stars[k]);
+  std::sort(vanished.rbegin(), vanished.rend());  // highest first: the last node never vanished
+  for (int node : vanished) {
+    const int moved_origin = removeNode(node);
+    if (firstVisit(origin_stamp_, moved_origin)) origins.push_back(moved_origin);
+  }
+
+  // 3. Everything derived from the nodes, around them.
+  const int n = static_cast<int>(node_origin_.size());
+  mesh_.nodes.conservativeResize(3, n);
+  for (int v = 0; v < n; ++v)  // new nodes and nodes moved into a vanished one
+    if (v >= old_num_nodes_ || parent_node_[static_cast<std::size_t>(v)] != v)
+      mesh_.nodes.col(v) = original_.nodes.col(node_origin_[v]);
+  lumped_mass_.conservativeResize(3 * n);
+  recomputeMasses(origins);
+  element_origin_.resize(static_cast<std::size_t>(num_copies));
+  element_fraction_.resize(static_cast<std::size_t>(num_copies));
+  for (int e : changed) {
+    const CopyList& list = element_copies_[static_cast<std::size_t>(e)];
+    for (int k = 0; k < list.count; ++k) {
+      element_origin_[static_cast<std::size_t>(list.ids[k])] = e;
+      element_fraction_[static_cast<std::size_t>(list.ids[k])] =
+          copies_[static_cast<std::size_t>(list.ids[k])].fraction;
+    }
+  }
+  ++stamp_;
+  std::vector<int> around;  // elements around the changed corners (their nodes may have changed)
+  for (int v : origins)
+    for (const int* p = starBegin(v); p != starEnd(v); ++p)
+      if (firstVisit(element_stamp_, *p)) around.push_back(*p);
+  face_triangle_.resize(static_cast<std::size_t>(4 * num_copies), -1);
+  refreshFaces(around);
+  refreshEdgeRepresentatives(around);
+  publishSurface();
+  return true;
+}
+
+void TetCutter::derive() const {
+  if (derived_valid_) return;
+  const int n = mesh_.numNodes(), num_copies = mesh_.numElements();
   UnionFind pieces(n);
   for (int c = 0; c < num_copies; ++c)
     for (int i = 1; i < 4; ++i) pieces.unite(mesh_.elements(0, c), mesh_.elements(i, c));
@@ -292,22 +638,7 @@ void TetCutter::rebuild() {
     node_component_[static_cast<std::size_t>(v)] = l;
   }
 
-  // 7. Current nodes of each uncut edge (from a copy holding both ends as real nodes).
-  edge_representative_.assign(edges_.size(), {-1, -1});
-  for (int c = 0; c < num_copies; ++c) {
-    const Copy& copy = copies_[static_cast<std::size_t>(c)];
-    for (int k = 0; k < 6; ++k) {
-      const int i = kTetLocalEdges[k][0], j = kTetLocalEdges[k][1];
-      const auto id = static_cast<std::size_t>(element_edges_[copy.element][k]);
-      if (edge_cut_[id] || !(copy.mask & (1 << i)) || !(copy.mask & (1 << j))) continue;
-      const bool forward = original_.elements(i, copy.element) == edges_[id][0];
-      edge_representative_[id] =
-          forward ? std::array<int, 2>{mesh_.elements(i, c), mesh_.elements(j, c)}
-                  : std::array<int, 2>{mesh_.elements(j, c), mesh_.elements(i, c)};
-    }
-  }
-
-  // 8. Embedded cut surface of every split copy: the crossing points on the edges from its real
+  // Embedded cut surface of every split copy: the crossing points on the edges from its real
   // corners to the others (a triangle for 1 or 3 real corners, a quad for 2).
   cut_triangles_.clear();
   for (int c = 0; c < num_copies; ++c) {
@@ -343,6 +674,22 @@ void TetCutter::rebuild() {
       cut_triangles_.push_back(tri);
     }
   }
+  derived_valid_ = true;
+}
+
+const std::vector<std::array<EmbeddedCutPoint, 3>>& TetCutter::cutTriangles() const {
+  derive();
+  return cut_triangles_;
+}
+
+const std::vector<int>& TetCutter::nodeComponent() const {
+  derive();
+  return node_component_;
+}
+
+int TetCutter::numComponents() const {
+  derive();
+  return num_components_;
 }
 
 CutUpdate TetCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd& x_start,
@@ -354,6 +701,7 @@ CutUpdate TetCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd& x_start
         "TetCutter::cut: positions have sizes " + std::to_string(x_start.size()) + " and " +
         std::to_string(x_end.size()) + ", expected 3 n = " + std::to_string(size));
   CutUpdate update;
+  std::vector<int> new_cut_edges;
   Stopwatch detect;
   const Eigen::Vector3d blade_lo =
       sweep.start.rowwise().minCoeff().cwiseMin(sweep.end.rowwise().minCoeff()).array() -
@@ -381,17 +729,24 @@ CutUpdate TetCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd& x_start
     }
     if (best_t <= 1.0) {
       edge_cut_[id] = 1;
-      ++update.edges_cut;
+      new_cut_edges.push_back(static_cast<int>(id));
     }
   }
+  update.edges_cut = static_cast<int>(new_cut_edges.size());
   num_cut_edges_ += update.edges_cut;
   update.detect_seconds = detect.seconds();
   if (update.edges_cut == 0) return update;
-  Stopwatch rebuild_watch;
-  const Eigen::MatrixXi before = mesh_.elements;
-  rebuild();
-  update.topology_changed = before.cols() != mesh_.elements.cols() || before != mesh_.elements;
-  update.update_seconds = rebuild_watch.seconds();
+  Stopwatch update_watch;
+  if (mode_ == CutUpdateMode::Incremental) {
+    update.topology_changed = updateIncrementally(new_cut_edges);
+  } else {
+    const Eigen::MatrixXi before = mesh_.elements;
+    const Eigen::VectorXd mass_before = lumped_mass_;
+    rebuild();
+    update.topology_changed = before.cols() != mesh_.elements.cols() || before != mesh_.elements ||
+                              mass_before != lumped_mass_;
+  }
+  update.update_seconds = update_watch.seconds();
   return update;
 }
 

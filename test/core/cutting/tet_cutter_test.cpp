@@ -1,7 +1,11 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <climits>
 #include <cmath>
+#include <map>
+#include <random>
+#include <set>
 
 #include "surgical_sim/core/cutting/beam_tip_deflection.h"
 #include "surgical_sim/core/cutting/cut_fuzz.h"
@@ -234,6 +238,134 @@ TEST(TetCutter, ElementRemovalAboveAStrainThresholdKeepsTheMass) {
   EXPECT_NEAR(cutter.lumpedMass().sum() + 3.0 * cutter.removedMass(), mass, 1e-12 * mass);
   EXPECT_EQ(topologyErrors(cutter.mesh()), 0);
   EXPECT_THROW(cutter.removeElements({-1}), std::invalid_argument);
+}
+
+/// A cut mesh described independently of its node and element numbering: a slot is (original
+/// element, real corners of the copy, local corner); a node is named by its smallest slot.
+struct CanonicalCut {
+  using Slot = std::array<int, 3>;
+  std::map<Slot, Slot> slot_node;
+  std::map<Slot, double> node_mass;
+  std::multiset<std::pair<std::array<Slot, 3>, bool>> triangles;
+  int components = 0;
+  double removed_mass = 0.0;
+};
+
+std::vector<CanonicalCut::Slot> nodeNames(const TetCutter& cutter) {
+  const TetMesh& mesh = cutter.mesh();
+  std::vector<CanonicalCut::Slot> name(static_cast<std::size_t>(mesh.numNodes()),
+                                       {INT_MAX, INT_MAX, INT_MAX});
+  for (int c = 0; c < mesh.numElements(); ++c)
+    for (int i = 0; i < 4; ++i) {
+      CanonicalCut::Slot& n = name[static_cast<std::size_t>(mesh.elements(i, c))];
+      n = std::min(n, CanonicalCut::Slot{cutter.elementOrigin()[c], cutter.realCorners(c), i});
+    }
+  return name;
+}
+
+CanonicalCut canonical(const TetCutter& cutter) {
+  const TetMesh& mesh = cutter.mesh();
+  const std::vector<CanonicalCut::Slot> name = nodeNames(cutter);
+  CanonicalCut out;
+  for (int c = 0; c < mesh.numElements(); ++c)
+    for (int i = 0; i < 4; ++i)
+      out.slot_node[{cutter.elementOrigin()[c], cutter.realCorners(c), i}] =
+          name[static_cast<std::size_t>(mesh.elements(i, c))];
+  for (int v = 0; v < mesh.numNodes(); ++v)
+    out.node_mass[name[static_cast<std::size_t>(v)]] = cutter.lumpedMass()[3 * v];
+  const SurfaceMesh& surface = cutter.surface();
+  for (Eigen::Index t = 0; t < surface.triangles.cols(); ++t) {
+    std::array<CanonicalCut::Slot, 3> tri;
+    for (int k = 0; k < 3; ++k) tri[k] = name[static_cast<std::size_t>(surface.triangles(k, t))];
+    std::rotate(tri.begin(), std::min_element(tri.begin(), tri.end()), tri.end());
+    out.triangles.insert({tri, cutter.cutFaces()[static_cast<std::size_t>(t)]});
+  }
+  out.components = cutter.numComponents();
+  out.removed_mass = cutter.removedMass();
+  return out;
+}
+
+/// Node-major vector (origin, index, 0) of each current node.
+Eigen::VectorXd encodeNodes(const TetCutter& cutter) {
+  Eigen::VectorXd x(3 * cutter.mesh().numNodes());
+  for (int v = 0; v < cutter.mesh().numNodes(); ++v)
+    x.segment<3>(3 * v) = Eigen::Vector3d(cutter.nodeOrigin()[v], v, 0);
+  return x;
+}
+
+/// Transfer problems: a node whose parent has another origin or is not an old node.
+int transferErrors(const TetCutter& cutter, const Eigen::VectorXd& transferred, int old_nodes) {
+  int errors = 0;
+  for (int v = 0; v < cutter.mesh().numNodes(); ++v) {
+    const Eigen::Vector3d t = transferred.segment<3>(3 * v);
+    errors += t.x() == cutter.nodeOrigin()[v] && t.y() >= 0 && t.y() < old_nodes ? 0 : 1;
+  }
+  return errors;
+}
+
+TEST(TetCutter, IncrementalUpdateMatchesTheFullRebuildAfterEverySweep) {
+  const Eigen::Vector3d semi(0.075, 0.05, 0.03);
+  const TetMesh organ = makeOrganBlob(semi, 5, ElementType::Tet4);
+  TetCutter incremental(organ, 1000.0), rebuilt(organ, 1000.0, CutUpdateMode::Rebuild);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int changes = 0;
+  for (int i = 0; i < 80; ++i) {
+    BladeSweep sweep;
+    sweep.start.resize(3, 2);
+    sweep.end.resize(3, 2);
+    const Eigen::Vector3d motion(0.3 * semi.x() * u(rng), 0.3 * semi.y() * u(rng),
+                                 -semi.z() * (0.5 + 0.5 * std::abs(u(rng))));
+    for (int k = 0; k < 2; ++k) {
+      sweep.start.col(k) = Eigen::Vector3d(semi.x() * u(rng), semi.y() * u(rng), semi.z());
+      sweep.end.col(k) = sweep.start.col(k) + motion;
+    }
+    TetCutter* cutters[2] = {&incremental, &rebuilt};
+    bool changed[2];
+    for (int k = 0; k < 2; ++k) {
+      const TetMesh& mesh = cutters[k]->mesh();
+      const int old_nodes = mesh.numNodes();
+      const Eigen::VectorXd x =
+          Eigen::Map<const Eigen::VectorXd>(mesh.nodes.data(), 3 * mesh.numNodes());
+      const Eigen::VectorXd nodes = encodeNodes(*cutters[k]);
+      changed[k] = cutters[k]->cut(sweep, x, x).topology_changed;
+      if (changed[k])
+        ASSERT_EQ(transferErrors(*cutters[k], cutters[k]->transfer(nodes), old_nodes), 0)
+            << "sweep " << i << (k == 0 ? " incremental" : " rebuilt");
+    }
+    ASSERT_EQ(changed[0], changed[1]) << "sweep " << i;
+    changes += changed[0] ? 1 : 0;
+    const CanonicalCut a = canonical(incremental);
+    const CanonicalCut b = canonical(rebuilt);
+    ASSERT_EQ(incremental.mesh().numNodes(), rebuilt.mesh().numNodes()) << "sweep " << i;
+    ASSERT_EQ(a.slot_node, b.slot_node) << "sweep " << i;
+    ASSERT_EQ(a.triangles, b.triangles) << "sweep " << i;
+    ASSERT_EQ(a.components, b.components) << "sweep " << i;
+    for (const auto& [node, mass] : a.node_mass)
+      ASSERT_NEAR(mass, b.node_mass.at(node), 1e-12 * mass) << "sweep " << i;
+    EXPECT_EQ(incremental.cutTriangles().size(), rebuilt.cutTriangles().size());
+  }
+  EXPECT_GT(changes, 20);
+  EXPECT_GT(incremental.numComponents(), 1);
+  EXPECT_EQ(incremental.fullRebuilds(), 1);  // construction only
+  // Element removal after the cuts: both rebuild, and still agree.
+  const std::vector<int> some = {0, incremental.mesh().numElements() / 2};
+  std::vector<int> same;
+  for (int c : some)
+    for (int d = 0; d < rebuilt.mesh().numElements(); ++d)
+      if (rebuilt.elementOrigin()[d] == incremental.elementOrigin()[c] &&
+          rebuilt.realCorners(d) == incremental.realCorners(c))
+        same.push_back(d);
+  ASSERT_EQ(same.size(), some.size());
+  const int old_nodes = incremental.mesh().numNodes();
+  const Eigen::VectorXd nodes = encodeNodes(incremental);
+  incremental.removeElements(some);
+  rebuilt.removeElements(same);
+  EXPECT_EQ(transferErrors(incremental, incremental.transfer(nodes), old_nodes), 0);
+  const CanonicalCut a = canonical(incremental), b = canonical(rebuilt);
+  EXPECT_EQ(a.slot_node, b.slot_node);
+  EXPECT_EQ(a.triangles, b.triangles);
+  EXPECT_EQ(a.removed_mass, b.removed_mass);
 }
 
 TEST(TetCutter, FuzzRandomSweepsOverTheOrgan) {

@@ -13,14 +13,14 @@ namespace surgical_sim::core {
 
 /// Result of one topology update of a TetCutter.
 struct CutUpdate {
-  /// Elements or nodes changed. Then (and only then) the caller must rebuild the tissue model
-  /// (new stiffness pattern: CHOLMOD re-analyses), the masses, the surface and the contact
+  /// Elements, nodes or masses changed. Then (and only then) the caller must rebuild the tissue
+  /// model (new stiffness pattern: CHOLMOD re-analyses), the masses, the surface and the contact
   /// structures, and transfer the state with TetCutter::transfer(). A blade that crosses edges
   /// without separating any element's nodes (cut front inside the tissue) leaves it false.
   bool topology_changed = false;
   int edges_cut = 0;            ///< tissue edges newly crossed by the blade
   double detect_seconds = 0.0;  ///< continuous blade-edge detection, wall clock [s]
-  double update_seconds = 0.0;  ///< topology rebuild (elements, masses, surface), wall clock [s]
+  double update_seconds = 0.0;  ///< topology update (elements, masses, surface), wall clock [s]
 };
 
 /// A point of the embedded cut surface: (1 - w) x[node_a] + w x[node_b], on an element edge.
@@ -28,6 +28,15 @@ struct EmbeddedCutPoint {
   int node_a = 0;  ///< node of the current mesh on the fragment's side (real node)
   int node_b = 0;  ///< node of the current mesh on the other side (virtual node of the copy)
   double w = 0.0;  ///< [-], in [0, 1]
+};
+
+/// How TetCutter applies a topology change.
+enum class CutUpdateMode {
+  /// Only the elements whose fragments changed, the nodes around them and their faces (the
+  /// default: the cost follows the size of the change, not of the mesh).
+  Incremental,
+  /// Everything from scratch, O(m): the reference the incremental update is tested against.
+  Rebuild,
 };
 
 /// Progressive cutting of a Tet4 mesh with the virtual node algorithm (Molino, Bao, Fedkiw 2004),
@@ -57,13 +66,22 @@ struct EmbeddedCutPoint {
 /// copy of an original element; its mass goes to the remaining nodes of its corners, or to
 /// removedMass() when none remains.
 ///
-/// Every topology update is a rebuild in O(m) time (m original elements).
+/// A cut updates incrementally (CutUpdateMode::Incremental): the split elements get new copies
+/// (new copies are appended, a fragment keeps its old copy's index), the node classes are
+/// recomputed only around the corners of the split elements (a class that keeps all its old
+/// node keeps its index, a split-off class gets a new node appended), and masses, faces, surface
+/// and edge representatives only there. Nodes and elements that existed before keep their indices,
+/// so transfer() maps old nodes to themselves and new nodes to the node they split from. The
+/// connected components and the embedded cut surface are derived on demand. Element removal (and
+/// CutUpdateMode::Rebuild) rebuilds everything in O(m) time (m original elements).
 class TetCutter {
  public:
   /// @param rest_mesh Tet4 mesh [m] passing requireValidMesh().
   /// @param density rho [kg/m^3], finite and > 0.
+  /// @param mode how cuts update the topology (Incremental unless comparing against Rebuild).
   /// @throws std::invalid_argument for a Tet10 or invalid mesh or a bad density.
-  TetCutter(const TetMesh& rest_mesh, double density);
+  TetCutter(const TetMesh& rest_mesh, double density,
+            CutUpdateMode mode = CutUpdateMode::Incremental);
 
   /// Cuts with a blade sweep. Nodes move linearly from x_start to x_end over the step
   /// (deformed positions of the current mesh, tissue frame, size 3 n [m]); every uncut material
@@ -89,6 +107,8 @@ class TetCutter {
   const std::vector<int>& nodeOrigin() const { return node_origin_; }
   /// Original element of each current element.
   const std::vector<int>& elementOrigin() const { return element_origin_; }
+  /// Real corners of current element c (bit i = local corner i; 0xF for an unsplit element).
+  int realCorners(int c) const { return copies_[static_cast<std::size_t>(c)].mask; }
   /// Material fraction of each current element [-].
   const std::vector<double>& elementFraction() const { return element_fraction_; }
   /// Node-major vector (size 3 n_old, e.g. positions or velocities) of the mesh before the last
@@ -101,16 +121,18 @@ class TetCutter {
   const std::vector<bool>& cutFaces() const { return cut_faces_; }
   /// Embedded cut surface (the part of the blade's swept surface inside each split element, as
   /// seen by each copy), 3 points per triangle, oriented away from the copy's real nodes.
-  const std::vector<std::array<EmbeddedCutPoint, 3>>& cutTriangles() const {
-    return cut_triangles_;
-  }
-  /// Connected component (0..numComponents()-1) of each current node.
-  const std::vector<int>& nodeComponent() const { return node_component_; }
-  int numComponents() const { return num_components_; }
+  /// Derived on the first call after a topology change, O(m) (not thread-safe).
+  const std::vector<std::array<EmbeddedCutPoint, 3>>& cutTriangles() const;
+  /// Connected component (0..numComponents()-1) of each current node. Derived on the first call
+  /// after a topology change, O(m) (not thread-safe).
+  const std::vector<int>& nodeComponent() const;
+  int numComponents() const;
   /// Original edges crossed by the blade so far.
   int numCutEdges() const { return num_cut_edges_; }
   /// Mass [kg] of removed elements that had no remaining node to go to.
   double removedMass() const { return removed_mass_; }
+  /// Full O(m) rebuilds so far: construction, element removal and CutUpdateMode::Rebuild cuts.
+  int fullRebuilds() const { return full_rebuilds_; }
 
  private:
   struct Copy {
@@ -118,35 +140,93 @@ class TetCutter {
     int mask;     ///< real corners (bit i = local corner i)
     double fraction;
   };
+  /// Copies (current elements) of an original element: ids[0..count).
+  struct CopyList {
+    std::array<int, 4> ids{};
+    int count = 0;
+  };
+  /// Gluing of two copies across an original interior face: whole (the material continues
+  /// across it, all three corners glued) or at the corners real in both.
+  struct FaceGlue {
+    bool whole = false;
+    std::array<bool, 3> corner{};
+  };
+
   void rebuild();
-  int partition(int element, const std::vector<std::uint8_t>& cut, std::array<int, 4>& masks) const;
+  bool updateIncrementally(const std::vector<int>& new_cut_edges);
+  int partition(int element, std::array<int, 4>& masks) const;
   std::array<double, 6> localCutParameters(int element) const;
+  FaceGlue glue(int copy, int local_face, int copy2, const std::array<int, 3>& corners2) const;
+  std::array<int, 3> neighbourCorners(int element, int local_face) const;
+  /// Node classes of the slots (copy, corner at an original node) around that node.
+  struct StarClasses {
+    std::vector<std::array<int, 2>> slots;  ///< (copy, local corner)
+    std::vector<int> slot_class;
+    std::vector<int> class_node;    ///< node the class keeps, or -1 for a new node
+    std::vector<int> class_parent;  ///< for a new node: the node it splits from
+    std::vector<int> vanished;      ///< nodes no class keeps (merged into others)
+  };
+  /// Classes around original node v under the current copies and the nodes they get.
+  void starClasses(int v, StarClasses& out);
+  void applyStarClasses(int v, const StarClasses& star);
+  /// Removes an unused node by moving the last node into its index; returns the moved node's
+  /// origin (its star has to be refreshed).
+  int removeNode(int node);
+  void refreshFaces(const std::vector<int>& elements);
+  void refreshEdgeRepresentatives(const std::vector<int>& elements);
+  void recomputeMasses(const std::vector<int>& origins);
+  void publishSurface();
+  void setTriangle(int face_slot, bool present);
+  /// Elements around original node v: vertex_elements_[vertex_offsets_[v], [v + 1]).
+  const int* starBegin(int v) const { return vertex_elements_.data() + vertex_offsets_[v]; }
+  const int* starEnd(int v) const { return vertex_elements_.data() + vertex_offsets_[v + 1]; }
+  /// Marks i in a stamp vector; true the first time within the current stamp.
+  bool firstVisit(std::vector<int>& stamps, int i) const;
 
   TetMesh original_;
   double density_;
+  CutUpdateMode mode_;
   double tolerance_;                       ///< CCD distance tolerance [m]
   std::vector<std::array<int, 2>> edges_;  ///< original edges (lower node, higher node)
   std::vector<std::array<int, 6>> element_edges_;
-  std::vector<std::array<int, 2>> face_neighbour_;  ///< (element, local face) -> (element, face)
+  std::vector<int> edge_offsets_, edge_elements_;      ///< original edge -> elements (CSR)
+  std::vector<int> vertex_offsets_, vertex_elements_;  ///< original node -> elements (CSR)
+  std::vector<std::array<int, 2>> face_neighbour_;     ///< (element, local face) -> (element, face)
   std::vector<double> element_volume_;
   std::vector<std::uint8_t> edge_cut_;
   std::vector<double> edge_s_;
   std::vector<std::uint8_t> removed_;
   int num_cut_edges_ = 0;
+  int full_rebuilds_ = 0;
   double removed_mass_ = 0.0;
 
-  std::vector<Copy> copies_;
-  std::vector<int> copy_offsets_;  ///< copies of element e: [copy_offsets_[e], [e + 1])
+  std::vector<Copy> copies_;                    ///< one per current element
+  std::vector<CopyList> element_copies_;        ///< per original element
+  std::vector<std::vector<int>> origin_nodes_;  ///< current nodes of each original node
   TetMesh mesh_;
   Eigen::VectorXd lumped_mass_;
-  std::vector<int> node_origin_, element_origin_, parent_node_, node_component_;
+  std::vector<int> node_origin_, element_origin_, parent_node_;
   std::vector<double> element_fraction_;
   std::vector<std::array<int, 2>> edge_representative_;  ///< current nodes of an uncut edge
+  /// Surface triangles, unordered: nodes, the face slot (4 copy + local face) they come from and
+  /// whether they lie on a cut; face_triangle_ is the inverse (-1: glued face).
+  std::vector<std::array<int, 3>> triangles_;
+  std::vector<int> triangle_face_;
+  std::vector<bool> triangle_cut_;
+  std::vector<int> face_triangle_;
   SurfaceMesh surface_;
   std::vector<bool> cut_faces_;
-  std::vector<std::array<EmbeddedCutPoint, 3>> cut_triangles_;
-  int num_components_ = 0;
   int old_num_nodes_ = 0;
+  // Scratch of updateIncrementally() / relabelStar() (stamps avoid clearing per update).
+  mutable int stamp_ = 0;
+  mutable std::vector<int> element_stamp_, origin_stamp_, changed_stamp_;
+  std::vector<int> copy_slot_;
+  // Derived on demand (cached until the next topology change).
+  mutable bool derived_valid_ = false;
+  mutable std::vector<int> node_component_;
+  mutable int num_components_ = 0;
+  mutable std::vector<std::array<EmbeddedCutPoint, 3>> cut_triangles_;
+  void derive() const;
 };
 
 }  // namespace surgical_sim::core
