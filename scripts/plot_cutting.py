@@ -37,15 +37,17 @@ def plot_update(d):
     series = {}
     for r in rows(os.path.join(d, "cutting_update.csv")):
         if r["topology_changed"] == "1":
-            series.setdefault(int(r["elements"]), []).append(
+            series.setdefault((r["mode"], int(r["elements"])), []).append(
                 (int(r["sweep"]), float(r["total_ms"])))
     fig, ax = plt.subplots(figsize=(7.5, 5))
-    for elements, pts in sorted(series.items()):
-        ax.plot([p[0] for p in pts], [p[1] for p in pts], ".-", label="%d elements" % elements)
+    for (mode, elements), pts in sorted(series.items()):
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], "." if mode == "rebuild" else ".-",
+                markersize=2, linewidth=0.6, label="%s, %d elements" % (mode, elements))
+    ax.axhline(0.5, color="k", linestyle="--", linewidth=0.8, label="0.5 ms target")
     ax.set_yscale("log")
-    finish(fig, ax, d, "cutting_update.png", "blade sweep (10 cuts x 10 sweeps)",
+    finish(fig, ax, d, "cutting_update.png", "blade step (10 cuts x 60 steps of 1 mm)",
            "detection + topology update [ms]",
-           "P2: cut update time per sweep that changed the topology")
+           "P2: cut update time per step that changed the topology")
 
 
 def plot_step(d):

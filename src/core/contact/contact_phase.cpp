@@ -44,8 +44,13 @@ ContactPhase::ContactPhase(const SurfaceMesh& surface, const Eigen::VectorXd& re
       detector_(settings.detector),
       solver_(settings.solver, checkedToolCount(settings) * settings.detector.max_contacts) {
   for (const ToolSettings& tool : settings.tools) {
-    Tool entry{ToolCapsule(tool.radius, tool.shaft_length), tool.response, std::nullopt,
-               GraspConstraint(tool.grasp_radius),          false,         ContactLinearization()};
+    Tool entry{ToolCapsule(tool.radius, tool.shaft_length),
+               tool.response,
+               std::nullopt,
+               GraspConstraint(tool.grasp_radius),
+               false,
+               false,
+               ContactLinearization()};
     if (tool.response == ContactResponse::Proxy) entry.proxy.emplace(tool.proxy_stiffness);
     tools_.push_back(std::move(entry));
   }
@@ -57,7 +62,10 @@ ContactPhase::ContactPhase(const SurfaceMesh& surface, const Eigen::VectorXd& re
 
 bool ContactPhase::setToolPose(int tool, const Eigen::Isometry3d& X_ST) {
   if (tool < 0 || tool >= numTools()) return false;
-  return tools_[static_cast<size_t>(tool)].capsule.setPose(X_ST);
+  Tool& entry = tools_[static_cast<size_t>(tool)];
+  if (!entry.capsule.setPose(X_ST)) return false;
+  entry.posed = true;
+  return true;
 }
 
 void ContactPhase::setGrasp(int tool, bool closed) {
@@ -75,7 +83,8 @@ void ContactPhase::prepareStep(const Eigen::VectorXd& x, const Eigen::VectorXd& 
   markDirichletDofs(base_dirichlet.dofs, fixed_mask_);
   dirichlet.dofs.assign(base_dirichlet.dofs.begin(), base_dirichlet.dofs.end());
   for (Tool& tool : tools_) {
-    tool.grasp.update(tool.grasp_requested, tool.capsule.pose(), surface_nodes_, x, fixed_mask_);
+    tool.grasp.update(tool.grasp_requested && tool.posed, tool.capsule.pose(), surface_nodes_, x,
+                      fixed_mask_);
     tool.grasp.appendDofs(dirichlet.dofs);
   }
   const auto total = static_cast<Eigen::Index>(dirichlet.dofs.size());
@@ -105,7 +114,8 @@ StepStatus ContactPhase::finishStep(Integrator& integrator, const TissueModel& m
   bvh_.refit(state.x);
   contacts_.clear();
   for (size_t t = 0; t < tools_.size(); ++t) {
-    if (tools_[t].response == ContactResponse::Constraint && !tools_[t].grasp.active()) {
+    if (tools_[t].posed && tools_[t].response == ContactResponse::Constraint &&
+        !tools_[t].grasp.active()) {
       detector_.detect(static_cast<int>(t), tools_[t].capsule, triangles_, state.x, bvh_,
                        contacts_);
     }
@@ -117,6 +127,7 @@ StepStatus ContactPhase::finishStep(Integrator& integrator, const TissueModel& m
   bool grasping = false;
   for (size_t t = 0; t < tools_.size(); ++t) {
     Tool& tool = tools_[t];
+    if (tool.proxy && !tool.posed) continue;
     if (tool.proxy) {
       tool.proxy->update(tool.capsule.tip(), tool.capsule.radius(), triangles_, state.x, bvh_);
       tool.linearization = tool.proxy->linearization();

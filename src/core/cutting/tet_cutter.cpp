@@ -92,6 +92,18 @@ TetCutter::TetCutter(const TetMesh& rest_mesh, double density, CutUpdateMode mod
                                                                                  f0.local_face};
   }
 
+  // Local corners, in the neighbour, of each interior face's corners.
+  neighbour_corners_.assign(static_cast<std::size_t>(4 * m), {-1, -1, -1});
+  for (int e = 0; e < m; ++e)
+    for (int lf = 0; lf < 4; ++lf) {
+      const int e2 = face_neighbour_[static_cast<std::size_t>(4 * e + lf)][0];
+      if (e2 < 0) continue;
+      const std::array<int, 3> corners = tetFaceCorners(lf);
+      for (int k = 0; k < 3; ++k)
+        neighbour_corners_[static_cast<std::size_t>(4 * e + lf)][k] = static_cast<std::int8_t>(
+            localCornerOf(rest_mesh, e2, rest_mesh.elements(corners[k], e)));
+    }
+
   element_volume_.resize(static_cast<std::size_t>(m));
   for (int e = 0; e < m; ++e)
     element_volume_[static_cast<std::size_t>(e)] = signedVolume(rest_mesh, e);
@@ -144,12 +156,9 @@ std::array<double, 6> TetCutter::localCutParameters(int element) const {
 }
 
 std::array<int, 3> TetCutter::neighbourCorners(int element, int local_face) const {
-  const int e2 = face_neighbour_[static_cast<std::size_t>(4 * element + local_face)][0];
-  const std::array<int, 3> corners = tetFaceCorners(local_face);
-  std::array<int, 3> corners2{};
-  for (int k = 0; k < 3; ++k)
-    corners2[k] = localCornerOf(original_, e2, original_.elements(corners[k], element));
-  return corners2;
+  const std::array<std::int8_t, 3>& c =
+      neighbour_corners_[static_cast<std::size_t>(4 * element + local_face)];
+  return {c[0], c[1], c[2]};
 }
 
 TetCutter::FaceGlue TetCutter::glue(int copy, int local_face, int copy2,
@@ -709,14 +718,25 @@ CutUpdate TetCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd& x_start
   const Eigen::Vector3d blade_hi =
       sweep.start.rowwise().maxCoeff().cwiseMax(sweep.end.rowwise().maxCoeff()).array() +
       tolerance_;
+  // Swept-box rejection with outcodes: bit 2d (2d + 1) when a node stays below (above) the
+  // blade's box along axis d; an edge's swept box misses the blade's iff its nodes share a bit.
+  outcode_.resize(static_cast<std::size_t>(mesh_.numNodes()));
+  for (int v = 0; v < mesh_.numNodes(); ++v) {
+    const Eigen::Vector3d p0 = nodeAt(x_start, v), p1 = nodeAt(x_end, v);
+    std::uint8_t code = 0;
+    for (int d = 0; d < 3; ++d) {
+      if (p0[d] < blade_lo[d] && p1[d] < blade_lo[d]) code |= 1 << (2 * d);
+      if (p0[d] > blade_hi[d] && p1[d] > blade_hi[d]) code |= 1 << (2 * d + 1);
+    }
+    outcode_[static_cast<std::size_t>(v)] = code;
+  }
   for (std::size_t id = 0; id < edges_.size(); ++id) {
     const auto [a, b] = edge_representative_[id];
-    if (edge_cut_[id] || a < 0) continue;
+    if (edge_cut_[id] || a < 0 ||
+        (outcode_[static_cast<std::size_t>(a)] & outcode_[static_cast<std::size_t>(b)]))
+      continue;
     const Eigen::Vector3d a0 = nodeAt(x_start, a), b0 = nodeAt(x_start, b);
     const Eigen::Vector3d a1 = nodeAt(x_end, a), b1 = nodeAt(x_end, b);
-    const Eigen::Vector3d lo = a0.cwiseMin(b0).cwiseMin(a1).cwiseMin(b1);
-    const Eigen::Vector3d hi = a0.cwiseMax(b0).cwiseMax(a1).cwiseMax(b1);
-    if ((lo.array() > blade_hi.array()).any() || (hi.array() < blade_lo.array()).any()) continue;
     double best_t = 2.0;
     for (Eigen::Index k = 0; k + 1 < sweep.start.cols(); ++k) {
       const auto hit =

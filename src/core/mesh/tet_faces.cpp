@@ -13,12 +13,6 @@ std::array<int, 3> sortedNodes(const TetFace& face) {
 
 }  // namespace
 
-std::array<int, 3> tetFaceCorners(int local_face) {
-  constexpr std::array<std::array<int, 3>, 4> kFaces{
-      {{{1, 2, 3}}, {{0, 3, 2}}, {{0, 1, 3}}, {{0, 2, 1}}}};
-  return kFaces.at(static_cast<std::size_t>(local_face));
-}
-
 TetFaceGroups groupTetFaces(const TetMesh& mesh) {
   struct KeyedFace {
     std::array<int, 3> key;

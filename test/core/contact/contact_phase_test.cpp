@@ -205,6 +205,20 @@ TEST(ContactPhase, NoContactGivesZeroForceAndStiffness) {
   EXPECT_LT((p.state.x - p.model->restPositions()).norm(), 1e-12);
 }
 
+TEST(ContactPhase, ToolWithoutAPoseTouchesNothing) {
+  // The capsule's default pose (identity) puts its tip on a corner of the box.
+  Palpation p;
+  p.contact->prepareStep(p.state.x, p.base_force, p.base_bc, p.problem.external_force,
+                         p.problem.dirichlet);
+  ASSERT_EQ(p.integrator->step(p.problem, 0.01, p.state).status, StepStatus::Ok);
+  ASSERT_EQ(p.contact->finishStep(*p.integrator, *p.model, 0.01, p.state), StepStatus::Ok);
+  EXPECT_TRUE(p.contact->contacts().empty());
+  EXPECT_FALSE(p.contact->linearization(0).in_contact);
+  // Once the pose is set there, the tool touches the corner.
+  p.step(Eigen::Isometry3d::Identity());
+  EXPECT_FALSE(p.contact->contacts().empty());
+}
+
 TEST(ContactPhase, ReleaseReturnsForceToZero) {
   Palpation p(ContactResponse::Constraint, "implicit_euler_linearized");
   for (int s = 1; s <= 10; ++s) ASSERT_EQ(p.step(Palpation::pose(2e-4 * s)), StepStatus::Ok);

@@ -69,6 +69,7 @@ class ContactPhase {
 
   int numTools() const { return static_cast<int>(tools_.size()); }
   /// Sets tool `tool`'s tip pose X_ST. Returns false (pose kept) for a bad index or NaN/Inf.
+  /// A tool whose pose was never set touches and grasps nothing.
   bool setToolPose(int tool, const Eigen::Isometry3d& X_ST);
   /// Requests the jaws of tool `tool` closed or open (applied at the next prepareStep).
   void setGrasp(int tool, bool closed);
@@ -98,6 +99,7 @@ class ContactPhase {
     std::optional<ProxyContact> proxy;
     GraspConstraint grasp;
     bool grasp_requested = false;
+    bool posed = false;  ///< a pose was set: until then the tool touches and grasps nothing
     ContactLinearization linearization;
   };
 

@@ -192,6 +192,8 @@ class TetCutter {
   std::vector<int> edge_offsets_, edge_elements_;      ///< original edge -> elements (CSR)
   std::vector<int> vertex_offsets_, vertex_elements_;  ///< original node -> elements (CSR)
   std::vector<std::array<int, 2>> face_neighbour_;     ///< (element, local face) -> (element, face)
+  /// (element, local face) -> local corners in the neighbour of the face's corners.
+  std::vector<std::array<std::int8_t, 3>> neighbour_corners_;
   std::vector<double> element_volume_;
   std::vector<std::uint8_t> edge_cut_;
   std::vector<double> edge_s_;
@@ -221,6 +223,7 @@ class TetCutter {
   mutable int stamp_ = 0;
   mutable std::vector<int> element_stamp_, origin_stamp_, changed_stamp_;
   std::vector<int> copy_slot_;
+  std::vector<std::uint8_t> outcode_;  ///< cut(): per node, sides of the blade's box it stays on
   // Derived on demand (cached until the next topology change).
   mutable bool derived_valid_ = false;
   mutable std::vector<int> node_component_;

@@ -28,7 +28,12 @@ struct TetFaceGroups {
 
 /// Local corners of the face opposite corner f (f = 0..3), ordered counter-clockwise seen from
 /// outside a positively oriented element: {1,2,3}, {0,3,2}, {0,1,3}, {0,2,1}.
-std::array<int, 3> tetFaceCorners(int local_face);
+/// local_face must be in 0..3 (unchecked: hot in cutting).
+inline std::array<int, 3> tetFaceCorners(int local_face) {
+  constexpr std::array<std::array<int, 3>, 4> kFaces{
+      {{{1, 2, 3}}, {{0, 3, 2}}, {{0, 1, 3}}, {{0, 2, 1}}}};
+  return kFaces[static_cast<std::size_t>(local_face)];
+}
 
 /// Groups the faces of all elements of the mesh (O(m log m)).
 /// @param mesh mesh whose corner node indices are all in range (see checkMesh()).
