@@ -13,21 +13,23 @@ Eigen::SparseMatrix<double> makeBlockPattern(int num_nodes, const Eigen::MatrixX
       }
     }
   }
-  std::vector<Eigen::Triplet<double>> triplets;
+  // Compressed columns directly: column 3 i + c holds rows 3 j + r of i's sorted neighbours j.
+  std::vector<int> outer(static_cast<size_t>(3 * num_nodes + 1), 0);
+  std::vector<int> inner;
   for (int i = 0; i < num_nodes; ++i) {
     auto& adj = adjacency[static_cast<size_t>(i)];
     std::sort(adj.begin(), adj.end());
     adj.erase(std::unique(adj.begin(), adj.end()), adj.end());
-    for (int j : adj) {
-      for (int r = 0; r < 3; ++r) {
-        for (int c = 0; c < 3; ++c) triplets.emplace_back(3 * j + r, 3 * i + c, 0.0);
-      }
+    for (int c = 0; c < 3; ++c) {
+      for (int j : adj)
+        for (int r = 0; r < 3; ++r) inner.push_back(3 * j + r);
+      outer[static_cast<size_t>(3 * i + c + 1)] = static_cast<int>(inner.size());
     }
   }
-  Eigen::SparseMatrix<double> pattern(3 * num_nodes, 3 * num_nodes);
-  pattern.setFromTriplets(triplets.begin(), triplets.end());
-  pattern.makeCompressed();
-  return pattern;
+  const std::vector<double> zeros(inner.size(), 0.0);
+  return Eigen::SparseMatrix<double>(Eigen::Map<const Eigen::SparseMatrix<double>>(
+      3 * num_nodes, 3 * num_nodes, static_cast<Eigen::Index>(inner.size()), outer.data(),
+      inner.data(), zeros.data()));
 }
 
 std::vector<int> makeScatterMap(const Eigen::SparseMatrix<double>& pattern,
@@ -40,10 +42,12 @@ std::vector<int> makeScatterMap(const Eigen::SparseMatrix<double>& pattern,
   for (Eigen::Index g = 0; g < groups.cols(); ++g) {
     for (int c = 0; c < dofs; ++c) {
       const int col = 3 * groups(c / 3, g) + c % 3;
-      for (int r = 0; r < dofs; ++r) {
-        const int row = 3 * groups(r / 3, g) + r % 3;
-        const int* it = std::lower_bound(inner + outer[col], inner + outer[col + 1], row);
-        map.push_back(static_cast<int>(it - inner));
+      // The 3 rows of a node block are consecutive in a column: one search per block.
+      for (Eigen::Index b = 0; b < groups.rows(); ++b) {
+        const int* it =
+            std::lower_bound(inner + outer[col], inner + outer[col + 1], 3 * groups(b, g));
+        const int first = static_cast<int>(it - inner);
+        for (int r = 0; r < 3; ++r) map.push_back(first + r);
       }
     }
   }
