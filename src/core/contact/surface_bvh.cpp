@@ -13,6 +13,11 @@
 namespace surgical_sim::core {
 namespace {
 
+/// Subtrees of at most this many leaves are built bottom-up by btDbvt, O(k^3) each. Measured on
+/// the organ surface (4,800 triangles): Bullet's default 128 builds in 36 ms, 16 in 9 ms, with
+/// box queries equally fast within the noise (a rebuild follows every cut).
+constexpr int kBottomUpLeaves = 16;
+
 /// The float nearest to value rounded towards -inf (down = true) or +inf.
 btScalar roundOutward(double value, bool down) {
   auto result = static_cast<btScalar>(value);
@@ -66,7 +71,7 @@ SurfaceBvh::SurfaceBvh(const Eigen::Matrix3Xi& triangles, const Eigen::VectorXd&
         tree_->insert(fatVolume(boxes_[static_cast<size_t>(i)], fat_margin_),
                       reinterpret_cast<void*>(static_cast<std::intptr_t>(i)));
   }
-  tree_->optimizeTopDown();
+  tree_->optimizeTopDown(kBottomUpLeaves);
 }
 
 SurfaceBvh::~SurfaceBvh() = default;
