@@ -318,8 +318,8 @@ SceneConfig parse(const YAML::Node& root, const std::string& path) {
   s.models = r.choices("models", {"mass_spring", "corotational", "svk", "ems", "neo_hookean"});
   s.integrators = r.choices("integrators", {"symplectic_euler", "implicit_euler_linearized",
                                             "implicit_euler_newton", "quasi_static"});
-  s.solvers = r.choices(
-      "solvers", {"cholmod", "pcg_jacobi", "pcg_block_jacobi", "pcg_ichol", "pcg_cholesky_reuse"});
+  s.solvers = r.choices("solvers", {"cholmod", "pcg_jacobi", "pcg_block_jacobi", "pcg_ichol",
+                                    "pcg_cholesky_reuse", "pcg_cholesky_background"});
   s.time_step = r.number("time_step");
   checkRange(r, "time_step", s.time_step, 1e-7, 1.0, "s");
   s.steps = r.integer("steps", 1, 1000000);

@@ -72,9 +72,8 @@ bool CholmodSolver::factorize(const Eigen::SparseMatrix<double>& A) {
   return true;
 }
 
-LinearSolveReport CholmodSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
-  LinearSolveReport report;
-  if (!factorized_ || b.size() != matrix_.rows() || x.size() != b.size()) return report;
+bool CholmodSolver::solveWithFactor(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  if (!factorized_ || b.size() != matrix_.rows() || x.size() != b.size()) return false;
   cholmod_dense rhs{};
   rhs.nrow = static_cast<size_t>(b.size());
   rhs.ncol = 1;
@@ -86,8 +85,14 @@ LinearSolveReport CholmodSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd
   rhs.dtype = CHOLMOD_DOUBLE;
   const int ok = cholmod_solve2(CHOLMOD_A, factor_, &rhs, nullptr, &solution_, nullptr,
                                 &workspace_y_, &workspace_e_, &common_);
-  if (ok == 0 || solution_ == nullptr) return report;
+  if (ok == 0 || solution_ == nullptr) return false;
   x = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(solution_->x), b.size());
+  return true;
+}
+
+LinearSolveReport CholmodSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  LinearSolveReport report;
+  if (!solveWithFactor(b, x)) return report;
   report.iterations = 1;
   if (!x.allFinite()) return report;
   residual_ = b;

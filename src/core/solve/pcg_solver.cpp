@@ -1,6 +1,5 @@
 #include "surgical_sim/core/solve/pcg_solver.h"
 
-#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -40,19 +39,16 @@ void PcgSolver::analyzePattern(const Eigen::SparseMatrix<double>& A) {
   matrix_ = A;
   matrix_.makeCompressed();
   const Eigen::Index n = A.rows();
-  residual_.setZero(n);
-  direction_.setZero(n);
-  product_.setZero(n);
-  preconditioned_.setZero(n);
+  work_.resize(n);
   scratch_.setZero(n);
   inverse_diagonal_.resize(0);
-  inverse_blocks_.clear();
+  block_jacobi_.resize(0, 0);
   switch (preconditioner_) {
     case PcgPreconditioner::Jacobi:
       inverse_diagonal_.setZero(n);
       break;
     case PcgPreconditioner::BlockJacobi:
-      inverse_blocks_.assign(static_cast<size_t>((n + 2) / 3), Eigen::Matrix3d::Zero());
+      block_jacobi_.resize(0, n);
       break;
     case PcgPreconditioner::IncompleteCholesky:
       incomplete_cholesky_.analyzePattern(matrix_);
@@ -78,7 +74,7 @@ bool PcgSolver::factorize(const Eigen::SparseMatrix<double>& A) {
       factorized_ = buildJacobi();
       break;
     case PcgPreconditioner::BlockJacobi:
-      factorized_ = buildBlockJacobi();
+      factorized_ = block_jacobi_.build(matrix_);
       break;
     case PcgPreconditioner::IncompleteCholesky:
       factorized_ = buildIncompleteCholesky();
@@ -103,27 +99,6 @@ bool PcgSolver::buildJacobi() {
   return true;
 }
 
-bool PcgSolver::buildBlockJacobi() {
-  const Eigen::Index n = matrix_.rows();
-  for (Eigen::Matrix3d& block : inverse_blocks_) block.setZero();
-  for (Eigen::Index j = 0; j < n; ++j) {
-    for (Eigen::SparseMatrix<double>::InnerIterator it(matrix_, j); it; ++it) {
-      if (it.row() / 3 == j / 3) {
-        inverse_blocks_[static_cast<size_t>(j / 3)](it.row() % 3, j % 3) = it.value();
-      }
-    }
-  }
-  // A trailing partial block (n not a multiple of 3) gets identity in its unused slots.
-  for (Eigen::Index k = n; k % 3 != 0; ++k) inverse_blocks_.back()(k % 3, k % 3) = 1.0;
-  for (Eigen::Matrix3d& block : inverse_blocks_) {
-    Eigen::LLT<Eigen::Matrix3d> llt(block);
-    if (llt.info() != Eigen::Success) return false;
-    block = llt.solve(Eigen::Matrix3d::Identity());
-    if (!block.allFinite()) return false;
-  }
-  return true;
-}
-
 bool PcgSolver::buildIncompleteCholesky() {
   incomplete_cholesky_.factorize(matrix_);
   return incomplete_cholesky_.info() == Eigen::Success;
@@ -143,15 +118,9 @@ bool PcgSolver::applyPreconditioner(const Eigen::VectorXd& r, Eigen::VectorXd& z
     case PcgPreconditioner::Jacobi:
       z = inverse_diagonal_.cwiseProduct(r);
       return true;
-    case PcgPreconditioner::BlockJacobi: {
-      const Eigen::Index n = r.size();
-      for (Eigen::Index start = 0, b = 0; start < n; start += 3, ++b) {
-        const Eigen::Index m = std::min<Eigen::Index>(3, n - start);
-        z.segment(start, m).noalias() =
-            inverse_blocks_[static_cast<size_t>(b)].topLeftCorner(m, m) * r.segment(start, m);
-      }
+    case PcgPreconditioner::BlockJacobi:
+      block_jacobi_.apply(r, z);
       return true;
-    }
     case PcgPreconditioner::IncompleteCholesky: {
       // Same operations as IncompleteCholesky::solve, written out to avoid its temporaries:
       // z = P^-1 S L^-T L^-1 S P r.
@@ -181,54 +150,11 @@ bool PcgSolver::applyPreconditioner(const Eigen::VectorXd& r, Eigen::VectorXd& z
 }
 
 LinearSolveReport PcgSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
-  LinearSolveReport report;
-  if (!factorized_ || b.size() != matrix_.rows() || x.size() != b.size()) return report;
-  const double b_norm = b.norm();
-  if (!std::isfinite(b_norm)) return report;
-  if (b_norm == 0.0) {
-    x.setZero();
-    report.ok = true;
-    return report;
-  }
-  if (!x.allFinite()) x.setZero();
-  const double tolerance = settings_.relative_tolerance * b_norm;
-  residual_ = b;
-  residual_.noalias() -= matrix_ * x;
-  double residual_norm = residual_.norm();
-  if (residual_norm <= tolerance) {
-    report.ok = true;
-    report.relative_residual = residual_norm / b_norm;
-    return report;
-  }
-  if (!applyPreconditioner(residual_, preconditioned_)) return report;
-  direction_ = preconditioned_;
-  double rz = residual_.dot(preconditioned_);
-  for (int k = 1; k <= settings_.max_iterations; ++k) {
-    product_.noalias() = matrix_ * direction_;
-    const double curvature = direction_.dot(product_);
-    if (!(curvature > 0.0) || !std::isfinite(curvature) || !std::isfinite(rz)) {
-      report.iterations = k;
-      report.relative_residual = residual_norm / b_norm;
-      return report;
-    }
-    const double alpha = rz / curvature;
-    x.noalias() += alpha * direction_;
-    residual_.noalias() -= alpha * product_;
-    residual_norm = residual_.norm();
-    report.iterations = k;
-    report.relative_residual = residual_norm / b_norm;
-    if (!std::isfinite(residual_norm)) return report;
-    if (residual_norm <= tolerance) {
-      report.ok = true;
-      return report;
-    }
-    if (!applyPreconditioner(residual_, preconditioned_)) return report;
-    const double rz_next = residual_.dot(preconditioned_);
-    const double beta = rz_next / rz;
-    rz = rz_next;
-    direction_ = preconditioned_ + beta * direction_;
-  }
-  return report;
+  if (!factorized_) return {};
+  return preconditionedConjugateGradient(
+      matrix_, b, x, settings_.max_iterations, settings_.relative_tolerance,
+      [this](const Eigen::VectorXd& r, Eigen::VectorXd& z) { return applyPreconditioner(r, z); },
+      work_);
 }
 
 }  // namespace surgical_sim::core

@@ -118,6 +118,32 @@ TEST(TissueSimulation, CutThroughSplitsTheOrganKeepsItsMassAndKeepsStepping) {
   EXPECT_FALSE(has(sim.components(), "cutting"));
 }
 
+TEST(TissueSimulation, BackgroundCholeskySolverFollowsTheDirectSolverThroughACut) {
+  // Each cut appends nodes: pcg_cholesky_background goes on with its old factor (plus
+  // block-Jacobi on the new nodes) or falls back to a synchronous factorization, and must give
+  // the direct solver's steps to the PCG tolerance (amplified by the dynamics of the cut organ).
+  SceneConfig scene = palpationScene();
+  scene.pcg_tolerance = 1e-10;
+  TissueSimulation direct(scene);
+  scene.solvers = {"pcg_cholesky_background"};
+  TissueSimulation background(scene);
+  EXPECT_TRUE(has(background.components(), "integrator:implicit_euler_linearized"));
+  for (int k = 0; k < 6; ++k) {
+    if (k == 1 || k == 2) {
+      const BladeSweep sweep =
+          k == 1 ? bladeDown(0.0031, 0.05, 0.0) : bladeDown(0.0031, 0.0, -0.05);
+      direct.requestCut(sweep);
+      background.requestCut(sweep);
+    }
+    const StepStatus expected = direct.step().report.status;
+    ASSERT_EQ(background.step().report.status, expected) << "step " << k;
+    ASSERT_EQ(background.state().x.size(), direct.state().x.size());
+    EXPECT_LT((background.state().x - direct.state().x).lpNorm<Eigen::Infinity>(), 1e-9)
+        << "step " << k;  // [m]
+  }
+  EXPECT_EQ(background.numComponents(), 2);
+}
+
 TEST(TissueSimulation, CuttingSceneCutThroughByAMovingVerticalBladeGivesTwoPieces) {
   // The motion of test/data/cutting.bag: a vertical 70 mm blade (tip 11 mm below the organ)
   // crossing the organ along y at x = 3.1 mm in 100 steps, with the tool tip moving with it.

@@ -12,8 +12,8 @@
 namespace surgical_sim::core::test {
 namespace {
 
-const char* const kSolverNames[] = {"cholmod", "pcg_jacobi", "pcg_block_jacobi", "pcg_ichol",
-                                    "pcg_cholesky_reuse"};
+const char* const kSolverNames[] = {"cholmod",   "pcg_jacobi",         "pcg_block_jacobi",
+                                    "pcg_ichol", "pcg_cholesky_reuse", "pcg_cholesky_background"};
 
 PcgSettings tightPcg() {
   PcgSettings pcg;

@@ -36,6 +36,10 @@ class CholmodSolver final : public LinearSolver {
   /// Solves A x = b with the current factor (x on entry ignored), b and x of size n.
   /// iterations = 1; relative_residual = |b - A x| / |b| (computed with the factorized matrix).
   LinearSolveReport solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
+  /// x = A^-1 b with the current factor, without solve()'s residual (one matrix-vector product
+  /// less: for use as a preconditioner). Returns false if there is no factor, sizes differ or
+  /// CHOLMOD fails; x may be non-finite if the factor is nearly singular.
+  bool solveWithFactor(const Eigen::VectorXd& b, Eigen::VectorXd& x);
 
  private:
   void releaseFactor();

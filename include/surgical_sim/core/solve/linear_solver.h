@@ -18,7 +18,8 @@ struct LinearSolveReport {
 class LinearSolver {
  public:
   virtual ~LinearSolver() = default;
-  /// "cholmod", "pcg_jacobi", "pcg_block_jacobi", "pcg_ichol".
+  /// "cholmod", "pcg_jacobi", "pcg_block_jacobi", "pcg_ichol", "pcg_cholesky_reuse",
+  /// "pcg_cholesky_background".
   virtual std::string name() const = 0;
   /// Symbolic analysis for A's pattern. Call again only when the pattern changes (topology).
   virtual void analyzePattern(const Eigen::SparseMatrix<double>& A) = 0;

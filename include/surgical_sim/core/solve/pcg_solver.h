@@ -5,9 +5,10 @@
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCore>
 #include <string>
-#include <vector>
 
+#include "surgical_sim/core/solve/block_jacobi.h"
 #include "surgical_sim/core/solve/cholmod_solver.h"
+#include "surgical_sim/core/solve/conjugate_gradient.h"
 #include "surgical_sim/core/solve/linear_solver.h"
 
 namespace surgical_sim::core {
@@ -61,7 +62,6 @@ class PcgSolver final : public LinearSolver {
 
  private:
   bool buildJacobi();
-  bool buildBlockJacobi();
   bool buildIncompleteCholesky();
   bool buildCholeskyReuse();
   /// z = P^-1 r. Returns false if the preconditioner application failed.
@@ -70,9 +70,10 @@ class PcgSolver final : public LinearSolver {
   PcgPreconditioner preconditioner_;
   PcgSettings settings_;
   Eigen::SparseMatrix<double> matrix_;
-  Eigen::VectorXd residual_, direction_, product_, preconditioned_, scratch_;
+  CgWorkspace work_;
+  Eigen::VectorXd scratch_;
   Eigen::VectorXd inverse_diagonal_;
-  std::vector<Eigen::Matrix3d> inverse_blocks_;
+  BlockJacobi block_jacobi_;
   Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>> incomplete_cholesky_;
   CholmodSolver cholesky_;
   int calls_since_refresh_ = 0;

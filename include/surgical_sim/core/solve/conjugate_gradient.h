@@ -1,0 +1,35 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <functional>
+
+#include "surgical_sim/core/solve/linear_solver.h"
+
+namespace surgical_sim::core {
+
+/// Work vectors of preconditionedConjugateGradient. Sized once per pattern (resize), so that
+/// solves allocate nothing.
+struct CgWorkspace {
+  Eigen::VectorXd residual, direction, product, preconditioned;
+  /// Sizes every vector to n (zero-filled).
+  void resize(Eigen::Index n);
+};
+
+/// z = P^-1 r of a symmetric positive-definite preconditioner P (z has r's size on entry).
+/// Returns false if the application failed. A lambda capturing one pointer is stored without
+/// allocation.
+using PreconditionerApply = std::function<bool(const Eigen::VectorXd& r, Eigen::VectorXd& z)>;
+
+/// Preconditioned conjugate gradient on A x = b (A symmetric positive definite, n x n) from the
+/// initial guess x (size n; replaced by 0 if not finite). ok when the relative residual
+/// |b - A x| / |b| reaches relative_tolerance within max_iterations (b = 0 gives x = 0, ok).
+/// Fails (ok = false) on size mismatch, non-finite b, breakdown (p^T A p <= 0, NaN) or a failed
+/// preconditioner application; iterations and relative_residual report the last iterate.
+LinearSolveReport preconditionedConjugateGradient(const Eigen::SparseMatrix<double>& A,
+                                                  const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                                                  int max_iterations, double relative_tolerance,
+                                                  const PreconditionerApply& precondition,
+                                                  CgWorkspace& work);
+
+}  // namespace surgical_sim::core
