@@ -4,8 +4,9 @@
 usage: plot_cutting.py DIR
 Reads DIR/cutting_update.csv, cutting_step.csv, cutting_error.csv, cutting_t3c.csv and writes
 DIR/cutting_update.png (update time per topology change against the sweep index, one series per
-mesh size), cutting_step.png (step and cut time per step at ~10k elements) and cutting_error.png
-(cut-surface error against update time, embedded cut surface and element faces).
+mode and mesh size), cutting_step.png (step and cut time per step at ~10k elements, per solver)
+and cutting_error.png (cut-surface error against update time, embedded cut surface and element
+faces).
 """
 import csv
 import os
@@ -52,14 +53,17 @@ def plot_update(d):
 
 def plot_step(d):
     data = rows(os.path.join(d, "cutting_step.csv"))
-    steps = [int(r["step"]) for r in data]
     fig, ax = plt.subplots(figsize=(7.5, 5))
-    for key, label in (("step_ms", "whole step"), ("cut_ms", "cut (detection, topology, rebuild)"),
-                       ("integrate_ms", "integrator")):
-        ax.plot(steps, [float(r[key]) for r in data], label=label)
-    ax.axhline(30.0, color="k", linestyle="--", linewidth=0.8, label="30 ms target")
-    finish(fig, ax, d, "cutting_step.png", "step (blade active in steps 40-99)", "wall time [ms]",
-           "P2: palpation organ, %s elements at the end" % data[-1]["elements"])
+    for solver, style in (("cholmod", "--"), ("pcg_cholesky_background", "-")):
+        part = [r for r in data if r["solver"] == solver]
+        steps = [int(r["step"]) for r in part]
+        for key, label in (("step_ms", "whole step"), ("cut_ms", "cut (topology, model, contact)")):
+            ax.plot(steps, [float(r[key]) for r in part], style, linewidth=0.9,
+                    label="%s, %s" % (label, solver))
+    ax.axhline(30.0, color="k", linestyle=":", linewidth=0.8, label="30 ms target")
+    ax.set_yscale("log")
+    finish(fig, ax, d, "cutting_step.png", "step (blade active in steps 40-99, 1 mm per step)",
+           "wall time [ms]", "P2: palpation organ, %s elements at the end" % data[-1]["elements"])
 
 
 def plot_error(d):
