@@ -129,11 +129,7 @@ void BackgroundCholeskyPcgSolver::buildTail() {
 
 bool BackgroundCholeskyPcgSolver::factorize(const Eigen::SparseMatrix<double>& A) {
   factorized_ = false;
-  if (!A.isCompressed() || A.rows() != matrix_.rows() || A.cols() != matrix_.cols() ||
-      A.nonZeros() != matrix_.nonZeros()) {
-    return false;
-  }
-  std::copy(A.valuePtr(), A.valuePtr() + A.nonZeros(), matrix_.valuePtr());
+  if (!copyValuesOfSamePattern(A, matrix_)) return false;
   ++values_;
   if (!matrix_.coeffs().allFinite()) return false;
   adoptRefresh();

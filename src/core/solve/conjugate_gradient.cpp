@@ -1,5 +1,6 @@
 #include "surgical_sim/core/solve/conjugate_gradient.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace surgical_sim::core {
@@ -9,6 +10,16 @@ void CgWorkspace::resize(Eigen::Index n) {
   direction.setZero(n);
   product.setZero(n);
   preconditioned.setZero(n);
+}
+
+bool copyValuesOfSamePattern(const Eigen::SparseMatrix<double>& A,
+                             Eigen::SparseMatrix<double>& into) {
+  if (!A.isCompressed() || A.rows() != into.rows() || A.cols() != into.cols() ||
+      A.nonZeros() != into.nonZeros()) {
+    return false;
+  }
+  std::copy(A.valuePtr(), A.valuePtr() + A.nonZeros(), into.valuePtr());
+  return true;
 }
 
 LinearSolveReport preconditionedConjugateGradient(const Eigen::SparseMatrix<double>& A,

@@ -64,11 +64,7 @@ void PcgSolver::analyzePattern(const Eigen::SparseMatrix<double>& A) {
 
 bool PcgSolver::factorize(const Eigen::SparseMatrix<double>& A) {
   factorized_ = false;
-  if (!A.isCompressed() || A.rows() != matrix_.rows() || A.cols() != matrix_.cols() ||
-      A.nonZeros() != matrix_.nonZeros()) {
-    return false;
-  }
-  std::copy(A.valuePtr(), A.valuePtr() + A.nonZeros(), matrix_.valuePtr());
+  if (!copyValuesOfSamePattern(A, matrix_)) return false;
   switch (preconditioner_) {
     case PcgPreconditioner::Jacobi:
       factorized_ = buildJacobi();

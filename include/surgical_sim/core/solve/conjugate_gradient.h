@@ -16,6 +16,11 @@ struct CgWorkspace {
   void resize(Eigen::Index n);
 };
 
+/// Copies A's values into the analysed matrix `into` if A is compressed with its dimensions and
+/// number of nonzeros (the pattern itself is the caller's contract); returns false otherwise.
+bool copyValuesOfSamePattern(const Eigen::SparseMatrix<double>& A,
+                             Eigen::SparseMatrix<double>& into);
+
 /// z = P^-1 r of a symmetric positive-definite preconditioner P (z has r's size on entry).
 /// Returns false if the application failed. A lambda capturing one pointer is stored without
 /// allocation.
