@@ -300,6 +300,12 @@ void TetCutter::rebuild() {
   triangles_.clear();
   triangle_face_.clear();
   triangle_cut_.clear();
+  changed_triangles_.clear();
+  surface_changed_nodes_.clear();
+  node_triangles_.assign(static_cast<std::size_t>(n), 0);
+  on_surface_.assign(static_cast<std::size_t>(n), 0);
+  surface_.nodes.clear();
+  surface_.triangles.resize(3, 0);
   face_triangle_.assign(static_cast<std::size_t>(4 * num_copies), -1);
   refreshFaces(all_elements);
   edge_representative_.assign(edges_.size(), {-1, -1});
@@ -445,14 +451,25 @@ void TetCutter::recomputeMasses(const std::vector<int>& origins) {
   }
 }
 
+void TetCutter::countTriangle(const std::array<int, 3>& tri, int delta) {
+  for (int node : tri) {
+    if (static_cast<std::size_t>(node) >= node_triangles_.size())
+      node_triangles_.resize(static_cast<std::size_t>(node) + 1, 0);
+    node_triangles_[static_cast<std::size_t>(node)] += delta;
+    surface_changed_nodes_.push_back(node);
+  }
+}
+
 void TetCutter::setTriangle(int face_slot, bool present) {
   int& t = face_triangle_[static_cast<std::size_t>(face_slot)];
   if (!present) {
     if (t < 0) return;
+    countTriangle(triangles_[static_cast<std::size_t>(t)], -1);
     triangles_[static_cast<std::size_t>(t)] = triangles_.back();
     triangle_face_[static_cast<std::size_t>(t)] = triangle_face_.back();
     triangle_cut_[static_cast<std::size_t>(t)] = triangle_cut_.back();
     face_triangle_[static_cast<std::size_t>(triangle_face_[static_cast<std::size_t>(t)])] = t;
+    changed_triangles_.push_back(t);
     triangles_.pop_back();
     triangle_face_.pop_back();
     triangle_cut_.pop_back();
@@ -470,8 +487,12 @@ void TetCutter::setTriangle(int face_slot, bool present) {
     triangle_face_.push_back(face_slot);
     triangle_cut_.push_back(face_neighbour_[static_cast<std::size_t>(4 * e + lf)][0] >= 0);
   } else {
+    if (triangles_[static_cast<std::size_t>(t)] == tri) return;
+    countTriangle(triangles_[static_cast<std::size_t>(t)], -1);
     triangles_[static_cast<std::size_t>(t)] = tri;
   }
+  countTriangle(tri, +1);
+  changed_triangles_.push_back(t);
 }
 
 void TetCutter::refreshFaces(const std::vector<int>& elements) {
@@ -512,17 +533,44 @@ void TetCutter::refreshEdgeRepresentatives(const std::vector<int>& elements) {
 }
 
 void TetCutter::publishSurface() {
+  // Only the triangles written since the last publication, and the surface nodes whose triangle
+  // count crossed zero (merged into the sorted list), so the cost follows the change.
+  const auto num_triangles = static_cast<Eigen::Index>(triangles_.size());
+  surface_.triangles.conservativeResize(3, num_triangles);
+  for (int t : changed_triangles_)
+    if (t < num_triangles)
+      for (int k = 0; k < 3; ++k)
+        surface_.triangles(k, t) = triangles_[static_cast<std::size_t>(t)][k];
+  changed_triangles_.clear();
   const int n = mesh_.numNodes();
-  surface_.triangles.resize(3, static_cast<Eigen::Index>(triangles_.size()));
-  std::vector<char> on_surface(static_cast<std::size_t>(n), 0);
-  for (std::size_t t = 0; t < triangles_.size(); ++t)
-    for (int k = 0; k < 3; ++k) {
-      surface_.triangles(k, static_cast<Eigen::Index>(t)) = triangles_[t][k];
-      on_surface[static_cast<std::size_t>(triangles_[t][k])] = 1;
-    }
-  surface_.nodes.clear();
-  for (int v = 0; v < n; ++v)
-    if (on_surface[static_cast<std::size_t>(v)]) surface_.nodes.push_back(v);
+  on_surface_.resize(std::max(on_surface_.size(), node_triangles_.size()), 0);
+  std::vector<int> joining;
+  bool leaving = false;
+  for (int v : surface_changed_nodes_) {
+    const bool now = node_triangles_[static_cast<std::size_t>(v)] > 0;
+    char& was = on_surface_[static_cast<std::size_t>(v)];
+    if (now == static_cast<bool>(was)) continue;
+    was = now ? 1 : 0;
+    if (now)
+      joining.push_back(v);
+    else
+      leaving = true;
+  }
+  surface_changed_nodes_.clear();
+  if (leaving)
+    surface_.nodes.erase(
+        std::remove_if(surface_.nodes.begin(), surface_.nodes.end(),
+                       [this](int v) { return !on_surface_[static_cast<std::size_t>(v)]; }),
+        surface_.nodes.end());
+  if (!joining.empty()) {
+    std::sort(joining.begin(), joining.end());
+    const auto middle = static_cast<std::ptrdiff_t>(surface_.nodes.size());
+    surface_.nodes.insert(surface_.nodes.end(), joining.begin(), joining.end());
+    std::inplace_merge(surface_.nodes.begin(), surface_.nodes.begin() + middle,
+                       surface_.nodes.end());
+  }
+  node_triangles_.resize(static_cast<std::size_t>(n), 0);
+  on_surface_.resize(static_cast<std::size_t>(n), 0);
   cut_faces_ = triangle_cut_;
   derived_valid_ = false;
 }

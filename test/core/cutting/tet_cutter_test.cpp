@@ -344,6 +344,12 @@ TEST(TetCutter, IncrementalUpdateMatchesTheFullRebuildAfterEverySweep) {
     for (const auto& [node, mass] : a.node_mass)
       ASSERT_NEAR(mass, b.node_mass.at(node), 1e-12 * mass) << "sweep " << i;
     EXPECT_EQ(incremental.cutTriangles().size(), rebuilt.cutTriangles().size());
+    // The incrementally kept surface node list is the sorted node set of its triangles.
+    const Eigen::Matrix3Xi& tris = incremental.surface().triangles;
+    std::vector<int> nodes(tris.data(), tris.data() + tris.size());
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+    ASSERT_EQ(incremental.surface().nodes, nodes) << "sweep " << i;
   }
   EXPECT_GT(changes, 20);
   EXPECT_GT(incremental.numComponents(), 1);

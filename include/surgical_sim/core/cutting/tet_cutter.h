@@ -176,6 +176,8 @@ class TetCutter {
   void refreshEdgeRepresentatives(const std::vector<int>& elements);
   void recomputeMasses(const std::vector<int>& origins);
   void publishSurface();
+  /// Adds delta to the surface-triangle count of the triangle's nodes.
+  void countTriangle(const std::array<int, 3>& tri, int delta);
   void setTriangle(int face_slot, bool present);
   /// Elements around original node v: vertex_elements_[vertex_offsets_[v], [v + 1]).
   const int* starBegin(int v) const { return vertex_elements_.data() + vertex_offsets_[v]; }
@@ -216,6 +218,10 @@ class TetCutter {
   std::vector<int> triangle_face_;
   std::vector<bool> triangle_cut_;
   std::vector<int> face_triangle_;
+  std::vector<int> changed_triangles_;      ///< written since the last publishSurface()
+  std::vector<int> node_triangles_;         ///< surface triangles at each node
+  std::vector<int> surface_changed_nodes_;  ///< nodes whose count changed since then
+  std::vector<char> on_surface_;            ///< node is in surface_.nodes
   SurfaceMesh surface_;
   std::vector<bool> cut_faces_;
   int old_num_nodes_ = 0;
