@@ -68,12 +68,13 @@ enum class CutUpdateMode {
 ///
 /// A cut updates incrementally (CutUpdateMode::Incremental): the split elements get new copies
 /// (new copies are appended, a fragment keeps its old copy's index), the node classes are
-/// recomputed only around the corners of the split elements (a class that keeps all its old
-/// node keeps its index, a split-off class gets a new node appended), and masses, faces, surface
-/// and edge representatives only there. Nodes and elements that existed before keep their indices,
-/// so transfer() maps old nodes to themselves and new nodes to the node they split from. The
-/// connected components and the embedded cut surface are derived on demand. Element removal (and
-/// CutUpdateMode::Rebuild) rebuilds everything in O(m) time (m original elements).
+/// recomputed only around the corners of the split elements (a class keeps the node its
+/// unchanged copies hold, a split-off class gets a new node appended, a node merged into another
+/// is closed up by moving the last node into its index), and masses, faces, surface and edge
+/// representatives only there. Other nodes and elements keep their indices, so transfer() maps
+/// them to themselves and new nodes to the node they split from. The connected components and
+/// the embedded cut surface are derived on demand. Element removal (and CutUpdateMode::Rebuild)
+/// rebuilds everything in O(m) time (m original elements).
 class TetCutter {
  public:
   /// @param rest_mesh Tet4 mesh [m] passing requireValidMesh().
