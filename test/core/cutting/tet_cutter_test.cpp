@@ -329,9 +329,10 @@ TEST(TetCutter, IncrementalUpdateMatchesTheFullRebuildAfterEverySweep) {
           Eigen::Map<const Eigen::VectorXd>(mesh.nodes.data(), 3 * mesh.numNodes());
       const Eigen::VectorXd nodes = encodeNodes(*cutters[k]);
       changed[k] = cutters[k]->cut(sweep, x, x).topology_changed;
-      if (changed[k])
+      if (changed[k]) {
         ASSERT_EQ(transferErrors(*cutters[k], cutters[k]->transfer(nodes), old_nodes), 0)
             << "sweep " << i << (k == 0 ? " incremental" : " rebuilt");
+      }
     }
     ASSERT_EQ(changed[0], changed[1]) << "sweep " << i;
     changes += changed[0] ? 1 : 0;
