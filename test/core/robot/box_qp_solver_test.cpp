@@ -72,9 +72,15 @@ TEST(BoxQpSolver, SatisfiesKktAndMatchesBruteForceOnRandomCases) {
     for (int i = 0; i < n; ++i) {
       ASSERT_GE(x[i], lo[i]);
       ASSERT_LE(x[i], hi[i]);
-      if (x[i] > lo[i] && x[i] < hi[i]) EXPECT_NEAR(g[i], 0.0, 1e-8) << "trial " << trial;
-      if (x[i] == lo[i]) EXPECT_GE(g[i], -1e-8);
-      if (x[i] == hi[i]) EXPECT_LE(g[i], 1e-8);
+      if (x[i] > lo[i] && x[i] < hi[i]) {
+        EXPECT_NEAR(g[i], 0.0, 1e-8) << "trial " << trial;
+      }
+      if (x[i] == lo[i]) {
+        EXPECT_GE(g[i], -1e-8);
+      }
+      if (x[i] == hi[i]) {
+        EXPECT_LE(g[i], 1e-8);
+      }
     }
     EXPECT_NEAR(objective(H, c, x), bruteForce(H, c, lo, hi), 1e-9) << "trial " << trial;
   }

@@ -192,11 +192,14 @@ TEST(Benchmarks, SvkAndEmsUniaxialCubeMatchClosedForm) {
         const double l = r.path_stretch[i];
         const double exact = 0.5 * 20e3 * 0.0025 * l * (l * l - 1.0);
         EXPECT_NEAR(r.path_exact[i], exact, 1e-12);
-        if (cells == 1 || l >= 0.7)
+        if (cells == 1 || l >= 0.7) {
           EXPECT_NEAR(r.path_force[i], exact, 1e-6 * std::abs(exact)) << l;
+        }
         EXPECT_LE(-r.path_force[i], peak * (1 + 1e-9)) << "no compressive force beyond the peak";
       }
-      if (cells == 1) EXPECT_LT(r.error_rel, 1e-6);
+      if (cells == 1) {
+        EXPECT_LT(r.error_rel, 1e-6);
+      }
     }
 }
 
