@@ -13,7 +13,7 @@ from std_srvs.srv import Empty
 from surgical_sim.msg import BladeSweep, TissueStats
 from surgical_sim.srv import SetBlade
 
-from node_probe import wait_for_subscribers
+from node_probe import subscribe_by_stamp, wait_for_subscribers
 
 
 class Replayer:
@@ -25,14 +25,9 @@ class Replayer:
         self.sweeps = 0
         self.pose_pub = rospy.Publisher("tool/pose", PoseStamped, queue_size=1000)
         self.activate_pub = rospy.Publisher("cutting/activate", Bool, queue_size=10, latch=True)
-        rospy.Subscriber("tissue/stats", TissueStats, self.on_stats, queue_size=1000)
+        subscribe_by_stamp("tissue/stats", TissueStats, self.lock, self.stats)
         rospy.Subscriber("cutting/blade_sweep", BladeSweep, self.on_sweep, queue_size=1000)
         wait_for_subscribers((self.pose_pub, 2), self.activate_pub)
-
-    def on_stats(self, msg):
-        with self.lock:
-            self.stats[msg.header.stamp.to_nsec()] = msg
-            self.lock.notify_all()
 
     def on_sweep(self, _):
         with self.lock:

@@ -1,5 +1,5 @@
-"""Shared by the rostests: start-up rejection probes (a node run once, outside the launch) and
-waiting for the nodes under test to subscribe."""
+"""Shared by the rostests: start-up rejection probes (a node run once, outside the launch),
+waiting for the nodes under test to subscribe, and collecting their replies by stamp."""
 import subprocess
 import uuid
 
@@ -14,6 +14,16 @@ def wait_for_subscribers(*publishers, timeout=30.0):
     while rospy.get_time() < deadline and any(
             pub.get_num_connections() < count for pub, count in wanted):
         rospy.sleep(0.05)
+
+
+def subscribe_by_stamp(topic, msg_type, lock, store, value=lambda msg: msg):
+    """Subscribes to `topic`: each message's value(msg) goes to store[header stamp in ns] under
+    the threading.Condition `lock`, whose waiters are then woken."""
+    def callback(msg):
+        with lock:
+            store[msg.header.stamp.to_nsec()] = value(msg)
+            lock.notify_all()
+    return rospy.Subscriber(topic, msg_type, callback, queue_size=1000)
 
 
 def run_node(node_type, extra_args, timeout=60):

@@ -13,7 +13,7 @@ from geometry_msgs.msg import PoseStamped, WrenchStamped
 from std_srvs.srv import Empty
 from surgical_sim.msg import ContactModel
 
-from node_probe import wait_for_subscribers
+from node_probe import subscribe_by_stamp, wait_for_subscribers
 
 
 class Collector:
@@ -24,19 +24,10 @@ class Collector:
         self.wrench = {}
         self.model = {}
         self.pub = rospy.Publisher("tool/pose", PoseStamped, queue_size=1000)
-        rospy.Subscriber("tissue/wrench", WrenchStamped, self.on_wrench, queue_size=1000)
-        rospy.Subscriber("tissue/contact_model", ContactModel, self.on_model, queue_size=1000)
+        subscribe_by_stamp("tissue/wrench", WrenchStamped, self.lock, self.wrench,
+                           lambda msg: msg.wrench.force)
+        subscribe_by_stamp("tissue/contact_model", ContactModel, self.lock, self.model)
         wait_for_subscribers(self.pub)
-
-    def on_wrench(self, msg):
-        with self.lock:
-            self.wrench[msg.header.stamp.to_nsec()] = msg.wrench.force
-            self.lock.notify_all()
-
-    def on_model(self, msg):
-        with self.lock:
-            self.model[msg.header.stamp.to_nsec()] = msg
-            self.lock.notify_all()
 
     def clear(self):
         """Forgets earlier answers (a replay reuses the bag's stamps)."""

@@ -20,7 +20,7 @@ import rostest
 from sensor_msgs.msg import JointState
 from surgical_sim.msg import ContactModel
 
-from node_probe import wait_for_subscribers
+from node_probe import subscribe_by_stamp, wait_for_subscribers
 
 LIMITS = {"trocar_pitch": 6.0, "trocar_yaw": 6.0, "trocar_spin": 0.2, "trocar_insertion": 5.0,
           "trocar_grip": 0.3}  # [N m] revolute, [N] insertion
@@ -37,14 +37,9 @@ class Chain:
         self.models = {}
         self.efforts = []  # every trocar/motor_effort message, in arrival order
         self.pub = rospy.Publisher("trocar/joint_command", JointState, queue_size=1000)
-        rospy.Subscriber("tissue/contact_model", ContactModel, self.on_model, queue_size=1000)
+        subscribe_by_stamp("tissue/contact_model", ContactModel, self.lock, self.models)
         rospy.Subscriber("trocar/motor_effort", JointState, self.on_effort, queue_size=1000)
         wait_for_subscribers(self.pub)
-
-    def on_model(self, msg):
-        with self.lock:
-            self.models[msg.header.stamp.to_nsec()] = msg
-            self.lock.notify_all()
 
     def on_effort(self, msg):
         with self.lock:
