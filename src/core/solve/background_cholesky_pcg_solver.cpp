@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <new>
+#include <utility>
+#include <vector>
 
 #include "surgical_sim/core/solve/single_thread_blas.h"
 
@@ -22,6 +24,9 @@ bool samePattern(const Eigen::SparseMatrix<double>& a, const Eigen::SparseMatrix
 BackgroundCholeskyPcgSolver::BackgroundCholeskyPcgSolver(const PcgSettings& settings)
     : settings_(settings) {
   validatePcgSettings(settings);
+  factor_and_tail_ = [this](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+    return applyFactorAndTail(r, z);
+  };
   worker_ = std::thread(&BackgroundCholeskyPcgSolver::runWorker, this);
 }
 
@@ -118,13 +123,25 @@ bool BackgroundCholeskyPcgSolver::factorizeSynchronously() {
   return current().valid;
 }
 
-void BackgroundCholeskyPcgSolver::buildTail() {
-  const Eigen::Index rows = current().rows;
+void BackgroundCholeskyPcgSolver::buildInterim() {
+  const FactorSlot& factor = current();
+  const Eigen::Index rows = factor.rows;
   const Eigen::Index head = rows < matrix_.rows() ? rows : 0;
   head_rhs_.resize(head);
   head_solution_.resize(head);
   tail_.resize(rows, matrix_.rows());
   tail_ok_ = tail_.build(matrix_);
+  local_ok_ = true;
+  if (factor.pattern == pattern_) return;
+  if (local_pattern_ != pattern_ || local_factor_ != factor.values) {
+    std::vector<int> unknowns =
+        changedPatternUnknowns(matrix_, factor.cholmod.analysedMatrix(), kLocalRings);
+    if (static_cast<Eigen::Index>(unknowns.size()) > matrix_.rows() / 2) unknowns.clear();
+    local_.setUnknowns(matrix_, std::move(unknowns));
+    local_pattern_ = pattern_;
+    local_factor_ = factor.values;
+  }
+  if (local_.active()) local_ok_ = local_.factorize(matrix_);
 }
 
 bool BackgroundCholeskyPcgSolver::factorize(const Eigen::SparseMatrix<double>& A) {
@@ -140,15 +157,13 @@ bool BackgroundCholeskyPcgSolver::factorize(const Eigen::SparseMatrix<double>& A
     if (!factorizeSynchronously()) return false;
   }
   ++calls_since_refresh_;
-  buildTail();
-  factorized_ = tail_ok_;
+  buildInterim();
+  factorized_ = tail_ok_ && local_ok_;
   return factorized_;
 }
 
-bool BackgroundCholeskyPcgSolver::applyPreconditioner(const Eigen::VectorXd& r,
-                                                      Eigen::VectorXd& z) {
+bool BackgroundCholeskyPcgSolver::applyFactorAndTail(const Eigen::VectorXd& r, Eigen::VectorXd& z) {
   FactorSlot& factor = current();
-  if (!tail_ok_) return false;
   if (factor.rows == r.size()) return factor.cholmod.solveWithFactor(r, z);
   head_rhs_ = r.head(factor.rows);
   if (!factor.cholmod.solveWithFactor(head_rhs_, head_solution_)) return false;
@@ -157,11 +172,20 @@ bool BackgroundCholeskyPcgSolver::applyPreconditioner(const Eigen::VectorXd& r,
   return true;
 }
 
+bool BackgroundCholeskyPcgSolver::applyPreconditioner(const Eigen::VectorXd& r,
+                                                      Eigen::VectorXd& z) {
+  if (!tail_ok_ || !local_ok_) return false;
+  if (current().pattern != pattern_ && local_.active()) {
+    return local_.apply(matrix_, r, z, factor_and_tail_);
+  }
+  return applyFactorAndTail(r, z);
+}
+
 LinearSolveReport BackgroundCholeskyPcgSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   if (!factorized_ || b.size() != matrix_.rows() || x.size() != b.size() || !b.allFinite()) {
     return {};
   }
-  if (adoptRefresh()) buildTail();
+  if (adoptRefresh()) buildInterim();
   const PreconditionerApply precondition = [this](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
     return applyPreconditioner(r, z);
   };
@@ -183,7 +207,7 @@ LinearSolveReport BackgroundCholeskyPcgSolver::solve(const Eigen::VectorXd& b, E
   const int first_iterations = report.iterations;
   factorized_ = factorizeSynchronously();
   if (!factorized_) return report;
-  buildTail();
+  buildInterim();
   report = preconditionedConjugateGradient(matrix_, b, x, settings_.max_iterations,
                                            settings_.relative_tolerance, precondition, work_);
   report.iterations += first_iterations;

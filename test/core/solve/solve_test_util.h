@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <cmath>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -48,6 +49,29 @@ inline Eigen::SparseMatrix<double> spdTestMatrix(unsigned seed, double perturbat
   model.assembleStiffness(x, TangentMode::ProjectedSpd, K);
   for (Eigen::Index i = 0; i < K.rows(); ++i) K.coeffRef(i, i) += 10.0 + 5.0 * u(rng);
   return K;
+}
+
+/// SPD matrix of a lattice at pseudo-time t: the projected tangent at the rest positions
+/// perturbed by 0.02 sin(1.3 i + t) plus the diagonal 10 + 5 sin(0.7 i); changes slowly with t.
+inline Eigen::SparseMatrix<double> perturbedTangent(const SpringLatticeModel& model, double t) {
+  Eigen::VectorXd x = model.restPositions();
+  for (Eigen::Index i = 0; i < x.size(); ++i) x[i] += 0.02 * std::sin(1.3 * i + t);
+  Eigen::SparseMatrix<double> K = model.stiffnessPattern();
+  model.assembleStiffness(x, TangentMode::ProjectedSpd, K);
+  for (Eigen::Index i = 0; i < K.rows(); ++i) K.coeffRef(i, i) += 10.0 + 5.0 * std::sin(0.7 * i);
+  return K;
+}
+
+/// The lattice split like a cut by the half-plane x = x_cut, y < y_end: the nodes on it get copies
+/// holding their springs towards x > x_cut (SpringLatticeModel::split).
+inline SpringLatticeModel crackedLattice(const SpringLatticeModel& model, double x_cut,
+                                         double y_end) {
+  std::vector<int> nodes;
+  const Eigen::VectorXd& rest = model.restPositions();
+  for (int a = 0; a < model.numNodes(); ++a) {
+    if (std::abs(rest[3 * a] - x_cut) < 1e-9 && rest[3 * a + 1] < y_end) nodes.push_back(a);
+  }
+  return model.split(nodes, [x_cut](const Eigen::Vector3d& p) { return p.x() > x_cut + 1e-9; });
 }
 
 /// The DOFs (x, y, z) of every node whose rest coordinate `axis` equals value.

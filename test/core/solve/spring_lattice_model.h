@@ -77,6 +77,28 @@ class SpringLatticeModel final : public TissueModel {
     return SpringLatticeModel(rest, springs, node_mass, law);
   }
 
+  /// The lattice cut like a virtual-node cut: every node in `split` (sorted) gets a copy appended
+  /// after the existing nodes (same rest position and mass), and the springs from a split node to
+  /// a node on the `far` side (far(rest position of the other node) true) move to the copy.
+  template <class Side>
+  SpringLatticeModel split(const std::vector<int>& nodes, Side&& far) const {
+    Eigen::VectorXd rest(rest_.size() + 3 * static_cast<Eigen::Index>(nodes.size()));
+    rest << rest_, Eigen::VectorXd::Zero(3 * static_cast<Eigen::Index>(nodes.size()));
+    std::vector<int> copy(rest_.size() / 3, -1);
+    for (size_t k = 0; k < nodes.size(); ++k) {
+      copy[static_cast<size_t>(nodes[k])] = static_cast<int>(rest_.size() / 3 + k);
+      rest.segment<3>(rest_.size() + 3 * static_cast<Eigen::Index>(k)) =
+          rest_.segment<3>(3 * nodes[k]);
+    }
+    std::vector<Spring> springs = springs_;
+    for (Spring& s : springs) {
+      const int ci = copy[static_cast<size_t>(s.i)], cj = copy[static_cast<size_t>(s.j)];
+      if (ci >= 0 && cj < 0 && far(Eigen::Vector3d(rest_.segment<3>(3 * s.j)))) s.i = ci;
+      if (cj >= 0 && ci < 0 && far(Eigen::Vector3d(rest_.segment<3>(3 * s.i)))) s.j = cj;
+    }
+    return SpringLatticeModel(rest, springs, mass_[0], law_);
+  }
+
   std::string name() const override { return "spring_lattice_test_double"; }
   const Eigen::VectorXd& restPositions() const override { return rest_; }
   const Eigen::VectorXd& lumpedMass() const override { return mass_; }

@@ -40,6 +40,8 @@ class CholmodSolver final : public LinearSolver {
   /// less: for use as a preconditioner). Returns false if there is no factor, sizes differ or
   /// CHOLMOD fails; x may be non-finite if the factor is nearly singular.
   bool solveWithFactor(const Eigen::VectorXd& b, Eigen::VectorXd& x);
+  /// The analysed pattern with the values of the last factorize() call.
+  const Eigen::SparseMatrix<double>& analysedMatrix() const { return matrix_; }
 
  private:
   void releaseFactor();
