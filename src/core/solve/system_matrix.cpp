@@ -5,15 +5,32 @@
 #include "surgical_sim/core/solve/dirichlet_projection.h"
 
 namespace surgical_sim::core {
+namespace {
+
+/// True if every column of the compressed square A has its diagonal entry.
+bool hasFullDiagonal(const Eigen::SparseMatrix<double>& A) {
+  for (Eigen::Index j = 0; j < A.cols(); ++j) {
+    const int* begin = A.innerIndexPtr() + A.outerIndexPtr()[j];
+    const int* end = A.innerIndexPtr() + A.outerIndexPtr()[j + 1];
+    if (!std::binary_search(begin, end, static_cast<int>(j))) return false;
+  }
+  return true;
+}
+
+}  // namespace
 
 void SystemMatrix::setPattern(const Eigen::SparseMatrix<double>& stiffness_pattern) {
   const Eigen::Index n = stiffness_pattern.rows();
-  Eigen::SparseMatrix<double> identity(n, n);
-  identity.setIdentity();
   Eigen::SparseMatrix<double> pattern = stiffness_pattern;
   pattern.makeCompressed();
-  matrix_ = pattern + identity;
-  matrix_.makeCompressed();
+  if (hasFullDiagonal(pattern)) {
+    matrix_ = pattern;  // the usual node-block pattern: no sparse sum needed
+  } else {
+    Eigen::SparseMatrix<double> identity(n, n);
+    identity.setIdentity();
+    matrix_ = pattern + identity;
+    matrix_.makeCompressed();
+  }
   stiffness_nonzeros_ = pattern.nonZeros();
   stiffness_to_system_.assign(static_cast<size_t>(pattern.nonZeros()), 0);
   diagonal_entry_.assign(static_cast<size_t>(n), 0);
