@@ -7,12 +7,16 @@
 
 namespace surgical_sim::core {
 
-CholmodSolver::CholmodSolver() {
+CholmodSolver::CholmodSolver(CholmodOrdering ordering) {
   useSingleThreadBlas();
   cholmod_start(&common_);
   common_.print = 0;  // the library reports through return values, never prints
   common_.supernodal = CHOLMOD_SUPERNODAL;
   common_.final_ll = 1;
+  if (ordering == CholmodOrdering::Metis) {
+    common_.nmethods = 1;
+    common_.method[0].ordering = CHOLMOD_METIS;
+  }
 }
 
 CholmodSolver::~CholmodSolver() {

@@ -10,16 +10,27 @@
 
 namespace surgical_sim::core {
 
+/// Fill-reducing ordering of a CholmodSolver.
+enum class CholmodOrdering {
+  /// METIS nested dissection. On the 6.6k-unknown tet organ: 1.48 M factor entries and 5.3e8
+  /// factorization flops against AMD's 1.85 M and 9.1e8 (triangular solves ~20 % faster), for an
+  /// analysis ~2.5x longer (~20 ms). For 3D tissue meshes.
+  Metis,
+  /// CHOLMOD's default (AMD, METIS only if AMD fills badly): cheapest analysis, for small or
+  /// slab-like matrices analysed often (the local correction of a cut).
+  Default,
+};
+
 /// Direct sparse solver: CHOLMOD supernodal LL^T of a symmetric positive-definite matrix.
 ///
-/// The fill-reducing ordering and symbolic factor are computed once per pattern in
-/// analyzePattern(); factorize() recomputes only the numeric factor. Only the lower triangle of
-/// the (full, symmetric) input matrix is read. solve() reuses CHOLMOD workspaces
+/// The fill-reducing ordering (see CholmodOrdering) and symbolic factor are computed once per
+/// pattern in analyzePattern(); factorize() recomputes only the numeric factor. Only the lower
+/// triangle of the (full, symmetric) input matrix is read. solve() reuses CHOLMOD workspaces
 /// (cholmod_solve2), so after the first call it allocates nothing.
 /// Not copyable or movable (owns CHOLMOD state).
 class CholmodSolver final : public LinearSolver {
  public:
-  CholmodSolver();
+  explicit CholmodSolver(CholmodOrdering ordering = CholmodOrdering::Metis);
   ~CholmodSolver() override;
   CholmodSolver(const CholmodSolver&) = delete;
   CholmodSolver& operator=(const CholmodSolver&) = delete;
@@ -42,6 +53,8 @@ class CholmodSolver final : public LinearSolver {
   bool solveWithFactor(const Eigen::VectorXd& b, Eigen::VectorXd& x);
   /// The analysed pattern with the values of the last factorize() call.
   const Eigen::SparseMatrix<double>& analysedMatrix() const { return matrix_; }
+  /// Entries of the factor L (0 before analyzePattern()).
+  double factorNonzeros() const { return factor_ == nullptr ? 0.0 : common_.lnz; }
 
  private:
   void releaseFactor();
