@@ -44,6 +44,10 @@ class FeModel final : public TissueModel {
   /// @throws std::invalid_argument if K does not have stiffnessPattern()'s size and nonzero count.
   void assembleStiffness(const Eigen::VectorXd& x, TangentMode mode,
                          Eigen::SparseMatrix<double>& K) const override;
+  /// One element pass: the law's stress and tangent together (HyperelasticLaw::stressAndTangent).
+  /// @throws std::invalid_argument if K does not have stiffnessPattern()'s size and nonzero count.
+  void addInternalForceAndStiffness(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd& f,
+                                    Eigen::SparseMatrix<double>& K) const override;
   /// y = K(x) v [N], y resized to 3n.
   void applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
                       Eigen::VectorXd& y) const override;
@@ -58,8 +62,13 @@ class FeModel final : public TissueModel {
   double energyImpl(const Eigen::VectorXd& x) const;
   template <int NPE, int NQ>
   void forceImpl(const Eigen::VectorXd& x, Eigen::VectorXd& f) const;
+  /// Element stiffness matrices passed to sink(e, Ke); with a non-null f, also f += the force.
   template <int NPE, int NQ, typename Sink>
-  void stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Sink&& sink) const;
+  void stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
+                     Sink&& sink) const;
+  /// Writes K (and f += the force when f is not null); `caller` names the function in errors.
+  void assemble(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
+                Eigen::SparseMatrix<double>& K, const char* caller) const;
 
   ElementType type_;
   int nodes_per_element_;

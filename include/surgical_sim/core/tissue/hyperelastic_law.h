@@ -11,6 +11,12 @@ namespace surgical_sim::core {
 /// dPdF(i + 3 j, k + 3 l) = dP_ij / dF_kl.
 using Matrix9d = Eigen::Matrix<double, 9, 9>;
 
+/// First Piola-Kirchhoff stress and tangent at one F (HyperelasticLaw::stressAndTangent).
+struct StressAndTangent {
+  Eigen::Matrix3d P;  ///< first Piola-Kirchhoff stress [Pa]
+  Matrix9d dPdF;      ///< tangent dP/dF of the requested TangentMode [Pa]
+};
+
 /// An isotropic hyperelastic constitutive law psi(F), evaluated per quadrature point.
 /// F is the deformation gradient dx/dX [-]; all methods are allocation-free and thread-safe.
 class HyperelasticLaw {
@@ -31,6 +37,10 @@ class HyperelasticLaw {
 
   /// Dispatches to firstPiolaDerivative (Exact) or projectedFirstPiolaDerivative (ProjectedSpd).
   Matrix9d tangent(const Eigen::Matrix3d& F, TangentMode mode) const;
+  /// firstPiola(F) and tangent(F, mode) together, equal to the separate calls to round-off. The
+  /// default makes the two calls; laws whose stress and tangent share work (a decomposition of
+  /// F) override it.
+  virtual StressAndTangent stressAndTangent(const Eigen::Matrix3d& F, TangentMode mode) const;
 };
 
 }  // namespace surgical_sim::core
