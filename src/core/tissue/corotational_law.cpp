@@ -59,6 +59,12 @@ StressAndTangent CorotationalLaw::stressAndTangent(const Eigen::Matrix3d& F,
   return {stress(F, R), projectedTangent(R)};
 }
 
+std::optional<RotatedLinearStressAndTangent> CorotationalLaw::rotatedLinearStressAndTangent(
+    const Eigen::Matrix3d& F) const {
+  const Eigen::Matrix3d R = computeSignedRotation(F);
+  return RotatedLinearStressAndTangent{stress(F, R), R, mu_, lambda_};
+}
+
 Eigen::Matrix3d CorotationalLaw::stress(const Eigen::Matrix3d& F, const Eigen::Matrix3d& R) const {
   return 2.0 * mu_ * (F - R) + (lambda_ * traceStrain(F, R)) * R;
 }

@@ -1,6 +1,7 @@
 #include "surgical_sim/core/tissue/fe_model.h"
 
 #include <algorithm>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -97,6 +98,27 @@ void tet4Stiffness(const Matrix9d& A, const Gradients<4>& G, double w, ElementMa
     corner += column_sum[b];
   }
   Ke.block<3, 3>(0, 0) = corner;
+}
+
+// Tet4 element stiffness of a rotated isotropic linear tangent (the corotational R K0 R^T): with
+// h_a = R dN_a/dX, K_ab = w (mu (h_a . h_b) I + mu h_b h_a^T + lambda h_a h_b^T). h_0 is
+// -(h_1 + h_2 + h_3), so rigid translations are in the null space as in tet4Stiffness.
+void tet4RotatedLinearStiffness(const RotatedLinearStressAndTangent& point, const Gradients<4>& G,
+                                double w, ElementMatrix<4>& Ke) {
+  Eigen::Matrix<double, 3, 4> H;
+  H.rightCols<3>().noalias() = point.R * G.bottomRows<3>().transpose();
+  H.col(0) = -H.rightCols<3>().rowwise().sum();
+  const double w_mu = w * point.mu;
+  const double w_lambda = w * point.lambda;
+  for (int a = 0; a < 4; ++a) {
+    for (int b = a; b < 4; ++b) {
+      Eigen::Matrix3d Kab = (w_mu * H.col(a).dot(H.col(b))) * Eigen::Matrix3d::Identity();
+      Kab.noalias() += w_mu * H.col(b) * H.col(a).transpose();
+      Kab.noalias() += w_lambda * H.col(a) * H.col(b).transpose();
+      Ke.block<3, 3>(3 * a, 3 * b) = Kab;
+      if (b != a) Ke.block<3, 3>(3 * b, 3 * a) = Kab.transpose();
+    }
+  }
 }
 
 }  // namespace
@@ -219,7 +241,15 @@ void FeModel::stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::V
     if constexpr (NPE == 4 && NQ == 1) {
       const Gradients<4> G(rest_gradients_.data() + static_cast<size_t>(e) * 12);
       const double w = weight_det_j_[e];
-      tet4Stiffness(point_tangent(G, xe * G, w), G, w, Ke);
+      const Eigen::Matrix3d F = xe * G;
+      const std::optional<RotatedLinearStressAndTangent> rotated =
+          mode == TangentMode::ProjectedSpd ? law_->rotatedLinearStressAndTangent(F) : std::nullopt;
+      if (rotated) {
+        tet4RotatedLinearStiffness(*rotated, G, w, Ke);
+        if (f != nullptr) addPointForce<4>(rotated->P, G, w, fe);
+      } else {
+        tet4Stiffness(point_tangent(G, F, w), G, w, Ke);
+      }
     } else {
       Ke.setZero();
       for (int q = 0; q < NQ; ++q) {

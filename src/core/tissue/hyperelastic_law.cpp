@@ -11,4 +11,9 @@ StressAndTangent HyperelasticLaw::stressAndTangent(const Eigen::Matrix3d& F,
   return {firstPiola(F), tangent(F, mode)};
 }
 
+std::optional<RotatedLinearStressAndTangent> HyperelasticLaw::rotatedLinearStressAndTangent(
+    const Eigen::Matrix3d&) const {
+  return std::nullopt;
+}
+
 }  // namespace surgical_sim::core

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <memory>
+#include <optional>
 #include <random>
 #include <string>
 
@@ -97,6 +98,85 @@ TEST(FusedForceStiffness, DefaultOfOtherModelsEqualsSeparateCalls) {
   const Eigen::VectorXd x = deformedWithInvertedElement(m, rng);
   for (const char* name : {"mass_spring", "ems"}) {
     expectFusedEqualsSeparate(*makeTissueModel(name, m, test::testMaterial(0.3)), x, rng);
+  }
+}
+
+// Forwards the four required functions of a law but none of its fused or compact forms, so that
+// FeModel takes the generic 9 x 9 tangent path.
+class GenericPathLaw final : public HyperelasticLaw {
+ public:
+  explicit GenericPathLaw(std::unique_ptr<HyperelasticLaw> law) : law_(std::move(law)) {}
+  std::string name() const override { return law_->name(); }
+  double energyDensity(const Eigen::Matrix3d& F) const override { return law_->energyDensity(F); }
+  Eigen::Matrix3d firstPiola(const Eigen::Matrix3d& F) const override {
+    return law_->firstPiola(F);
+  }
+  Matrix9d firstPiolaDerivative(const Eigen::Matrix3d& F) const override {
+    return law_->firstPiolaDerivative(F);
+  }
+  Matrix9d projectedFirstPiolaDerivative(const Eigen::Matrix3d& F) const override {
+    return law_->projectedFirstPiolaDerivative(F);
+  }
+
+ private:
+  std::unique_ptr<HyperelasticLaw> law_;
+};
+
+TEST(RotatedLinearTangent, Tet4CorotationalModelEqualsTheGenericPath) {
+  const TetMesh m = test::cubeSixTets();
+  const Material material = test::testMaterial(0.3);
+  const FeModel compact(m, material, test::makeLaw("corotational", material));
+  const FeModel generic(m, material,
+                        std::make_unique<GenericPathLaw>(test::makeLaw("corotational", material)));
+  std::mt19937 rng(15);
+  for (int trial = 0; trial < 3; ++trial) {
+    const Eigen::VectorXd x = deformedWithInvertedElement(m, rng);
+    for (TangentMode mode : {TangentMode::Exact, TangentMode::ProjectedSpd}) {
+      Eigen::VectorXd f_compact = Eigen::VectorXd::Zero(x.size());
+      Eigen::VectorXd f_generic = Eigen::VectorXd::Zero(x.size());
+      Eigen::SparseMatrix<double> K_compact = compact.stiffnessPattern();
+      Eigen::SparseMatrix<double> K_generic = generic.stiffnessPattern();
+      compact.addInternalForceAndStiffness(x, mode, f_compact, K_compact);
+      generic.addInternalForceAndStiffness(x, mode, f_generic, K_generic);
+      EXPECT_LT(test::relativeError(f_compact, f_generic), 1e-12);
+      EXPECT_LT(test::relativeError(Eigen::MatrixXd(K_compact), Eigen::MatrixXd(K_generic)), 1e-12);
+      EXPECT_LT(test::relativeError(test::denseStiffness(compact, x, mode),
+                                    test::denseStiffness(generic, x, mode)),
+                1e-12);
+    }
+  }
+}
+
+TEST(RotatedLinearTangent, CorotationalCompactFormIsItsProjectedTangent) {
+  const Material material = test::testMaterial(0.3);
+  const CorotationalLaw law(material);
+  std::mt19937 rng(16);
+  std::uniform_real_distribution<double> u(-0.4, 0.4);
+  for (int trial = 0; trial < 6; ++trial) {
+    Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
+    for (int i = 0; i < 9; ++i) F.data()[i] += u(rng);
+    if (trial % 2 == 1) F.col(2) *= -0.6;  // inverted
+    const std::optional<RotatedLinearStressAndTangent> compact =
+        law.rotatedLinearStressAndTangent(F);
+    ASSERT_TRUE(compact.has_value());
+    EXPECT_LT((compact->P - law.firstPiola(F)).norm(), 1e-12 * compact->P.norm());
+    // Column k + 3 l of the 9 x 9 tangent is dP for dF = e_k e_l^T.
+    Matrix9d dPdF;
+    for (int c = 0; c < 9; ++c) {
+      Eigen::Matrix3d dF = Eigen::Matrix3d::Zero();
+      dF.data()[c] = 1.0;
+      const Eigen::Matrix3d RtdF = compact->R.transpose() * dF;
+      const Eigen::Matrix3d dP =
+          compact->R * (compact->mu * (RtdF + RtdF.transpose()) +
+                        compact->lambda * RtdF.trace() * Eigen::Matrix3d::Identity());
+      dPdF.col(c) = Eigen::Map<const Eigen::Matrix<double, 9, 1>>(dP.data());
+    }
+    const Matrix9d projected = law.projectedFirstPiolaDerivative(F);
+    EXPECT_LT((dPdF - projected).norm(), 1e-12 * projected.norm());
+  }
+  for (const char* name : {"svk", "neo_hookean"}) {
+    EXPECT_FALSE(
+        test::makeLaw(name, material)->rotatedLinearStressAndTangent(Eigen::Matrix3d::Identity()));
   }
 }
 

@@ -32,6 +32,9 @@ class CorotationalLaw final : public HyperelasticLaw {
   Matrix9d projectedFirstPiolaDerivative(const Eigen::Matrix3d& F) const override;
   /// One rotation (ProjectedSpd) or one SVD (Exact) for both.
   StressAndTangent stressAndTangent(const Eigen::Matrix3d& F, TangentMode mode) const override;
+  /// P and the projected tangent (R, mu, lambda) from one rotation.
+  std::optional<RotatedLinearStressAndTangent> rotatedLinearStressAndTangent(
+      const Eigen::Matrix3d& F) const override;
 
  private:
   /// P(F) for the rotation R of F.
