@@ -1,4 +1,5 @@
-// addInternalForceAndStiffness and HyperelasticLaw::stressAndTangent equal the separate calls.
+// addInternalForceAndStiffness, HyperelasticLaw::stressAndTangent and the compact corotational
+// Tet4 stiffness equal the separate / generic calls.
 
 #include <gtest/gtest.h>
 
