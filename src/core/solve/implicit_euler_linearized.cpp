@@ -89,9 +89,8 @@ StepReport ImplicitEulerLinearized::step(const DynamicsProblem& problem, double 
     const int d = bc.dofs[k];
     state.v[d] = (bc.positions[static_cast<Eigen::Index>(k)] - state.x[d]) / dt;
   }
-  model.assembleStiffness(state.x, TangentMode::ProjectedSpd, stiffness_);
   rhs_ = problem.external_force;
-  model.addInternalForce(state.x, rhs_);
+  model.addInternalForceAndStiffness(state.x, TangentMode::ProjectedSpd, rhs_, stiffness_);
   if (alpha > 0.0) rhs_.array() -= alpha * mass.array() * state.v.array();
   product_.noalias() = stiffness_ * state.v;
   rhs_.noalias() -= (dt + beta) * product_;

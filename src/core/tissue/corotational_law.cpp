@@ -2,8 +2,6 @@
 
 #include <cmath>
 
-#include "surgical_sim/core/tissue/signed_svd.h"
-
 namespace surgical_sim::core {
 namespace {
 
@@ -17,6 +15,11 @@ constexpr double kMinPairSum = 1e-8;
 
 constexpr int kPairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
 
+// tr(R^T F - I) = s0 + s1 + s2 - 3.
+double traceStrain(const Eigen::Matrix3d& F, const Eigen::Matrix3d& R) {
+  return R.cwiseProduct(F).sum() - 3.0;
+}
+
 }  // namespace
 
 CorotationalLaw::CorotationalLaw(const Material& material) {
@@ -27,21 +30,46 @@ CorotationalLaw::CorotationalLaw(const Material& material) {
 }
 
 double CorotationalLaw::energyDensity(const Eigen::Matrix3d& F) const {
-  const SignedSvd svd = computeSignedSvd(F);
-  const double trace_strain = svd.s.sum() - 3.0;  // tr(R^T F - I)
-  return mu_ * (svd.s.array() - 1.0).square().sum() + 0.5 * lambda_ * trace_strain * trace_strain;
+  const Eigen::Matrix3d R = computeSignedRotation(F);
+  const double trace_strain = traceStrain(F, R);
+  return mu_ * (F - R).squaredNorm() + 0.5 * lambda_ * trace_strain * trace_strain;
 }
 
 Eigen::Matrix3d CorotationalLaw::firstPiola(const Eigen::Matrix3d& F) const {
-  const SignedSvd svd = computeSignedSvd(F);
-  const double trace_strain = svd.s.sum() - 3.0;
-  const Eigen::Vector3d p = (2.0 * mu_ * (svd.s.array() - 1.0) + lambda_ * trace_strain).matrix();
-  return svd.U * p.asDiagonal() * svd.V.transpose();
+  return stress(F, computeSignedRotation(F));
 }
 
 Matrix9d CorotationalLaw::firstPiolaDerivative(const Eigen::Matrix3d& F) const {
   const SignedSvd svd = computeSignedSvd(F);
-  const Eigen::Matrix3d R = svd.U * svd.V.transpose();
+  return exactTangent(svd, svd.U * svd.V.transpose());
+}
+
+Matrix9d CorotationalLaw::projectedFirstPiolaDerivative(const Eigen::Matrix3d& F) const {
+  return projectedTangent(computeSignedRotation(F));
+}
+
+StressAndTangent CorotationalLaw::stressAndTangent(const Eigen::Matrix3d& F,
+                                                   TangentMode mode) const {
+  if (mode == TangentMode::Exact) {
+    const SignedSvd svd = computeSignedSvd(F);
+    const Eigen::Matrix3d R = svd.U * svd.V.transpose();
+    return {stress(F, R), exactTangent(svd, R)};
+  }
+  const Eigen::Matrix3d R = computeSignedRotation(F);
+  return {stress(F, R), projectedTangent(R)};
+}
+
+std::optional<RotatedLinearStressAndTangent> CorotationalLaw::rotatedLinearStressAndTangent(
+    const Eigen::Matrix3d& F) const {
+  const Eigen::Matrix3d R = computeSignedRotation(F);
+  return RotatedLinearStressAndTangent{stress(F, R), R, mu_, lambda_};
+}
+
+Eigen::Matrix3d CorotationalLaw::stress(const Eigen::Matrix3d& F, const Eigen::Matrix3d& R) const {
+  return 2.0 * mu_ * (F - R) + (lambda_ * traceStrain(F, R)) * R;
+}
+
+Matrix9d CorotationalLaw::exactTangent(const SignedSvd& svd, const Eigen::Matrix3d& R) const {
   const Eigen::Matrix<double, 9, 1> r = vec(R);
   const double c = lambda_ * (svd.s.sum() - 3.0) - 2.0 * mu_;
   Matrix9d dPdF = 2.0 * mu_ * Matrix9d::Identity();
@@ -59,9 +87,7 @@ Matrix9d CorotationalLaw::firstPiolaDerivative(const Eigen::Matrix3d& F) const {
   return dPdF;
 }
 
-Matrix9d CorotationalLaw::projectedFirstPiolaDerivative(const Eigen::Matrix3d& F) const {
-  const SignedSvd svd = computeSignedSvd(F);
-  const Eigen::Matrix3d R = svd.U * svd.V.transpose();
+Matrix9d CorotationalLaw::projectedTangent(const Eigen::Matrix3d& R) const {
   const Eigen::Matrix<double, 9, 1> r = vec(R);
   // R sym(R^T dF) = dF - sum_{i<j} k_ij <k_ij, dF>, k_ij = vec(R (e_i e_j^T - e_j e_i^T)) / sqrt 2.
   Matrix9d dPdF = 2.0 * mu_ * Matrix9d::Identity();

@@ -1,8 +1,10 @@
 #include "surgical_sim/core/tissue/fe_model.h"
 
 #include <algorithm>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "surgical_sim/core/tissue/block_sparsity.h"
@@ -31,6 +33,20 @@ Eigen::Matrix<double, 3 * NPE, 1> gatherDofs(const Eigen::VectorXd& v,
   Eigen::Matrix<double, 3 * NPE, 1> ve;
   for (int a = 0; a < NPE; ++a) ve.template segment<3>(3 * a) = v.segment<3>(3 * elements(a, e));
   return ve;
+}
+
+// fe -= w P G^T: the nodal forces of one quadrature point.
+template <int NPE>
+void addPointForce(const Eigen::Matrix3d& P, const Gradients<NPE>& G, double w,
+                   Eigen::Matrix<double, 3, NPE>& fe) {
+  fe.noalias() -= (w * P) * G.transpose();
+}
+
+// f += fe at the nodes of element e.
+template <int NPE>
+void scatterForce(const Eigen::Matrix<double, 3, NPE>& fe, const Eigen::MatrixXi& elements, int e,
+                  Eigen::VectorXd& f) {
+  for (int a = 0; a < NPE; ++a) f.segment<3>(3 * elements(a, e)) += fe.col(a);
 }
 
 // Ke += w G^T A G with G = d vec(F) / d x_e, i.e. Ke(3a+i, 3b+j) += w sum_kl G(a,k) A(i+3k, j+3l)
@@ -82,6 +98,27 @@ void tet4Stiffness(const Matrix9d& A, const Gradients<4>& G, double w, ElementMa
     corner += column_sum[b];
   }
   Ke.block<3, 3>(0, 0) = corner;
+}
+
+// Tet4 element stiffness of a rotated isotropic linear tangent (the corotational R K0 R^T): with
+// h_a = R dN_a/dX, K_ab = w (mu (h_a . h_b) I + mu h_b h_a^T + lambda h_a h_b^T). h_0 is
+// -(h_1 + h_2 + h_3), so rigid translations are in the null space as in tet4Stiffness.
+void tet4RotatedLinearStiffness(const RotatedLinearStressAndTangent& point, const Gradients<4>& G,
+                                double w, ElementMatrix<4>& Ke) {
+  Eigen::Matrix<double, 3, 4> H;
+  H.rightCols<3>().noalias() = point.R * G.bottomRows<3>().transpose();
+  H.col(0) = -H.rightCols<3>().rowwise().sum();
+  const double w_mu = w * point.mu;
+  const double w_lambda = w * point.lambda;
+  for (int a = 0; a < 4; ++a) {
+    for (int b = a; b < 4; ++b) {
+      Eigen::Matrix3d Kab = (w_mu * H.col(a).dot(H.col(b))) * Eigen::Matrix3d::Identity();
+      Kab.noalias() += w_mu * H.col(b) * H.col(a).transpose();
+      Kab.noalias() += w_lambda * H.col(a) * H.col(b).transpose();
+      Ke.block<3, 3>(3 * a, 3 * b) = Kab;
+      if (b != a) Ke.block<3, 3>(3 * b, 3 * a) = Kab.transpose();
+    }
+  }
 }
 
 }  // namespace
@@ -179,30 +216,50 @@ void FeModel::forceImpl(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
     for (int q = 0; q < NQ; ++q) {
       const size_t k = static_cast<size_t>(e) * NQ + q;
       const Gradients<NPE> G(rest_gradients_.data() + k * NPE * 3);
-      const Eigen::Matrix3d F = xe * G;
-      fe.noalias() -= (weight_det_j_[k] * law_->firstPiola(F)) * G.transpose();
+      addPointForce<NPE>(law_->firstPiola(xe * G), G, weight_det_j_[k], fe);
     }
-    for (int a = 0; a < NPE; ++a) f.segment<3>(3 * elements_(a, e)) += fe.col(a);
+    scatterForce<NPE>(fe, elements_, e, f);
   }
 }
 
 template <int NPE, int NQ, typename Sink>
-void FeModel::stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Sink&& sink) const {
+void FeModel::stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
+                            Sink&& sink) const {
   ElementMatrix<NPE> Ke;
+  Eigen::Matrix<double, 3, NPE> fe;
+  // The tangent at one point; with f, the stress from the same law call goes into fe.
+  const auto point_tangent = [&](const Gradients<NPE>& G, const Eigen::Matrix3d& F,
+                                 double w) -> Matrix9d {
+    if (f == nullptr) return law_->tangent(F, mode);
+    const StressAndTangent point = law_->stressAndTangent(F, mode);
+    addPointForce<NPE>(point.P, G, w, fe);
+    return point.dPdF;
+  };
   for (int e = 0; e < elements_.cols(); ++e) {
     const Eigen::Matrix<double, 3, NPE> xe = gatherNodes<NPE>(x, elements_, e);
+    fe.setZero();
     if constexpr (NPE == 4 && NQ == 1) {
       const Gradients<4> G(rest_gradients_.data() + static_cast<size_t>(e) * 12);
-      tet4Stiffness(law_->tangent(xe * G, mode), G, weight_det_j_[e], Ke);
+      const double w = weight_det_j_[e];
+      const Eigen::Matrix3d F = xe * G;
+      const std::optional<RotatedLinearStressAndTangent> rotated =
+          mode == TangentMode::ProjectedSpd ? law_->rotatedLinearStressAndTangent(F) : std::nullopt;
+      if (rotated) {
+        tet4RotatedLinearStiffness(*rotated, G, w, Ke);
+        if (f != nullptr) addPointForce<4>(rotated->P, G, w, fe);
+      } else {
+        tet4Stiffness(point_tangent(G, F, w), G, w, Ke);
+      }
     } else {
       Ke.setZero();
       for (int q = 0; q < NQ; ++q) {
         const size_t k = static_cast<size_t>(e) * NQ + q;
         const Gradients<NPE> G(rest_gradients_.data() + k * NPE * 3);
-        const Eigen::Matrix3d F = xe * G;
-        addPointStiffness<NPE>(law_->tangent(F, mode), G, weight_det_j_[k], Ke);
+        const double w = weight_det_j_[k];
+        addPointStiffness<NPE>(point_tangent(G, xe * G, w), G, w, Ke);
       }
     }
+    if (f != nullptr) scatterForce<NPE>(fe, elements_, e, *f);
     sink(e, Ke);
   }
 }
@@ -221,9 +278,20 @@ void FeModel::addInternalForce(const Eigen::VectorXd& x, Eigen::VectorXd& f) con
 
 void FeModel::assembleStiffness(const Eigen::VectorXd& x, TangentMode mode,
                                 Eigen::SparseMatrix<double>& K) const {
+  assemble(x, mode, nullptr, K, "FeModel::assembleStiffness");
+}
+
+void FeModel::addInternalForceAndStiffness(const Eigen::VectorXd& x, TangentMode mode,
+                                           Eigen::VectorXd& f,
+                                           Eigen::SparseMatrix<double>& K) const {
+  assemble(x, mode, &f, K, "FeModel::addInternalForceAndStiffness");
+}
+
+void FeModel::assemble(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
+                       Eigen::SparseMatrix<double>& K, const char* caller) const {
   if (K.rows() != pattern_.rows() || K.cols() != pattern_.cols() ||
       K.nonZeros() != pattern_.nonZeros() || !K.isCompressed()) {
-    throw std::invalid_argument("FeModel::assembleStiffness: K must have stiffnessPattern()");
+    throw std::invalid_argument(std::string(caller) + ": K must have stiffnessPattern()");
   }
   double* values = K.valuePtr();
   std::fill(values, values + K.nonZeros(), 0.0);
@@ -234,9 +302,9 @@ void FeModel::assembleStiffness(const Eigen::VectorXd& x, TangentMode mode,
     for (int i = 0; i < kSize; ++i) values[map[i]] += ke[i];
   };
   if (type_ == ElementType::Tet4) {
-    stiffnessImpl<4, 1>(x, mode, scatter);
+    stiffnessImpl<4, 1>(x, mode, f, scatter);
   } else {
-    stiffnessImpl<10, 4>(x, mode, scatter);
+    stiffnessImpl<10, 4>(x, mode, f, scatter);
   }
 }
 
@@ -250,9 +318,9 @@ void FeModel::applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const E
       y.segment<3>(3 * elements_(a, e)) += ye.template segment<3>(3 * a);
   };
   if (type_ == ElementType::Tet4) {
-    stiffnessImpl<4, 1>(x, mode, multiply);
+    stiffnessImpl<4, 1>(x, mode, nullptr, multiply);
   } else {
-    stiffnessImpl<10, 4>(x, mode, multiply);
+    stiffnessImpl<10, 4>(x, mode, nullptr, multiply);
   }
 }
 

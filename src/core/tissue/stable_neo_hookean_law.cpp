@@ -1,21 +1,12 @@
 #include "surgical_sim/core/tissue/stable_neo_hookean_law.h"
 
-#include <Eigen/Geometry>
 #include <Eigen/LU>
 
+#include "surgical_sim/core/tissue/cofactor.h"
 #include "surgical_sim/core/tissue/psd_projection.h"
 
 namespace surgical_sim::core {
 namespace {
-
-// dJ/dF = cof(F): columns f1 x f2, f2 x f0, f0 x f1.
-Eigen::Matrix3d cofactor(const Eigen::Matrix3d& F) {
-  Eigen::Matrix3d C;
-  C.col(0) = F.col(1).cross(F.col(2));
-  C.col(1) = F.col(2).cross(F.col(0));
-  C.col(2) = F.col(0).cross(F.col(1));
-  return C;
-}
 
 Eigen::Matrix3d skew(const Eigen::Vector3d& a) {
   Eigen::Matrix3d S;

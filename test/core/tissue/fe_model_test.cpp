@@ -14,27 +14,12 @@
 namespace surgical_sim::core {
 namespace {
 
-std::unique_ptr<HyperelasticLaw> makeLaw(const std::string& name, const Material& m) {
-  if (name == "corotational") return std::make_unique<CorotationalLaw>(m);
-  if (name == "svk") return std::make_unique<StVenantKirchhoffLaw>(m);
-  return std::make_unique<StableNeoHookeanLaw>(m);
-}
-
 FeModel makeModel(const std::string& law, const TetMesh& mesh, double nu = 0.3) {
   const Material m = test::testMaterial(nu);
-  return FeModel(mesh, m, makeLaw(law, m));
+  return FeModel(mesh, m, test::makeLaw(law, m));
 }
 
-struct Case {
-  std::string law;
-  bool tet10;
-};
-
-std::string caseName(const ::testing::TestParamInfo<Case>& info) {
-  return info.param.law + (info.param.tet10 ? "_tet10" : "_tet4");
-}
-
-class FeModelTest : public ::testing::TestWithParam<Case> {
+class FeModelTest : public ::testing::TestWithParam<test::LawCase> {
  protected:
   TetMesh mesh(double size = 1.0) const {
     const TetMesh cube = test::cubeSixTets(size);
@@ -131,11 +116,7 @@ TEST_P(FeModelTest, EnergyEqualForAffineDeformationOnTet4AndTet10) {
   EXPECT_NEAR(e10, e4, 1e-12 * e4);
 }
 
-INSTANTIATE_TEST_SUITE_P(LawsAndElements, FeModelTest,
-                         ::testing::Values(Case{"corotational", false}, Case{"svk", false},
-                                           Case{"neo_hookean", false}, Case{"corotational", true},
-                                           Case{"svk", true}, Case{"neo_hookean", true}),
-                         caseName);
+INSTANTIATE_TEST_SUITE_P(LawsAndElements, FeModelTest, test::allLawCases(), test::lawCaseName);
 
 TEST(FeModel, NamesFollowTheLaw) {
   EXPECT_EQ(makeModel("corotational", test::singleTet()).name(), "corotational");

@@ -11,17 +11,46 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <random>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "surgical_sim/core/mesh/tet_mesh.h"
+#include "surgical_sim/core/tissue/corotational_law.h"
 #include "surgical_sim/core/tissue/material.h"
+#include "surgical_sim/core/tissue/st_venant_kirchhoff_law.h"
+#include "surgical_sim/core/tissue/stable_neo_hookean_law.h"
 #include "surgical_sim/core/tissue/tissue_model.h"
 
 namespace surgical_sim::core::test {
 
 inline Material testMaterial(double nu = 0.3) { return Material::create(1.0e4, nu, 1000.0); }
+
+/// The hyperelastic law of a model name: "corotational", "svk", otherwise "neo_hookean".
+inline std::unique_ptr<HyperelasticLaw> makeLaw(const std::string& name, const Material& m) {
+  if (name == "corotational") return std::make_unique<CorotationalLaw>(m);
+  if (name == "svk") return std::make_unique<StVenantKirchhoffLaw>(m);
+  return std::make_unique<StableNeoHookeanLaw>(m);
+}
+
+/// A law on Tet4 or Tet10 elements, the parameter of tests over every FeModel.
+struct LawCase {
+  std::string law;
+  bool tet10;
+};
+
+inline std::string lawCaseName(const ::testing::TestParamInfo<LawCase>& info) {
+  return info.param.law + (info.param.tet10 ? "_tet10" : "_tet4");
+}
+
+/// Every law on Tet4 and on Tet10.
+inline auto allLawCases() {
+  return ::testing::Values(LawCase{"corotational", false}, LawCase{"svk", false},
+                           LawCase{"neo_hookean", false}, LawCase{"corotational", true},
+                           LawCase{"svk", true}, LawCase{"neo_hookean", true});
+}
 
 /// Swaps corners 2 and 3 of negatively oriented Tet4 elements.
 inline void orientTet4(TetMesh& mesh) {

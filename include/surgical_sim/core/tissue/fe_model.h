@@ -19,7 +19,10 @@ namespace surgical_sim::core {
 /// Precomputed in the constructor: rest gradients dN/dX and weight * det J per element and
 /// quadrature point, the lumped (HRZ) mass, the consistent body-force weights, the stiffness
 /// pattern and the element-to-nonzero scatter map. Energy, force and stiffness evaluation allocate
-/// nothing. Element stiffness K_e = sum_q w_q detJ_q G_q^T (dP/dF) G_q, G_q = d vec(F)/d x_e.
+/// nothing. Element stiffness K_e = sum_q w_q detJ_q G_q^T (dP/dF) G_q, G_q = d vec(F)/d x_e;
+/// a projected Tet4 tangent that the law gives as a rotated isotropic linear tensor
+/// (HyperelasticLaw::rotatedLinearStressAndTangent, corotational) is assembled blockwise as
+/// R K0 R^T without the 9 x 9 matrix.
 ///
 /// Masses: Tet4 rho V / 4 per node; Tet10 HRZ lumping (diagonal of the consistent mass scaled to
 /// the element mass, all positive). bodyForce is the consistent integral of rho N_a a (Tet10
@@ -44,6 +47,10 @@ class FeModel final : public TissueModel {
   /// @throws std::invalid_argument if K does not have stiffnessPattern()'s size and nonzero count.
   void assembleStiffness(const Eigen::VectorXd& x, TangentMode mode,
                          Eigen::SparseMatrix<double>& K) const override;
+  /// One element pass: the law's stress and tangent together (HyperelasticLaw::stressAndTangent).
+  /// @throws std::invalid_argument if K does not have stiffnessPattern()'s size and nonzero count.
+  void addInternalForceAndStiffness(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd& f,
+                                    Eigen::SparseMatrix<double>& K) const override;
   /// y = K(x) v [N], y resized to 3n.
   void applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
                       Eigen::VectorXd& y) const override;
@@ -58,8 +65,13 @@ class FeModel final : public TissueModel {
   double energyImpl(const Eigen::VectorXd& x) const;
   template <int NPE, int NQ>
   void forceImpl(const Eigen::VectorXd& x, Eigen::VectorXd& f) const;
+  /// Element stiffness matrices passed to sink(e, Ke); with a non-null f, also f += the force.
   template <int NPE, int NQ, typename Sink>
-  void stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Sink&& sink) const;
+  void stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
+                     Sink&& sink) const;
+  /// Writes K (and f += the force when f is not null); `caller` names the function in errors.
+  void assemble(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
+                Eigen::SparseMatrix<double>& K, const char* caller) const;
 
   ElementType type_;
   int nodes_per_element_;

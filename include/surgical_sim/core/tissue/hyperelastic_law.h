@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 
 #include "surgical_sim/core/tissue/tissue_model.h"
@@ -10,6 +11,22 @@ namespace surgical_sim::core {
 /// 9 x 9 tangent dP/dF [Pa]. Matrices are vectorised column-major: vec(F)[i + 3 j] = F(i, j), and
 /// dPdF(i + 3 j, k + 3 l) = dP_ij / dF_kl.
 using Matrix9d = Eigen::Matrix<double, 9, 9>;
+
+/// First Piola-Kirchhoff stress and tangent at one F (HyperelasticLaw::stressAndTangent).
+struct StressAndTangent {
+  Eigen::Matrix3d P;  ///< first Piola-Kirchhoff stress [Pa]
+  Matrix9d dPdF;      ///< tangent dP/dF of the requested TangentMode [Pa]
+};
+
+/// Stress and a projected tangent that is a rotated isotropic linear tensor,
+///   dP = R (2 mu sym(R^T dF) + lambda tr(R^T dF) I),
+/// in compact form (HyperelasticLaw::rotatedLinearStressAndTangent).
+struct RotatedLinearStressAndTangent {
+  Eigen::Matrix3d P;  ///< first Piola-Kirchhoff stress [Pa]
+  Eigen::Matrix3d R;  ///< rotation of the tangent
+  double mu;          ///< shear modulus of the tangent [Pa]
+  double lambda;      ///< Lame's first parameter of the tangent [Pa]
+};
 
 /// An isotropic hyperelastic constitutive law psi(F), evaluated per quadrature point.
 /// F is the deformation gradient dx/dX [-]; all methods are allocation-free and thread-safe.
@@ -31,6 +48,16 @@ class HyperelasticLaw {
 
   /// Dispatches to firstPiolaDerivative (Exact) or projectedFirstPiolaDerivative (ProjectedSpd).
   Matrix9d tangent(const Eigen::Matrix3d& F, TangentMode mode) const;
+  /// firstPiola(F) and tangent(F, mode) together, equal to the separate calls to round-off. The
+  /// default makes the two calls; laws whose stress and tangent share work (a decomposition of
+  /// F) override it.
+  virtual StressAndTangent stressAndTangent(const Eigen::Matrix3d& F, TangentMode mode) const;
+  /// For laws whose projectedFirstPiolaDerivative(F) is a rotated isotropic linear tensor
+  /// (corotational elasticity): firstPiola(F) and that tangent in the compact form of
+  /// RotatedLinearStressAndTangent, so element stiffness needs no 9 x 9 matrix. std::nullopt (the
+  /// default) for every other law.
+  virtual std::optional<RotatedLinearStressAndTangent> rotatedLinearStressAndTangent(
+      const Eigen::Matrix3d& F) const;
 };
 
 }  // namespace surgical_sim::core

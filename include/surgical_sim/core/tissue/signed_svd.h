@@ -16,4 +16,9 @@ struct SignedSvd {
 /// inverted elements. Allocation-free.
 SignedSvd computeSignedSvd(const Eigen::Matrix3d& F);
 
+/// The rotation R = U V^T of computeSignedSvd(F) (equal to round-off), a few times cheaper for the
+/// usual well-conditioned F with det F > 0 (Newton's polar iteration); inverted, singular or badly
+/// conditioned F fall back to the signed SVD. Allocation-free.
+Eigen::Matrix3d computeSignedRotation(const Eigen::Matrix3d& F);
+
 }  // namespace surgical_sim::core

@@ -50,6 +50,16 @@ class TissueModel {
   virtual void assembleStiffness(const Eigen::VectorXd& x, TangentMode mode,
                                  Eigen::SparseMatrix<double>& K) const = 0;
 
+  /// addInternalForce(x, f) and assembleStiffness(x, mode, K) in one call (f is added to, K
+  /// overwritten), equal to the separate calls to round-off. The default makes the two calls;
+  /// models whose force and stiffness share per-element work override it with one pass.
+  virtual void addInternalForceAndStiffness(const Eigen::VectorXd& x, TangentMode mode,
+                                            Eigen::VectorXd& f,
+                                            Eigen::SparseMatrix<double>& K) const {
+    addInternalForce(x, f);
+    assembleStiffness(x, mode, K);
+  }
+
   /// Operator form: y = K(x) v without assembling a global matrix (element by element).
   virtual void applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
                               Eigen::VectorXd& y) const = 0;
