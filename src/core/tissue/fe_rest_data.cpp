@@ -17,10 +17,10 @@ namespace {
   throw std::invalid_argument(msg.str());
 }
 
-/// Everything but the element loop: the sizes and zeroed accumulators of the data, the shape
-/// values at the mass points (the same for every element), and the mass accumulation.
-struct Setup {
-  Setup(const TetMesh& mesh, FeRestData& data) : basis(mesh.type) {
+/// What both evaluations share: sizing the data with zeroed accumulators, the shape values at the
+/// mass points (the same for every element) and the mass accumulation of one element.
+struct RestDataBuilder {
+  RestDataBuilder(const TetMesh& mesh, FeRestData& data) : basis(mesh.type) {
     const QuadratureRule& mass_rule = basis.massRule();
     data.points_per_element = static_cast<int>(basis.stiffnessRule().weights.size());
     const auto points = static_cast<size_t>(mesh.numElements()) * data.points_per_element;
@@ -63,8 +63,8 @@ struct Setup {
 
 FeRestData genericRestData(const TetMesh& mesh, double density) {
   FeRestData data;
-  Setup setup(mesh, data);
-  const ElementBasis& basis = setup.basis;
+  RestDataBuilder builder(mesh, data);
+  const ElementBasis& basis = builder.basis;
   const QuadratureRule& rule = basis.stiffnessRule();
   const QuadratureRule& mass_rule = basis.massRule();
   const int npe = basis.numNodes();
@@ -82,9 +82,9 @@ FeRestData genericRestData(const TetMesh& mesh, double density) {
     for (int q = 0; q < mass_rule.weights.size(); ++q) {
       const double det = basis.restGradients(X_e, mass_rule.points.col(q), dN_dX);
       if (!(det > 0.0)) failDeterminant(e, "mass", det);
-      setup.rho_w(q) = density * mass_rule.weights(q) * det;
+      builder.rho_w(q) = density * mass_rule.weights(q) * det;
     }
-    setup.addElementMass(mesh.elements, e, data);
+    builder.addElementMass(mesh.elements, e, data);
   }
   return data;
 }
@@ -93,9 +93,9 @@ FeRestData genericRestData(const TetMesh& mesh, double density) {
 // dN/dX = dN/dxi J^-1 with dN/dxi = [-1 -1 -1; I].
 FeRestData tet4RestData(const TetMesh& mesh, double density) {
   FeRestData data;
-  Setup setup(mesh, data);
-  const double weight = setup.basis.stiffnessRule().weights(0);
-  const Eigen::VectorXd& mass_weights = setup.basis.massRule().weights;
+  RestDataBuilder builder(mesh, data);
+  const double weight = builder.basis.stiffnessRule().weights(0);
+  const Eigen::VectorXd& mass_weights = builder.basis.massRule().weights;
   for (int e = 0; e < mesh.numElements(); ++e) {
     const Eigen::Vector3d X0 = mesh.nodes.col(mesh.elements(0, e));
     Eigen::Matrix3d J;
@@ -109,9 +109,9 @@ FeRestData tet4RestData(const TetMesh& mesh, double density) {
     G.bottomRows<3>() = J_inv;
     data.weight_det_j[static_cast<size_t>(e)] = weight * det;
     for (Eigen::Index q = 0; q < mass_weights.size(); ++q) {
-      setup.rho_w(q) = density * mass_weights(q) * det;
+      builder.rho_w(q) = density * mass_weights(q) * det;
     }
-    setup.addElementMass(mesh.elements, e, data);
+    builder.addElementMass(mesh.elements, e, data);
   }
   return data;
 }
