@@ -1,5 +1,6 @@
 #include "surgical_sim/core/scene/tissue_simulation.h"
 
+#include <future>
 #include <stdexcept>
 
 #include "surgical_sim/core/common/stopwatch.h"
@@ -63,12 +64,12 @@ void TissueSimulation::installModel(std::unique_ptr<TissueModel> model) {
   problem_.dirichlet = bc;
 }
 
-void TissueSimulation::rebuildContact() {
-  if (scene_.tools.empty()) return;
-  contact_ = std::make_unique<ContactPhase>(surface_, model_->restPositions(), contact_settings_,
-                                            integrator_->name() != "quasi_static");
+std::unique_ptr<ContactPhase> TissueSimulation::makeContact(const Eigen::VectorXd& rest) const {
+  auto contact = std::make_unique<ContactPhase>(surface_, rest, contact_settings_,
+                                                integrator_->name() != "quasi_static");
   for (std::size_t i = 0; i < tool_poses_.size(); ++i)
-    if (tool_poses_[i]) contact_->setToolPose(static_cast<int>(i), *tool_poses_[i]);
+    if (tool_poses_[i]) contact->setToolPose(static_cast<int>(i), *tool_poses_[i]);
+  return contact;
 }
 
 TissueSimulation::~TissueSimulation() = default;
@@ -91,7 +92,7 @@ void TissueSimulation::reset() {
   // replay after reset is bit-identical to the first run.
   tool_poses_.assign(scene_.tools.size(), std::nullopt);
   contact_.reset();
-  rebuildContact();
+  if (!scene_.tools.empty()) contact_ = makeContact(model_->restPositions());
 }
 
 void TissueSimulation::setToolPose(int tool, const Eigen::Isometry3d& X_ST) {
@@ -123,9 +124,16 @@ bool TissueSimulation::applyCuts() {
   mesh_ = cutter_->mesh();
   surface_ = cutter_->surface();
   cut_faces_ = cutter_->cutFaces();
+  // The contact structures depend only on the surface and the rest positions (the cutter's
+  // nodes): built on a second thread while the model is built.
+  const Eigen::VectorXd rest =
+      Eigen::Map<const Eigen::VectorXd>(mesh_.nodes.data(), 3 * mesh_.numNodes());
+  std::future<std::unique_ptr<ContactPhase>> contact;
+  if (!scene_.tools.empty())
+    contact = std::async(std::launch::async, [this, &rest] { return makeContact(rest); });
   installModel(makeCutTissueModel(scene_.models.front(), *cutter_, scene_.material));
   integrator_->reset();  // new stiffness pattern: the linear solver re-analyses it
-  rebuildContact();
+  if (contact.valid()) contact_ = contact.get();
   return true;
 }
 

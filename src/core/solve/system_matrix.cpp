@@ -5,49 +5,57 @@
 #include "surgical_sim/core/solve/dirichlet_projection.h"
 
 namespace surgical_sim::core {
-namespace {
-
-/// True if every column of the compressed square A has its diagonal entry.
-bool hasFullDiagonal(const Eigen::SparseMatrix<double>& A) {
-  for (Eigen::Index j = 0; j < A.cols(); ++j) {
-    const int* begin = A.innerIndexPtr() + A.outerIndexPtr()[j];
-    const int* end = A.innerIndexPtr() + A.outerIndexPtr()[j + 1];
-    if (!std::binary_search(begin, end, static_cast<int>(j))) return false;
-  }
-  return true;
-}
-
-}  // namespace
 
 void SystemMatrix::setPattern(const Eigen::SparseMatrix<double>& stiffness_pattern) {
-  const Eigen::Index n = stiffness_pattern.rows();
-  Eigen::SparseMatrix<double> pattern = stiffness_pattern;
-  pattern.makeCompressed();
-  if (hasFullDiagonal(pattern)) {
-    matrix_ = pattern;  // the usual node-block pattern: no sparse sum needed
-  } else {
-    Eigen::SparseMatrix<double> identity(n, n);
-    identity.setIdentity();
-    matrix_ = pattern + identity;
-    matrix_.makeCompressed();
+  Eigen::SparseMatrix<double> compressed;
+  const Eigen::SparseMatrix<double>* K = &stiffness_pattern;
+  if (!K->isCompressed()) {
+    compressed = stiffness_pattern;
+    compressed.makeCompressed();
+    K = &compressed;
   }
-  stiffness_nonzeros_ = pattern.nonZeros();
-  stiffness_to_system_.assign(static_cast<size_t>(pattern.nonZeros()), 0);
-  diagonal_entry_.assign(static_cast<size_t>(n), 0);
-  const int* k_outer = pattern.outerIndexPtr();
-  const int* k_inner = pattern.innerIndexPtr();
-  const int* a_outer = matrix_.outerIndexPtr();
-  const int* a_inner = matrix_.innerIndexPtr();
-  for (Eigen::Index j = 0; j < n; ++j) {
-    int a = a_outer[j];
+  const auto n = static_cast<int>(K->rows());
+  const int* k_outer = K->outerIndexPtr();
+  const int* k_inner = K->innerIndexPtr();
+  const double* k_value = K->valuePtr();
+  stiffness_nonzeros_ = K->nonZeros();
+  stiffness_to_system_.resize(static_cast<size_t>(stiffness_nonzeros_));
+  diagonal_entry_.resize(static_cast<size_t>(n));
+  // A = K + I column by column: K's entries with the diagonal merged in (added to K's diagonal
+  // entry, or inserted at its sorted place where K has none).
+  matrix_.resize(n, n);
+  matrix_.resizeNonZeros(stiffness_nonzeros_ + n);
+  int* a_outer = matrix_.outerIndexPtr();
+  int* a_inner = matrix_.innerIndexPtr();
+  double* a_value = matrix_.valuePtr();
+  int a = 0;
+  const auto insertDiagonal = [&](int j) {
+    a_inner[a] = j;
+    a_value[a] = 1.0;
+    diagonal_entry_[static_cast<size_t>(j)] = a++;
+  };
+  for (int j = 0; j < n; ++j) {
+    a_outer[j] = a;
+    bool diagonal = false;
     for (int k = k_outer[j]; k < k_outer[j + 1]; ++k) {
-      while (a_inner[a] != k_inner[k]) ++a;  // A's column j is a sorted superset of K's
+      if (!diagonal && k_inner[k] > j) {
+        insertDiagonal(j);
+        diagonal = true;
+      }
+      a_inner[a] = k_inner[k];
+      a_value[a] = k_value[k];
       stiffness_to_system_[static_cast<size_t>(k)] = a;
+      if (k_inner[k] == j) {
+        a_value[a] += 1.0;
+        diagonal_entry_[static_cast<size_t>(j)] = a;
+        diagonal = true;
+      }
+      ++a;
     }
-    for (int e = a_outer[j]; e < a_outer[j + 1]; ++e) {
-      if (a_inner[e] == j) diagonal_entry_[static_cast<size_t>(j)] = e;
-    }
+    if (!diagonal) insertDiagonal(j);
   }
+  a_outer[n] = a;
+  matrix_.data().resize(a);
 }
 
 bool SystemMatrix::matchesPattern(const Eigen::SparseMatrix<double>& stiffness_pattern) const {

@@ -3,51 +3,95 @@
 #include <algorithm>
 
 namespace surgical_sim::core {
+namespace {
+
+/// The groups holding each node (compressed rows): occurrences of node i are
+/// entries[offsets[i], offsets[i + 1]), each the position g k + a of groups(a, g).
+struct NodeGroups {
+  NodeGroups(int num_nodes, const Eigen::MatrixXi& groups)
+      : offsets(static_cast<size_t>(num_nodes + 1), 0),
+        entries(static_cast<size_t>(groups.size())) {
+    const int* node = groups.data();
+    for (Eigen::Index p = 0; p < groups.size(); ++p) ++offsets[static_cast<size_t>(node[p] + 1)];
+    for (int i = 0; i < num_nodes; ++i) offsets[i + 1] += offsets[i];
+    std::vector<int> next(offsets.begin(), offsets.end() - 1);
+    for (Eigen::Index p = 0; p < groups.size(); ++p) {
+      entries[static_cast<size_t>(next[static_cast<size_t>(node[p])]++)] = static_cast<int>(p);
+    }
+  }
+
+  std::vector<int> offsets;
+  std::vector<int> entries;
+};
+
+}  // namespace
 
 Eigen::SparseMatrix<double> makeBlockPattern(int num_nodes, const Eigen::MatrixXi& groups) {
-  std::vector<std::vector<int>> adjacency(static_cast<size_t>(num_nodes));
-  for (Eigen::Index g = 0; g < groups.cols(); ++g) {
-    for (Eigen::Index a = 0; a < groups.rows(); ++a) {
-      for (Eigen::Index b = 0; b < groups.rows(); ++b) {
-        adjacency[static_cast<size_t>(groups(a, g))].push_back(groups(b, g));
+  const NodeGroups node_groups(num_nodes, groups);
+  const auto k = static_cast<int>(groups.rows());
+  // Sorted distinct neighbours j of each node i (compressed rows), found with a marker per node.
+  std::vector<int> offsets(static_cast<size_t>(num_nodes + 1), 0);
+  std::vector<int> neighbours;
+  neighbours.reserve(node_groups.entries.size() * static_cast<size_t>(k));
+  std::vector<int> marker(static_cast<size_t>(num_nodes), -1);
+  for (int i = 0; i < num_nodes; ++i) {
+    for (int p = node_groups.offsets[i]; p < node_groups.offsets[i + 1]; ++p) {
+      const int* group = groups.data() + node_groups.entries[static_cast<size_t>(p)] / k * k;
+      for (int b = 0; b < k; ++b) {
+        if (marker[static_cast<size_t>(group[b])] == i) continue;
+        marker[static_cast<size_t>(group[b])] = i;
+        neighbours.push_back(group[b]);
       }
     }
+    std::sort(neighbours.begin() + offsets[i], neighbours.end());
+    offsets[i + 1] = static_cast<int>(neighbours.size());
   }
-  // Compressed columns directly: column 3 i + c holds rows 3 j + r of i's sorted neighbours j.
-  std::vector<int> outer(static_cast<size_t>(3 * num_nodes + 1), 0);
-  std::vector<int> inner;
+  // Compressed columns directly: column 3 i + c holds rows 3 j + r of i's neighbours j.
+  Eigen::SparseMatrix<double> pattern(3 * num_nodes, 3 * num_nodes);
+  pattern.resizeNonZeros(static_cast<Eigen::Index>(9 * neighbours.size()));
+  int* outer = pattern.outerIndexPtr();
+  int* inner = pattern.innerIndexPtr();
+  outer[0] = 0;
+  int entry = 0;
   for (int i = 0; i < num_nodes; ++i) {
-    auto& adj = adjacency[static_cast<size_t>(i)];
-    std::sort(adj.begin(), adj.end());
-    adj.erase(std::unique(adj.begin(), adj.end()), adj.end());
     for (int c = 0; c < 3; ++c) {
-      for (int j : adj)
-        for (int r = 0; r < 3; ++r) inner.push_back(3 * j + r);
-      outer[static_cast<size_t>(3 * i + c + 1)] = static_cast<int>(inner.size());
+      for (int p = offsets[i]; p < offsets[i + 1]; ++p)
+        for (int r = 0; r < 3; ++r) inner[entry++] = 3 * neighbours[static_cast<size_t>(p)] + r;
+      outer[3 * i + c + 1] = entry;
     }
   }
-  const std::vector<double> zeros(inner.size(), 0.0);
-  return Eigen::SparseMatrix<double>(Eigen::Map<const Eigen::SparseMatrix<double>>(
-      3 * num_nodes, 3 * num_nodes, static_cast<Eigen::Index>(inner.size()), outer.data(),
-      inner.data(), zeros.data()));
+  std::fill(pattern.valuePtr(), pattern.valuePtr() + entry, 0.0);
+  return pattern;
 }
 
 std::vector<int> makeScatterMap(const Eigen::SparseMatrix<double>& pattern,
                                 const Eigen::MatrixXi& groups) {
-  const int dofs = 3 * static_cast<int>(groups.rows());
-  std::vector<int> map;
-  map.reserve(static_cast<size_t>(groups.cols()) * static_cast<size_t>(dofs * dofs));
+  const auto num_nodes = static_cast<int>(pattern.cols() / 3);
+  const auto k = static_cast<int>(groups.rows());
+  const int dofs = 3 * k;
+  const NodeGroups node_groups(num_nodes, groups);
+  std::vector<int> map(static_cast<size_t>(groups.cols()) * static_cast<size_t>(dofs * dofs));
   const int* outer = pattern.outerIndexPtr();
   const int* inner = pattern.innerIndexPtr();
-  for (Eigen::Index g = 0; g < groups.cols(); ++g) {
-    for (int c = 0; c < dofs; ++c) {
-      const int col = 3 * groups(c / 3, g) + c % 3;
-      // The 3 rows of a node block are consecutive in a column: one search per block.
-      for (Eigen::Index b = 0; b < groups.rows(); ++b) {
-        const int* it =
-            std::lower_bound(inner + outer[col], inner + outer[col + 1], 3 * groups(b, g));
-        const int first = static_cast<int>(it - inner);
-        for (int r = 0; r < 3; ++r) map.push_back(first + r);
+  // Per node i, the node blocks of its columns are the same, 3 rows each: block[j] is the
+  // position of node j's block in them. Each group entry (a, g) at node i then fills local
+  // columns 3 a + c of group g.
+  std::vector<int> block(static_cast<size_t>(num_nodes), 0);
+  for (int i = 0; i < num_nodes; ++i) {
+    for (int p = outer[3 * i]; p < outer[3 * i + 1]; p += 3) {
+      block[static_cast<size_t>(inner[p] / 3)] = (p - outer[3 * i]) / 3;
+    }
+    for (int p = node_groups.offsets[i]; p < node_groups.offsets[i + 1]; ++p) {
+      const int position = node_groups.entries[static_cast<size_t>(p)];
+      const int g = position / k;
+      const int a = position % k;
+      const int* group = groups.data() + static_cast<Eigen::Index>(g) * k;
+      for (int c = 0; c < 3; ++c) {
+        int* column = map.data() + (static_cast<size_t>(g) * dofs + 3 * a + c) * dofs;
+        for (int b = 0; b < k; ++b) {
+          const int first = outer[3 * i + c] + 3 * block[static_cast<size_t>(group[b])];
+          for (int r = 0; r < 3; ++r) column[3 * b + r] = first + r;
+        }
       }
     }
   }

@@ -2,13 +2,12 @@
 
 #include <algorithm>
 #include <optional>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
 #include "surgical_sim/core/tissue/block_sparsity.h"
-#include "surgical_sim/core/tissue/element_basis.h"
+#include "surgical_sim/core/tissue/fe_rest_data.h"
 #include "surgical_sim/core/tissue/tissue_mesh_check.h"
 
 namespace surgical_sim::core {
@@ -131,58 +130,16 @@ FeModel::FeModel(const TetMesh& mesh, const Material& material,
       Material::create(material.young_modulus, material.poisson_ratio, material.density);
   checkTissueMesh(mesh, law_->name(), /*allow_tet10=*/true);
 
-  const ElementBasis basis(type_);
-  const QuadratureRule& rule = basis.stiffnessRule();
-  const QuadratureRule& mass_rule = basis.massRule();
-  nodes_per_element_ = basis.numNodes();
-  points_per_element_ = static_cast<int>(rule.weights.size());
-  const int npe = nodes_per_element_;
+  FeRestData rest = computeFeRestData(mesh, mat.density);
+  nodes_per_element_ = nodesPerElement(type_);
+  points_per_element_ = rest.points_per_element;
   const int n = mesh.numNodes();
-  const int m = mesh.numElements();
-
   elements_ = mesh.elements;
   rest_positions_ = Eigen::Map<const Eigen::VectorXd>(mesh.nodes.data(), 3 * n);
-  rest_gradients_.resize(static_cast<size_t>(m) * points_per_element_ * npe * 3);
-  weight_det_j_.resize(static_cast<size_t>(m) * points_per_element_);
-  body_weight_ = Eigen::VectorXd::Zero(n);
-  lumped_mass_ = Eigen::VectorXd::Zero(3 * n);
-
-  const auto fail = [](int e, const char* where, double det) {
-    std::ostringstream msg;
-    msg << "mesh.elements: element " << e << " is inverted or degenerate at a " << where
-        << " quadrature point (det dX/dxi = " << det << " m^3, must be > 0)";
-    throw std::invalid_argument(msg.str());
-  };
-
-  Eigen::Matrix3Xd X_e(3, npe);
-  Eigen::MatrixXd dN_dX(npe, 3);
-  for (int e = 0; e < m; ++e) {
-    for (int a = 0; a < npe; ++a) X_e.col(a) = mesh.nodes.col(elements_(a, e));
-    for (int q = 0; q < points_per_element_; ++q) {
-      const double det = basis.restGradients(X_e, rule.points.col(q), dN_dX);
-      if (!(det > 0.0)) fail(e, "stiffness", det);
-      const size_t k = static_cast<size_t>(e) * points_per_element_ + q;
-      std::copy(dN_dX.data(), dN_dX.data() + npe * 3, rest_gradients_.begin() + k * npe * 3);
-      weight_det_j_[k] = rule.weights(q) * det;
-    }
-    // Consistent-mass diagonal and body-force weights; HRZ lumping scales the diagonal so that
-    // it sums to the element mass.
-    Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(npe);
-    double element_mass = 0.0;
-    for (int q = 0; q < mass_rule.weights.size(); ++q) {
-      const double det = basis.restGradients(X_e, mass_rule.points.col(q), dN_dX);
-      if (!(det > 0.0)) fail(e, "mass", det);
-      const Eigen::VectorXd N = basis.shapeValues(mass_rule.points.col(q));
-      const double rho_w = mat.density * mass_rule.weights(q) * det;
-      diagonal += rho_w * N.cwiseAbs2();
-      element_mass += rho_w;
-      for (int a = 0; a < npe; ++a) body_weight_(elements_(a, e)) += rho_w * N(a);
-    }
-    diagonal *= element_mass / diagonal.sum();
-    for (int a = 0; a < npe; ++a) {
-      lumped_mass_.segment<3>(3 * elements_(a, e)).array() += diagonal(a);
-    }
-  }
+  rest_gradients_ = std::move(rest.rest_gradients);
+  weight_det_j_ = std::move(rest.weight_det_j);
+  body_weight_ = std::move(rest.body_weight);
+  lumped_mass_ = std::move(rest.lumped_mass);
   pattern_ = makeBlockPattern(n, elements_);
   scatter_ = makeScatterMap(pattern_, elements_);
 }

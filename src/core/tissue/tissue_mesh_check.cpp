@@ -45,8 +45,10 @@ void checkTissueMesh(const TetMesh& mesh, const std::string& model, bool allow_t
     const Eigen::Vector3d p2 = mesh.nodes.col(mesh.elements(2, e));
     const Eigen::Vector3d p3 = mesh.nodes.col(mesh.elements(3, e));
     const double volume = signedTetVolume(p0, p1, p2, p3);
-    const double l_max = std::max({(p1 - p0).norm(), (p2 - p0).norm(), (p3 - p0).norm(),
-                                   (p2 - p1).norm(), (p3 - p2).norm(), (p3 - p1).norm()});
+    // sqrt is monotonic: one root of the longest squared edge.
+    const double l_max = std::sqrt(
+        std::max({(p1 - p0).squaredNorm(), (p2 - p0).squaredNorm(), (p3 - p0).squaredNorm(),
+                  (p2 - p1).squaredNorm(), (p3 - p2).squaredNorm(), (p3 - p1).squaredNorm()}));
     if (!(6.0 * volume > 1e-10 * l_max * l_max * l_max)) {
       std::ostringstream msg;
       msg << "mesh.elements: element " << e << " is " << (volume < 0.0 ? "inverted" : "degenerate")

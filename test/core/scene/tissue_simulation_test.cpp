@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
+#include <vector>
 
 #include "surgical_sim/core/scene/scene_config.h"
 #include "surgical_sim/core/scene/tissue_simulation.h"
@@ -116,6 +118,80 @@ TEST(TissueSimulation, CutThroughSplitsTheOrganKeepsItsMassAndKeepsStepping) {
   sim.reset();
   EXPECT_EQ(sim.numComponents(), 1);
   EXPECT_FALSE(has(sim.components(), "cutting"));
+}
+
+/// Positions and velocities after each of 8 steps of the palpation scene with the tool pressing
+/// in from above while the blade cuts down through the organ in 4 mm steps, and the number of
+/// tool contacts over the steps.
+struct PressAndCut {
+  std::vector<Eigen::VectorXd> trajectory;
+  int contacts = 0;
+};
+
+PressAndCut pressAndCut(TissueSimulation& sim) {
+  PressAndCut run;
+  for (int k = 0; k < 8; ++k) {
+    sim.setToolPose(0, toolAt(Eigen::Vector3d(0.0, 0.01, 0.028 - 0.001 * k)));
+    sim.requestCut(bladeDown(0.0031, 0.03 - 0.004 * k, 0.026 - 0.004 * k));
+    run.contacts += sim.step().contacts;
+    run.trajectory.push_back(sim.state().x);
+    run.trajectory.push_back(sim.state().v);
+  }
+  return run;
+}
+
+TEST(TissueSimulation, ModelAfterACutIsStressFreeAtRestWithTheBlocksOfTheCutMesh) {
+  TissueSimulation sim(palpationScene());
+  const double mass = totalMass(sim);
+  int changes = 0;
+  for (int k = 0; k < 8; ++k) {
+    sim.requestCut(bladeDown(0.0031, 0.03 - 0.004 * k, 0.026 - 0.004 * k));
+    if (!sim.step().topology_changed) continue;
+    ++changes;
+    const TissueModel& model = sim.model();
+    const TetMesh& mesh = sim.mesh();
+    ASSERT_EQ(model.restPositions(),
+              Eigen::Map<const Eigen::VectorXd>(mesh.nodes.data(), 3 * mesh.numNodes()));
+    EXPECT_NEAR(totalMass(sim), mass, 1e-12 * mass);
+    // Rest gradients of every copy reproduce its rest shape: F = I, no energy, no force.
+    const Eigen::VectorXd& X = model.restPositions();
+    EXPECT_LT(std::abs(model.energy(X)), 1e-18);
+    Eigen::VectorXd f = Eigen::VectorXd::Zero(X.size());
+    model.addInternalForce(X, f);
+    EXPECT_LT(f.lpNorm<Eigen::Infinity>(), 1e-12);  // [N]
+    // The stiffness couples exactly the nodes that share an element, in full 3 x 3 blocks.
+    std::vector<Eigen::Triplet<double>> blocks;
+    for (int e = 0; e < mesh.numElements(); ++e)
+      for (int a = 0; a < 4; ++a)
+        for (int b = 0; b < 4; ++b)
+          for (int i = 0; i < 9; ++i)
+            blocks.emplace_back(3 * mesh.elements(a, e) + i % 3, 3 * mesh.elements(b, e) + i / 3,
+                                1.0);
+    Eigen::SparseMatrix<double> expected(X.size(), X.size());
+    expected.setFromTriplets(blocks.begin(), blocks.end());
+    const Eigen::SparseMatrix<double>& pattern = model.stiffnessPattern();
+    ASSERT_EQ(pattern.nonZeros(), expected.nonZeros());
+    EXPECT_TRUE(std::equal(pattern.outerIndexPtr(), pattern.outerIndexPtr() + X.size() + 1,
+                           expected.outerIndexPtr()));
+    EXPECT_TRUE(std::equal(pattern.innerIndexPtr(), pattern.innerIndexPtr() + pattern.nonZeros(),
+                           expected.innerIndexPtr()));
+  }
+  EXPECT_GE(changes, 3);
+}
+
+TEST(TissueSimulation, ReplayThroughCutsAfterResetIsBitIdentical) {
+  TissueSimulation sim(palpationScene());
+  const int uncut_nodes = sim.mesh().numNodes();
+  const PressAndCut first = pressAndCut(sim);
+  EXPECT_GT(sim.mesh().numNodes(), uncut_nodes);
+  EXPECT_GT(first.contacts, 0);
+  sim.reset();
+  const PressAndCut replay = pressAndCut(sim);
+  EXPECT_EQ(replay.contacts, first.contacts);
+  ASSERT_EQ(replay.trajectory.size(), first.trajectory.size());
+  for (std::size_t i = 0; i < first.trajectory.size(); ++i) {
+    EXPECT_EQ(replay.trajectory[i], first.trajectory[i]) << i;
+  }
 }
 
 TEST(TissueSimulation, BackgroundCholeskySolverFollowsTheDirectSolverThroughACut) {

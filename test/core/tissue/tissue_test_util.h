@@ -109,6 +109,39 @@ inline TetMesh cubeSixTets(double size = 1.0) {
   return mesh;
 }
 
+/// Cube [0, cells h]^3 of cells^3 Kuhn-triangulated cubes (6 tets each) with every node moved by a
+/// uniform random offset of up to `jitter` [m] per coordinate and the nodes numbered in random
+/// order; elements re-oriented positively.
+inline TetMesh jitteredLattice(int cells, double h, double jitter, std::mt19937& rng) {
+  const int side = cells + 1;
+  std::vector<int> label(static_cast<size_t>(side * side * side));
+  for (size_t i = 0; i < label.size(); ++i) label[i] = static_cast<int>(i);
+  std::shuffle(label.begin(), label.end(), rng);
+  std::uniform_real_distribution<double> u(-jitter, jitter);
+  TetMesh mesh;
+  mesh.type = ElementType::Tet4;
+  mesh.nodes.resize(3, static_cast<Eigen::Index>(label.size()));
+  for (int k = 0; k < side; ++k)
+    for (int j = 0; j < side; ++j)
+      for (int i = 0; i < side; ++i)
+        mesh.nodes.col(label[static_cast<size_t>((k * side + j) * side + i)]) =
+            h * Eigen::Vector3d(i, j, k) + Eigen::Vector3d(u(rng), u(rng), u(rng));
+  const TetMesh cube = cubeSixTets();
+  mesh.elements.resize(4, 6 * cells * cells * cells);
+  int e = 0;
+  for (int k = 0; k < cells; ++k)
+    for (int j = 0; j < cells; ++j)
+      for (int i = 0; i < cells; ++i)
+        for (int t = 0; t < 6; ++t, ++e)
+          for (int a = 0; a < 4; ++a) {
+            const int v = cube.elements(a, t);
+            const int grid = ((k + (v >> 2 & 1)) * side + j + (v >> 1 & 1)) * side + i + (v & 1);
+            mesh.elements(a, e) = label[static_cast<size_t>(grid)];
+          }
+  orientTet4(mesh);
+  return mesh;
+}
+
 /// Tet10 mesh from a Tet4 mesh by adding straight mid-edge nodes (Gmsh order).
 inline TetMesh toTet10(const TetMesh& tet4) {
   constexpr int kPairs[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {2, 3}, {1, 3}};

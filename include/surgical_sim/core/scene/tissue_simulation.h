@@ -85,8 +85,9 @@ class TissueSimulation {
  private:
   /// Makes `model` the simulated model: body force, boundary conditions (scene regions).
   void installModel(std::unique_ptr<TissueModel> model);
-  /// New contact structures on the current surface, with the last tool poses.
-  void rebuildContact();
+  /// New contact structures on the current surface with rest positions `rest` [m] (size 3n),
+  /// with the last tool poses (scene with tools only).
+  std::unique_ptr<ContactPhase> makeContact(const Eigen::VectorXd& rest) const;
   /// Applies the queued cuts; returns true if the topology changed.
   bool applyCuts();
 
