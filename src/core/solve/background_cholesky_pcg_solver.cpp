@@ -185,7 +185,6 @@ LinearSolveReport BackgroundCholeskyPcgSolver::solve(const Eigen::VectorXd& b, E
   if (!factorized_ || b.size() != matrix_.rows() || x.size() != b.size() || !b.allFinite()) {
     return {};
   }
-  if (adoptRefresh()) buildInterim();
   const PreconditionerApply precondition = [this](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
     return applyPreconditioner(r, z);
   };

@@ -28,8 +28,9 @@ namespace surgical_sim::core {
 /// matrix and returns at once; the main thread keeps the current factor. The worker's factor
 /// (own CholmodSolver, own cholmod_common, BLAS/OpenMP limited to one thread: on 2 cores, a
 /// two-thread BLAS in the worker doubled the mean step time at 6.6k unknowns) is swapped in at
-/// the start of the next factorize() or solve() - never during a solve - if it is of a newer
-/// matrix than the current one and has at most n rows.
+/// the start of the next factorize() - never in solve(), so the interim preconditioner below is
+/// built once per matrix (adopting in solve() rebuilt it twice in some cutting steps) - if it is
+/// of a newer matrix than the current one and has at most n rows.
 ///
 /// Pattern change: analyzePattern() with a new pattern keeps a factor of n_old <= n_new rows,
 /// assuming the first n_old unknowns keep their meaning (cutting appends nodes). Until the worker
@@ -53,7 +54,7 @@ namespace surgical_sim::core {
 /// worker's timing, so results are reproducible to the tolerance, not bitwise.
 ///
 /// Work vectors are allocated in analyzePattern() and factorize(); solve() allocates only when it
-/// swaps in a factor of another size or falls back. Use from one thread. Not copyable or movable.
+/// falls back to a synchronous factorization. Use from one thread. Not copyable or movable.
 class BackgroundCholeskyPcgSolver final : public LinearSolver {
  public:
   /// A solve needing more PCG iterations than this requests a refresh at the next factorize()
@@ -102,7 +103,7 @@ class BackgroundCholeskyPcgSolver final : public LinearSolver {
   /// fallback of a failed solve and the back-off after it (for tests and benchmarks).
   int synchronousFactorizations() const { return synchronous_factorizations_; }
   /// Blocks until the worker has no refresh running (its result is adopted by the next
-  /// factorize() or solve()). For tests and reproducible benchmarks.
+  /// factorize()). For tests and reproducible benchmarks.
   void waitForRefresh();
 
  private:
