@@ -13,10 +13,8 @@ CholmodSolver::CholmodSolver(CholmodOrdering ordering) {
   common_.print = 0;  // the library reports through return values, never prints
   common_.supernodal = CHOLMOD_SUPERNODAL;
   common_.final_ll = 1;
-  if (ordering == CholmodOrdering::Metis) {
-    common_.nmethods = 1;
-    common_.method[0].ordering = CHOLMOD_METIS;
-  }
+  common_.nmethods = 1;
+  common_.method[0].ordering = ordering == CholmodOrdering::Metis ? CHOLMOD_METIS : CHOLMOD_AMD;
 }
 
 CholmodSolver::~CholmodSolver() {

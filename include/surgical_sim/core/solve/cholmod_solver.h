@@ -16,9 +16,9 @@ enum class CholmodOrdering {
   /// factorization flops against AMD's 1.85 M and 9.1e8 (triangular solves ~20 % faster), for an
   /// analysis ~2.5x longer (~20 ms). For 3D tissue meshes.
   Metis,
-  /// CHOLMOD's default (AMD, METIS only if AMD fills badly): cheapest analysis, for small or
-  /// slab-like matrices analysed often (the local correction of a cut).
-  Default,
+  /// AMD only: the cheapest analysis, for small or slab-like matrices analysed often (the local
+  /// correction of a cut; CHOLMOD's own default would also try METIS when AMD fills much).
+  Amd,
 };
 
 /// Direct sparse solver: CHOLMOD supernodal LL^T of a symmetric positive-definite matrix.

@@ -54,7 +54,7 @@ class LocalSchwarzCorrection {
   std::vector<int> unknowns_;
   Eigen::SparseMatrix<double> local_;  ///< A_LL
   std::vector<int> gather_;            ///< per entry of local_: its entry in A's values
-  CholmodSolver factor_{CholmodOrdering::Default};
+  CholmodSolver factor_{CholmodOrdering::Amd};
   bool analysed_ = false;
   Eigen::VectorXd local_rhs_, local_solution_, residual_, correction_;
 };
