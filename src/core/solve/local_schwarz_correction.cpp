@@ -56,7 +56,6 @@ std::vector<int> changedPatternUnknowns(const Eigen::SparseMatrix<double>& A,
 void LocalSchwarzCorrection::setUnknowns(const Eigen::SparseMatrix<double>& A,
                                          std::vector<int> unknowns) {
   unknowns_ = std::move(unknowns);
-  analysed_ = false;
   const Eigen::Index m = static_cast<Eigen::Index>(unknowns_.size());
   std::vector<int> position(static_cast<size_t>(A.rows()), -1);
   for (Eigen::Index k = 0; k < m; ++k) position[static_cast<size_t>(unknowns_[k])] = k;
@@ -76,6 +75,7 @@ void LocalSchwarzCorrection::setUnknowns(const Eigen::SparseMatrix<double>& A,
   const std::vector<double> zeros(inner.size(), 0.0);
   local_ = Eigen::Map<const Eigen::SparseMatrix<double>>(
       m, m, static_cast<Eigen::Index>(inner.size()), outer.data(), inner.data(), zeros.data());
+  if (m > 0) factor_.analyzePattern(local_);
   local_rhs_.setZero(m);
   local_solution_.setZero(m);
   residual_.setZero(A.rows());
@@ -85,10 +85,6 @@ void LocalSchwarzCorrection::setUnknowns(const Eigen::SparseMatrix<double>& A,
 bool LocalSchwarzCorrection::factorize(const Eigen::SparseMatrix<double>& A) {
   double* values = local_.valuePtr();
   for (size_t k = 0; k < gather_.size(); ++k) values[k] = A.valuePtr()[gather_[k]];
-  if (!analysed_) {
-    factor_.analyzePattern(local_);
-    analysed_ = true;
-  }
   return factor_.factorize(local_);
 }
 

@@ -27,13 +27,14 @@ std::vector<int> changedPatternUnknowns(const Eigen::SparseMatrix<double>& A,
 /// 6.6k-unknown organ after 1-8 cut steps, PCG needed 8-11 iterations to 1e-6 instead of 100-370
 /// with G alone.
 ///
-/// setUnknowns() fixes L and A's pattern; factorize() then copies A_LL's values and factorizes
-/// them (CHOLMOD analysis only on the first factorize() after setUnknowns()). apply() allocates
+/// setUnknowns() fixes L and A's pattern and analyses A_LL's pattern (CHOLMOD); factorize() then
+/// copies A_LL's values and factorizes them. apply() allocates
 /// nothing; its products with A touch only the columns of L. Not copyable (owns CHOLMOD state).
 class LocalSchwarzCorrection {
  public:
-  /// Sets L (sorted, unique, in [0, A.rows())) and records where A_LL's entries are in A's
-  /// compressed values. Empty L disables the correction (active() false).
+  /// Sets L (sorted, unique, in [0, A.rows())), records where A_LL's entries are in A's
+  /// compressed values and analyses A_LL's pattern. Empty L disables the correction (active()
+  /// false).
   void setUnknowns(const Eigen::SparseMatrix<double>& A, std::vector<int> unknowns);
   /// Copies A_LL from A (the pattern given to setUnknowns()) and factorizes it. Returns false if
   /// A_LL is not positive definite (then A is not either).
@@ -55,7 +56,6 @@ class LocalSchwarzCorrection {
   Eigen::SparseMatrix<double> local_;  ///< A_LL
   std::vector<int> gather_;            ///< per entry of local_: its entry in A's values
   CholmodSolver factor_{CholmodOrdering::Amd};
-  bool analysed_ = false;
   Eigen::VectorXd local_rhs_, local_solution_, residual_, correction_;
 };
 
