@@ -67,10 +67,12 @@ class BackgroundCholeskyPcgSolver final : public LinearSolver {
   /// too much for the old factor (e.g. a large cut) and iterating on costs more than refactorizing.
   static constexpr int kFallbackIterations = 50;
   /// Rings of pattern neighbours added around the changed unknowns of the interim preconditioner.
-  /// Organ at 6.6k unknowns while a blade cuts 1 mm per step (factor 1-8 steps old): one ring
-  /// ~650 local unknowns, 5.3 PCG iterations; two rings ~1,240, 4.3 iterations; three ~1,940,
-  /// 3.8 iterations; the local factorization grows 2.5 / 5.6 / 9.8 ms. Two rings cost least.
-  static constexpr int kLocalRings = 2;
+  /// Organ at 6.6k unknowns while a blade cuts 1 mm per step (factor 2-5 steps old), per step
+  /// that changed the topology: no ring ~260 local unknowns, 8.4 PCG iterations, 0.8 ms local
+  /// analysis + factorization; one ring ~680, 5.6 iterations, 1.8 ms; two rings ~1,290, 4.6
+  /// iterations, 4.3 ms, and each iteration's two local solves cost more. Integration took
+  /// 33.8 / 26.7 / 31.1 ms: one ring costs least.
+  static constexpr int kLocalRings = 1;
 
   /// Starts the worker thread (idle until a refresh is due).
   /// @throws std::invalid_argument if settings are out of range (see validatePcgSettings).
