@@ -164,9 +164,9 @@ bool BackgroundCholeskyPcgSolver::factorize(const Eigen::SparseMatrix<double>& A
 
 bool BackgroundCholeskyPcgSolver::applyFactorAndTail(const Eigen::VectorXd& r, Eigen::VectorXd& z) {
   FactorSlot& factor = current();
-  if (factor.rows == r.size()) return factor.cholmod.solveWithFactor(r, z);
+  if (factor.rows == r.size()) return factor.cholmod.precondition(r, z);
   head_rhs_ = r.head(factor.rows);
-  if (!factor.cholmod.solveWithFactor(head_rhs_, head_solution_)) return false;
+  if (!factor.cholmod.precondition(head_rhs_, head_solution_)) return false;
   z.head(factor.rows) = head_solution_;
   tail_.apply(r, z);
   return true;

@@ -7,7 +7,8 @@
 
 namespace surgical_sim::core {
 
-CholmodSolver::CholmodSolver(CholmodOrdering ordering) {
+CholmodSolver::CholmodSolver(CholmodOrdering ordering, CholmodPreconditioning preconditioning)
+    : preconditioning_(preconditioning) {
   useSingleThreadBlas();
   cholmod_start(&common_);
   common_.print = 0;  // the library reports through return values, never prints
@@ -71,6 +72,7 @@ bool CholmodSolver::factorize(const Eigen::SparseMatrix<double>& A) {
   const int ok = cholmod_factorize(&view, factor_, &common_);
   if (ok == 0 || common_.status != CHOLMOD_OK || factor_->minor < factor_->n) return false;
   factorized_ = true;
+  if (preconditioning_ == CholmodPreconditioning::SinglePrecision) single_.assign(*this);
   return true;
 }
 
@@ -89,6 +91,12 @@ bool CholmodSolver::solveWithFactor(const Eigen::VectorXd& b, Eigen::VectorXd& x
                                 &workspace_y_, &workspace_e_, &common_);
   if (ok == 0 || solution_ == nullptr) return false;
   x = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(solution_->x), b.size());
+  return true;
+}
+
+bool CholmodSolver::precondition(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  if (!factorized_ || !single_.valid() || b.size() != single_.rows()) return solveWithFactor(b, x);
+  single_.solve(b, x);
   return true;
 }
 

@@ -140,7 +140,7 @@ bool PcgSolver::applyPreconditioner(const Eigen::VectorXd& r, Eigen::VectorXd& z
       return true;
     }
     case PcgPreconditioner::CholeskyReuse:
-      return cholesky_.solve(r, z).ok;
+      return cholesky_.precondition(r, z);
   }
   return false;
 }

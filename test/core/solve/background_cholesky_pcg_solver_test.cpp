@@ -112,12 +112,13 @@ TEST(BackgroundCholeskyPcgSolver, GrowingPatternNeedsNoSynchronousFactorization)
   expectSolves(solver, grown, "interim preconditioner");
   EXPECT_EQ(solver.synchronousFactorizations(), 1);
 
-  // The worker's factor of the new pattern is swapped in: exact for these values.
+  // The worker's factor of the new pattern is swapped in: exact for these values (in single
+  // precision: two iterations reach the tolerance).
   solver.waitForRefresh();
   ASSERT_TRUE(solver.factorize(grown));
   EXPECT_EQ(solver.backgroundRefreshes(), 1);
   Eigen::VectorXd x = Eigen::VectorXd::Zero(grown.rows());
-  EXPECT_EQ(solver.solve(rightHandSide(grown.rows()), x).iterations, 1);
+  EXPECT_LE(solver.solve(rightHandSide(grown.rows()), x).iterations, 2);
   EXPECT_EQ(solver.synchronousFactorizations(), 1);
 }
 
@@ -178,7 +179,7 @@ TEST(BackgroundCholeskyPcgSolver, FastChangingMatrixFallsBackAccuratelyAndBacksO
   ASSERT_TRUE(solver.factorize(B));
   EXPECT_EQ(solver.synchronousFactorizations(), 3);
   Eigen::VectorXd x = Eigen::VectorXd::Zero(B.rows());
-  EXPECT_EQ(solver.solve(rightHandSide(B.rows()), x).iterations, 1);
+  EXPECT_LE(solver.solve(rightHandSide(B.rows()), x).iterations, 2);  // B's own factor
 
   // Failing again right after: the back-off doubles to two synchronous calls.
   ASSERT_TRUE(solver.factorize(A));

@@ -112,11 +112,13 @@ TEST(PcgSolver, CholeskyReuseNeedsFewIterationsAfterSmallChange) {
   reuse.analyzePattern(A0);
   ASSERT_TRUE(reuse.factorize(A0));
   Eigen::VectorXd x = Eigen::VectorXd::Zero(A0.rows());
-  EXPECT_EQ(reuse.solve(b, x).iterations, 1);  // exact factor: one iteration
-  ASSERT_TRUE(reuse.factorize(A1));            // factor of A0 reused as preconditioner
+  const int exact = reuse.solve(b, x).iterations;
+  EXPECT_LE(exact, 2);               // exact factor, applied in single precision
+  ASSERT_TRUE(reuse.factorize(A1));  // factor of A0 reused as preconditioner
   x.setZero();
   const LinearSolveReport reused = reuse.solve(b, x);
   EXPECT_TRUE(reused.ok);
+  EXPECT_GT(reused.iterations, exact);
   EXPECT_LE(reused.iterations, 8);
   EXPECT_LT((x - Eigen::MatrixXd(A1).llt().solve(b)).norm(), 1e-8 * x.norm());
 
@@ -139,10 +141,12 @@ TEST(PcgSolver, CholeskyReuseRefreshesAfterInterval) {
   ASSERT_TRUE(solver.factorize(A0));  // call 1: factor of A0
   ASSERT_TRUE(solver.factorize(A1));  // call 2: reuse
   Eigen::VectorXd x = Eigen::VectorXd::Zero(A0.rows());
-  EXPECT_GT(solver.solve(b, x).iterations, 1);
+  const int reused = solver.solve(b, x).iterations;
   ASSERT_TRUE(solver.factorize(A1));  // call 3: refresh -> exact factor of A1
   x.setZero();
-  EXPECT_EQ(solver.solve(b, x).iterations, 1);
+  const int refreshed = solver.solve(b, x).iterations;
+  EXPECT_LE(refreshed, 2);  // exact factor, applied in single precision
+  EXPECT_GT(reused, refreshed);
 }
 
 TEST(LinearSolverSettings, InvalidSettingsThrowNamingTheParameter) {

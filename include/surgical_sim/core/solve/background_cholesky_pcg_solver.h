@@ -30,7 +30,8 @@ namespace surgical_sim::core {
 /// two-thread BLAS in the worker doubled the mean step time at 6.6k unknowns) is swapped in at
 /// the start of the next factorize() - never in solve(), so the interim preconditioner below is
 /// built once per matrix (adopting in solve() rebuilt it twice in some cutting steps) - if it is
-/// of a newer matrix than the current one and has at most n rows.
+/// of a newer matrix than the current one and has at most n rows. The worker also makes the
+/// factor's single-precision copy (CholmodPreconditioning::SinglePrecision), which applies it.
 ///
 /// Pattern change: analyzePattern() with a new pattern keeps a factor of n_old <= n_new rows,
 /// assuming the first n_old unknowns keep their meaning (cutting appends nodes). Until the worker
@@ -111,7 +112,7 @@ class BackgroundCholeskyPcgSolver final : public LinearSolver {
  private:
   /// A CHOLMOD solver with what its analysis and factor are of.
   struct FactorSlot {
-    CholmodSolver cholmod;
+    CholmodSolver cholmod{CholmodOrdering::Metis, CholmodPreconditioning::SinglePrecision};
     std::uint64_t pattern = 0;  ///< generation of the analysed pattern (0: none)
     std::uint64_t values = 0;   ///< factorize() call whose matrix was factorized (0: none)
     Eigen::Index rows = 0;      ///< size of the analysed pattern

@@ -1,0 +1,86 @@
+#include "surgical_sim/core/solve/single_precision_cholesky.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "surgical_sim/core/solve/cholmod_solver.h"
+
+namespace surgical_sim::core {
+namespace {
+
+using Block = Eigen::Map<const Eigen::MatrixXf, 0, Eigen::OuterStride<>>;
+
+template <typename T>
+void copyArray(const void* from, size_t size, std::vector<T>& to) {
+  const auto* begin = static_cast<const T*>(from);
+  to.assign(begin, begin + size);
+}
+
+}  // namespace
+
+bool SinglePrecisionCholesky::assign(const CholmodSolver& solver) {
+  perm_.clear();
+  const cholmod_factor* L = solver.numericFactor();
+  if (L == nullptr || L->is_super == 0 || L->is_ll == 0 || L->xtype != CHOLMOD_REAL ||
+      L->itype != CHOLMOD_INT) {
+    return false;
+  }
+  const size_t supernodes = L->nsuper;
+  copyArray(L->super, supernodes + 1, first_column_);
+  copyArray(L->pi, supernodes + 1, row_start_);
+  copyArray(L->px, supernodes + 1, value_start_);
+  copyArray(L->s, static_cast<size_t>(row_start_.back()), rows_);
+  const auto* x = static_cast<const double*>(L->x);
+  values_.resize(static_cast<size_t>(value_start_.back()));
+  for (size_t k = 0; k < values_.size(); ++k) {
+    values_[k] = static_cast<float>(x[k]);
+    if (!std::isfinite(values_[k])) return false;
+  }
+  size_t widest_below = 0;
+  for (size_t s = 0; s < supernodes; ++s) {
+    const int columns = first_column_[s + 1] - first_column_[s];
+    widest_below =
+        std::max(widest_below, static_cast<size_t>(row_start_[s + 1] - row_start_[s] - columns));
+  }
+  permuted_.resize(static_cast<Eigen::Index>(L->n));
+  below_.resize(static_cast<Eigen::Index>(widest_below));
+  copyArray(L->Perm, L->n, perm_);
+  return true;
+}
+
+void SinglePrecisionCholesky::solve(const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+  const Eigen::Index n = rows();
+  const auto supernodes = static_cast<int>(first_column_.size()) - 1;
+  for (Eigen::Index k = 0; k < n; ++k) permuted_[k] = static_cast<float>(r[perm_[k]]);
+  // Forward: per supernode, its diagonal block, then the rows below it.
+  for (int s = 0; s < supernodes; ++s) {
+    const int first = first_column_[s], columns = first_column_[s + 1] - first;
+    const int height = row_start_[s + 1] - row_start_[s], below = height - columns;
+    const Block block(values_.data() + value_start_[s], height, columns,
+                      Eigen::OuterStride<>(height));
+    auto own = permuted_.segment(first, columns);
+    block.topRows(columns).triangularView<Eigen::Lower>().solveInPlace(own);
+    if (below == 0) continue;
+    below_.head(below).noalias() = block.bottomRows(below) * own;
+    const int* row = rows_.data() + row_start_[s] + columns;
+    for (int i = 0; i < below; ++i) permuted_[row[i]] -= below_[i];
+  }
+  // Backward with L^T, supernodes in reverse.
+  for (int s = supernodes - 1; s >= 0; --s) {
+    const int first = first_column_[s], columns = first_column_[s + 1] - first;
+    const int height = row_start_[s + 1] - row_start_[s], below = height - columns;
+    const Block block(values_.data() + value_start_[s], height, columns,
+                      Eigen::OuterStride<>(height));
+    auto own = permuted_.segment(first, columns);
+    if (below > 0) {
+      const int* row = rows_.data() + row_start_[s] + columns;
+      for (int i = 0; i < below; ++i) below_[i] = permuted_[row[i]];
+      own.noalias() -= block.bottomRows(below).transpose() * below_.head(below);
+    }
+    block.topRows(columns).transpose().triangularView<Eigen::Upper>().solveInPlace(own);
+  }
+  z.resize(n);
+  for (Eigen::Index k = 0; k < n; ++k) z[perm_[k]] = static_cast<double>(permuted_[k]);
+}
+
+}  // namespace surgical_sim::core

@@ -1,0 +1,131 @@
+#include "surgical_sim/core/solve/single_precision_cholesky.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "solve_test_util.h"
+#include "surgical_sim/core/solve/cholmod_solver.h"
+#include "surgical_sim/core/solve/pcg_solver.h"
+
+namespace surgical_sim::core::test {
+namespace {
+
+/// 8 x 8 x 8 nonlinear spring lattice tangent (1,536 unknowns): supernodes of several sizes and a
+/// METIS ordering far from the identity.
+Eigen::SparseMatrix<double> latticeMatrix() {
+  return perturbedTangent(
+      SpringLatticeModel::lattice(8, 8, 8, 0.1, 1000.0, 0.1, SpringLatticeModel::Law::Nonlinear),
+      0.3);
+}
+
+Eigen::VectorXd rightHandSide(Eigen::Index n) {
+  Eigen::VectorXd b(n);
+  for (Eigen::Index i = 0; i < n; ++i) b[i] = std::sin(0.37 * static_cast<double>(i)) + 0.1;
+  return b;
+}
+
+TEST(SinglePrecisionCholesky, SolvesLikeTheDoubleFactorToSinglePrecision) {
+  const Eigen::SparseMatrix<double> A = latticeMatrix();
+  CholmodSolver cholmod;
+  cholmod.analyzePattern(A);
+  ASSERT_TRUE(cholmod.factorize(A));
+  SinglePrecisionCholesky single;
+  ASSERT_TRUE(single.assign(cholmod));
+  EXPECT_TRUE(single.valid());
+  EXPECT_EQ(single.rows(), A.rows());
+  const Eigen::VectorXd b = rightHandSide(A.rows());
+  Eigen::VectorXd exact = Eigen::VectorXd::Zero(A.rows()), z;
+  ASSERT_TRUE(cholmod.solveWithFactor(b, exact));
+  single.solve(b, z);
+  ASSERT_EQ(z.size(), A.rows());
+  // Single precision: float rounding of L and of the work vector (unit roundoff 6e-8) times a
+  // modest condition number; a wrong ordering, supernode layout or transpose gives O(1) errors.
+  const double error = (z - exact).norm() / exact.norm();
+  EXPECT_LT(error, 1e-5);
+  EXPECT_LT((b - A * z).norm() / b.norm(), 1e-5);
+  // Reused work vectors: a second solve of another right-hand side is as accurate.
+  const Eigen::VectorXd b2 = -2.0 * b.reverse();
+  ASSERT_TRUE(cholmod.solveWithFactor(b2, exact));
+  single.solve(b2, z);
+  EXPECT_LT((z - exact).norm() / exact.norm(), 1e-5);
+}
+
+TEST(SinglePrecisionCholesky, StaysValidWhileTheSolverFactorizesAnotherMatrix) {
+  const Eigen::SparseMatrix<double> A = latticeMatrix();
+  CholmodSolver cholmod;
+  cholmod.analyzePattern(A);
+  ASSERT_TRUE(cholmod.factorize(A));
+  SinglePrecisionCholesky single;
+  ASSERT_TRUE(single.assign(cholmod));
+  const Eigen::VectorXd b = rightHandSide(A.rows());
+  Eigen::VectorXd exact = Eigen::VectorXd::Zero(A.rows()), z;
+  ASSERT_TRUE(cholmod.solveWithFactor(b, exact));
+  const Eigen::SparseMatrix<double> B = 3.0 * A;
+  ASSERT_TRUE(cholmod.factorize(B));  // the copy is of A, not of the solver's current factor
+  single.solve(b, z);
+  EXPECT_LT((z - exact).norm() / exact.norm(), 1e-5);
+}
+
+TEST(SinglePrecisionCholesky, RejectsASolverWithoutFactorAndValuesBeyondSinglePrecision) {
+  const Eigen::SparseMatrix<double> A = latticeMatrix();
+  CholmodSolver cholmod;
+  SinglePrecisionCholesky single;
+  EXPECT_FALSE(single.assign(cholmod));  // not analysed
+  cholmod.analyzePattern(A);
+  EXPECT_FALSE(single.assign(cholmod));  // analysed, not factorized
+  EXPECT_FALSE(single.valid());
+  EXPECT_EQ(single.rows(), 0);
+  // L ~ sqrt(A): entries ~1e41, beyond float's 3.4e38.
+  const Eigen::SparseMatrix<double> huge = 1e80 * A;
+  ASSERT_TRUE(cholmod.factorize(huge));
+  EXPECT_FALSE(single.assign(cholmod));
+  EXPECT_FALSE(single.valid());
+  ASSERT_TRUE(cholmod.factorize(A));
+  EXPECT_TRUE(single.assign(cholmod));
+}
+
+TEST(CholmodSolver, SinglePrecisionPreconditioningFallsBackToTheDoubleFactor) {
+  const Eigen::SparseMatrix<double> A = 1e80 * latticeMatrix();
+  CholmodSolver cholmod(CholmodOrdering::Metis, CholmodPreconditioning::SinglePrecision);
+  cholmod.analyzePattern(A);
+  ASSERT_TRUE(cholmod.factorize(A));
+  const Eigen::VectorXd b = rightHandSide(A.rows());
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(A.rows());
+  ASSERT_TRUE(cholmod.precondition(b, x));
+  EXPECT_LT((b - A * x).norm() / b.norm(), 1e-12);  // the double factor: exact to rounding
+}
+
+TEST(CholmodSolver, SinglePrecisionPreconditioningIsAccurateToSinglePrecision) {
+  const Eigen::SparseMatrix<double> A = latticeMatrix();
+  CholmodSolver cholmod(CholmodOrdering::Metis, CholmodPreconditioning::SinglePrecision);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(A.rows());
+  const Eigen::VectorXd b = rightHandSide(A.rows());
+  EXPECT_FALSE(cholmod.precondition(b, x));  // no factor yet
+  cholmod.analyzePattern(A);
+  ASSERT_TRUE(cholmod.factorize(A));
+  ASSERT_TRUE(cholmod.precondition(b, x));
+  const double residual = (b - A * x).norm() / b.norm();
+  EXPECT_LT(residual, 1e-5);
+  EXPECT_GT(residual, 1e-12);  // not the double factor
+}
+
+TEST(PcgSolver, CholeskyReuseWithTheSinglePrecisionFactorReachesTheDoubleTolerance) {
+  const Eigen::SparseMatrix<double> A = latticeMatrix();
+  PcgSettings settings;
+  settings.relative_tolerance = 1e-12;
+  PcgSolver pcg(PcgPreconditioner::CholeskyReuse, settings);
+  pcg.analyzePattern(A);
+  ASSERT_TRUE(pcg.factorize(A));
+  const Eigen::VectorXd b = rightHandSide(A.rows());
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(A.rows());
+  const LinearSolveReport report = pcg.solve(b, x);
+  ASSERT_TRUE(report.ok);
+  EXPECT_LE(report.relative_residual, 1e-12);
+  EXPECT_LE(report.iterations, 4);  // each single-precision solve gains ~5 digits
+  EXPECT_LT((b - A * x).norm() / b.norm(), 1e-11);
+}
+
+}  // namespace
+}  // namespace surgical_sim::core::test
