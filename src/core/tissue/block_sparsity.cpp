@@ -64,38 +64,34 @@ Eigen::SparseMatrix<double> makeBlockPattern(int num_nodes, const Eigen::MatrixX
   return pattern;
 }
 
-std::vector<int> makeScatterMap(const Eigen::SparseMatrix<double>& pattern,
-                                const Eigen::MatrixXi& groups) {
+BlockScatterMap::BlockScatterMap(const Eigen::SparseMatrix<double>& pattern,
+                                 const Eigen::MatrixXi& groups)
+    : k_(static_cast<int>(groups.rows())),
+      map_(static_cast<size_t>(groups.cols()) * static_cast<size_t>(k_ * (k_ + 1))) {
   const auto num_nodes = static_cast<int>(pattern.cols() / 3);
-  const auto k = static_cast<int>(groups.rows());
-  const int dofs = 3 * k;
   const NodeGroups node_groups(num_nodes, groups);
-  std::vector<int> map(static_cast<size_t>(groups.cols()) * static_cast<size_t>(dofs * dofs));
   const int* outer = pattern.outerIndexPtr();
   const int* inner = pattern.innerIndexPtr();
-  // Per node i, the node blocks of its columns are the same, 3 rows each: block[j] is the
-  // position of node j's block in them. Each group entry (a, g) at node i then fills local
-  // columns 3 a + c of group g.
-  std::vector<int> block(static_cast<size_t>(num_nodes), 0);
+  // Per node i, position[j] is the index of row 3 j in column 3 i. Each group entry (a, g) at
+  // node i then fills first(a, .) and len(a) of group g.
+  std::vector<int> position(static_cast<size_t>(num_nodes), 0);
   for (int i = 0; i < num_nodes; ++i) {
     for (int p = outer[3 * i]; p < outer[3 * i + 1]; p += 3) {
-      block[static_cast<size_t>(inner[p] / 3)] = (p - outer[3 * i]) / 3;
+      position[static_cast<size_t>(inner[p] / 3)] = p;
     }
+    const int len = outer[3 * i + 1] - outer[3 * i];
     for (int p = node_groups.offsets[i]; p < node_groups.offsets[i + 1]; ++p) {
-      const int position = node_groups.entries[static_cast<size_t>(p)];
-      const int g = position / k;
-      const int a = position % k;
-      const int* group = groups.data() + static_cast<Eigen::Index>(g) * k;
-      for (int c = 0; c < 3; ++c) {
-        int* column = map.data() + (static_cast<size_t>(g) * dofs + 3 * a + c) * dofs;
-        for (int b = 0; b < k; ++b) {
-          const int first = outer[3 * i + c] + 3 * block[static_cast<size_t>(group[b])];
-          for (int r = 0; r < 3; ++r) column[3 * b + r] = first + r;
-        }
+      const int entry = node_groups.entries[static_cast<size_t>(p)];
+      const int g = entry / k_;
+      const int a = entry % k_;
+      const int* group = groups.data() + static_cast<Eigen::Index>(g) * k_;
+      int* first = map_.data() + static_cast<size_t>(g) * static_cast<size_t>(k_ * (k_ + 1));
+      for (int b = 0; b < k_; ++b) {
+        first[a * k_ + b] = position[static_cast<size_t>(group[b])];
       }
+      first[k_ * k_ + a] = len;
     }
   }
-  return map;
 }
 
 }  // namespace surgical_sim::core

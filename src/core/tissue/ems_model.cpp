@@ -109,7 +109,7 @@ EmsModel::EmsModel(const TetMesh& mesh, const Material& material) {
     }
   }
   pattern_ = makeBlockPattern(n, elements_);
-  scatter_ = makeScatterMap(pattern_, elements_);
+  scatter_ = BlockScatterMap(pattern_, elements_);
 }
 
 Eigen::VectorXd EmsModel::bodyForce(const Eigen::Vector3d& a) const {
@@ -185,9 +185,7 @@ void EmsModel::assembleStiffness(const Eigen::VectorXd& x, TangentMode mode,
   double* values = K.valuePtr();
   std::fill(values, values + K.nonZeros(), 0.0);
   for (int e = 0; e < elements_.cols(); ++e) {
-    const Matrix12d H = elementStiffness(x, e, mode);
-    const int* map = scatter_.data() + 144 * e;
-    for (int i = 0; i < 144; ++i) values[map[i]] += H.data()[i];
+    scatter_.add(e, elementStiffness(x, e, mode), values);
   }
 }
 

@@ -141,7 +141,7 @@ FeModel::FeModel(const TetMesh& mesh, const Material& material,
   body_weight_ = std::move(rest.body_weight);
   lumped_mass_ = std::move(rest.lumped_mass);
   pattern_ = makeBlockPattern(n, elements_);
-  scatter_ = makeScatterMap(pattern_, elements_);
+  scatter_ = BlockScatterMap(pattern_, elements_);
 }
 
 Eigen::VectorXd FeModel::bodyForce(const Eigen::Vector3d& a) const {
@@ -252,12 +252,7 @@ void FeModel::assemble(const Eigen::VectorXd& x, TangentMode mode, Eigen::Vector
   }
   double* values = K.valuePtr();
   std::fill(values, values + K.nonZeros(), 0.0);
-  const auto scatter = [&](int e, const auto& Ke) {
-    constexpr int kSize = static_cast<int>(std::decay_t<decltype(Ke)>::SizeAtCompileTime);
-    const int* map = scatter_.data() + static_cast<size_t>(e) * kSize;
-    const double* ke = Ke.data();
-    for (int i = 0; i < kSize; ++i) values[map[i]] += ke[i];
-  };
+  const auto scatter = [&](int e, const auto& Ke) { scatter_.add(e, Ke, values); };
   if (type_ == ElementType::Tet4) {
     stiffnessImpl<4, 1>(x, mode, f, scatter);
   } else {

@@ -59,7 +59,7 @@ MassSpringModel::MassSpringModel(const TetMesh& mesh, const Material& material) 
   }
   const Eigen::MatrixXi groups = springs_;
   pattern_ = makeBlockPattern(n, groups);
-  scatter_ = makeScatterMap(pattern_, groups);
+  scatter_ = BlockScatterMap(pattern_, groups);
 }
 
 Eigen::VectorXd MassSpringModel::bodyForce(const Eigen::Vector3d& a) const {
@@ -111,14 +111,9 @@ void MassSpringModel::assembleStiffness(const Eigen::VectorXd& x, TangentMode mo
   std::fill(values, values + K.nonZeros(), 0.0);
   for (int j = 0; j < springs_.cols(); ++j) {
     const Eigen::Matrix3d H = springBlock(x, j, mode);
-    const int* map = scatter_.data() + 36 * j;
-    // Local 6 x 6 matrix [H -H; -H H], column-major.
-    for (int c = 0; c < 6; ++c) {
-      for (int r = 0; r < 6; ++r) {
-        const double sign = (r / 3 == c / 3) ? 1.0 : -1.0;
-        values[map[6 * c + r]] += sign * H(r % 3, c % 3);
-      }
-    }
+    Eigen::Matrix<double, 6, 6> Ke;  // [H -H; -H H]
+    Ke << H, -H, -H, H;
+    scatter_.add(j, Ke, values);
   }
 }
 

@@ -40,44 +40,70 @@ void expectSameStructure(const Eigen::SparseMatrix<double>& a,
   }
 }
 
-/// Scatter-adds a random dense matrix per group through the map and compares with the dense sum
-/// of the same matrices placed at the groups' dofs.
+/// The same groups with an extra node `isolated` (in no group): node indices >= isolated shift by
+/// one, so the pattern gets empty columns and rows in the middle.
+Eigen::MatrixXi withIsolatedNode(const Eigen::MatrixXi& groups, int isolated) {
+  return groups.unaryExpr([isolated](int i) { return i < isolated ? i : i + 1; });
+}
+
+/// Checks makeBlockPattern() against tripletPattern(), then scatter-adds a random dense matrix per
+/// group through BlockScatterMap and compares exactly with the dense sum of the same matrices
+/// placed at the groups' dofs (each entry receives the same contributions in the same group order,
+/// so the sums are bit-identical).
+template <int Size>
 void expectScatterAssemblesGroupMatrices(int num_nodes, const Eigen::MatrixXi& groups) {
+  ASSERT_EQ(3 * groups.rows(), Size);
   const Eigen::SparseMatrix<double> pattern = makeBlockPattern(num_nodes, groups);
-  const std::vector<int> map = makeScatterMap(pattern, groups);
-  const auto dofs = static_cast<int>(3 * groups.rows());
-  ASSERT_EQ(map.size(), static_cast<size_t>(groups.cols() * dofs * dofs));
+  expectSameStructure(pattern, tripletPattern(num_nodes, groups));
+  const BlockScatterMap map(pattern, groups);
+  ASSERT_EQ(map.groupSize(), groups.rows());
+  ASSERT_EQ(map.numGroups(), groups.cols());
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   Eigen::SparseMatrix<double> assembled = pattern;
   Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(3 * num_nodes, 3 * num_nodes);
-  for (Eigen::Index g = 0; g < groups.cols(); ++g) {
-    Eigen::MatrixXd Ke(dofs, dofs);
+  for (int g = 0; g < groups.cols(); ++g) {
+    Eigen::Matrix<double, Size, Size> Ke;
     for (Eigen::Index i = 0; i < Ke.size(); ++i) Ke.data()[i] = u(rng);
-    for (int i = 0; i < dofs * dofs; ++i) {
-      assembled.valuePtr()[map[static_cast<size_t>(g * dofs * dofs + i)]] += Ke.data()[i];
-    }
-    for (int c = 0; c < dofs; ++c)
-      for (int r = 0; r < dofs; ++r)
+    map.add(g, Ke, assembled.valuePtr());
+    for (int c = 0; c < Size; ++c)
+      for (int r = 0; r < Size; ++r)
         dense(3 * groups(r / 3, g) + r % 3, 3 * groups(c / 3, g) + c % 3) += Ke(r, c);
   }
-  EXPECT_LT((Eigen::MatrixXd(assembled) - dense).lpNorm<Eigen::Infinity>(), 1e-12);
+  const Eigen::MatrixXd assembled_dense(assembled);
+  for (Eigen::Index c = 0; c < dense.cols(); ++c)
+    for (Eigen::Index r = 0; r < dense.rows(); ++r)
+      ASSERT_EQ(assembled_dense(r, c), dense(r, c)) << "entry (" << r << ", " << c << ")";
 }
 
 TEST(BlockSparsity, TetMeshPatternHasTheBlocksOfEveryElement) {
   std::mt19937 rng(11);
   const TetMesh mesh = test::jitteredLattice(3, 1.0, 0.1, rng);
-  expectSameStructure(makeBlockPattern(mesh.numNodes(), mesh.elements),
-                      tripletPattern(mesh.numNodes(), mesh.elements));
-  expectScatterAssemblesGroupMatrices(mesh.numNodes(), mesh.elements);
+  expectScatterAssemblesGroupMatrices<12>(mesh.numNodes(), mesh.elements);
+  // Node 13 in no element.
+  expectScatterAssemblesGroupMatrices<12>(mesh.numNodes() + 1, withIsolatedNode(mesh.elements, 13));
+}
+
+TEST(BlockSparsity, Tet10MeshScatter) {
+  std::mt19937 rng(5);
+  const TetMesh mesh = test::toTet10(test::jitteredLattice(2, 1.0, 0.1, rng));
+  expectScatterAssemblesGroupMatrices<30>(mesh.numNodes(), mesh.elements);
+  // Node 0 in no element.
+  expectScatterAssemblesGroupMatrices<30>(mesh.numNodes() + 1, withIsolatedNode(mesh.elements, 0));
 }
 
 TEST(BlockSparsity, SpringsAndIsolatedNodes) {
   // Two-node groups (springs), a spring listed twice, and nodes 5, 6 in no group.
   Eigen::MatrixXi springs(2, 5);
   springs << 0, 1, 2, 4, 1, 1, 2, 3, 0, 2;
-  expectSameStructure(makeBlockPattern(7, springs), tripletPattern(7, springs));
-  expectScatterAssemblesGroupMatrices(7, springs);
+  expectScatterAssemblesGroupMatrices<6>(7, springs);
+}
+
+TEST(BlockSparsity, GroupWithARepeatedNode) {
+  // Group (3, 3) sums its four blocks into node 3's diagonal block, in local column-major order.
+  Eigen::MatrixXi groups(2, 3);
+  groups << 3, 0, 3, 3, 3, 2;
+  expectScatterAssemblesGroupMatrices<6>(5, groups);
 }
 
 }  // namespace

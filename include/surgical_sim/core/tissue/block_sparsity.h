@@ -12,12 +12,58 @@ namespace surgical_sim::core {
 /// @param groups node indices, shape k x g (one group per column), indices in [0, n).
 Eigen::SparseMatrix<double> makeBlockPattern(int num_nodes, const Eigen::MatrixXi& groups);
 
-/// Element-to-nonzero map for scatter-adding dense group matrices into `pattern.valuePtr()`
-/// (`pattern` from makeBlockPattern() over the same groups: full 3 x 3 node blocks):
-/// entry [g (3k)^2 + c 3k + r] is the value index of global entry (dof(r), dof(c)), where local
-/// dof r = 3 a + i is component i of node groups(a, g). Size g (3k)^2. Column-major local order,
-/// so a column-major (3k x 3k) element matrix scatters with one linear loop.
-std::vector<int> makeScatterMap(const Eigen::SparseMatrix<double>& pattern,
-                                const Eigen::MatrixXi& groups);
+/// Group-to-nonzero map for scatter-adding dense group matrices into the values of a pattern from
+/// makeBlockPattern() over the same groups.
+///
+/// The pattern stores node i's 3 columns with the same rows, 3 per neighbour node, so with
+/// node_a = groups(a, g), the entry of local row 3 b + r and column 3 a + c (r, c in 0..2) is at
+/// value index first(a, b) + c len(a) + r, where first(a, b) is the index of row 3 node_b in
+/// column 3 node_a and len(a) the length of that column. Per group the map stores the k^2 values
+/// first(a, b) (at a k + b) followed by the k values len(a): k (k + 1) ints (20 per Tet4 element,
+/// 110 per Tet10, 6 per spring) instead of (3k)^2 for one index per entry. For the 10,368-element
+/// Tet4 organ (makeOrganBlob at 12 cells; shared 2-core VM, medians) the map is 0.83 MB and builds
+/// in 0.34 ms (0.86 ms into fresh pages), the corotational FeModel in 6.1 ms; a per-entry map was
+/// 6.0 MB, 1.15 ms (4.6 ms fresh) and the model 11.8 ms. Projected addInternalForceAndStiffness,
+/// streaming 7x less map, takes 4.4 ms instead of 5.0 ms.
+class BlockScatterMap {
+ public:
+  BlockScatterMap() = default;
+  /// Linear time in the pattern size plus the number of group entries; allocates.
+  /// @param pattern makeBlockPattern(n, groups), compressed (its values are not used).
+  /// @param groups node indices, shape k x g, indices in [0, n).
+  BlockScatterMap(const Eigen::SparseMatrix<double>& pattern, const Eigen::MatrixXi& groups);
+
+  /// Nodes per group k.
+  int groupSize() const { return k_; }
+  /// Number of groups g.
+  int numGroups() const { return k_ == 0 ? 0 : static_cast<int>(map_.size()) / (k_ * (k_ + 1)); }
+
+  /// values[entry of (dof(r), dof(c))] += Ke(r, c) for every local row and column of `group`,
+  /// where local dof 3 a + i is component i of node groups(a, group). Entries in local
+  /// column-major order, so a node repeated in a group sums in the same order as a dense loop.
+  /// @param Ke the group matrix, Size = 3 groupSize().
+  /// @param values the pattern's valuePtr() (or that of a matrix with the same pattern).
+  template <int Size>
+  void add(int group, const Eigen::Matrix<double, Size, Size>& Ke, double* values) const {
+    static_assert(Size % 3 == 0, "BlockScatterMap::add: Size must be 3 k");
+    constexpr int kNodes = Size / 3;
+    const int* first = map_.data() + static_cast<size_t>(group) * (kNodes * (kNodes + 1));
+    const int* len = first + kNodes * kNodes;
+    const double* ke = Ke.data();
+    for (int a = 0; a < kNodes; ++a) {
+      for (int c = 0; c < 3; ++c) {
+        const int offset = c * len[a];
+        for (int b = 0; b < kNodes; ++b) {
+          double* block = values + first[a * kNodes + b] + offset;
+          for (int r = 0; r < 3; ++r) block[r] += *ke++;
+        }
+      }
+    }
+  }
+
+ private:
+  int k_ = 0;
+  std::vector<int> map_;  ///< per group: first(a, b) at a k + b, then len(a) at k^2 + a
+};
 
 }  // namespace surgical_sim::core

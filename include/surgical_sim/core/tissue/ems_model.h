@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "surgical_sim/core/mesh/tet_mesh.h"
+#include "surgical_sim/core/tissue/block_sparsity.h"
 #include "surgical_sim/core/tissue/material.h"
 #include "surgical_sim/core/tissue/tissue_model.h"
 
@@ -66,7 +67,7 @@ class EmsModel final : public TissueModel {
   Eigen::VectorXd rest_positions_;
   Eigen::VectorXd lumped_mass_;
   Eigen::SparseMatrix<double> pattern_;
-  std::vector<int> scatter_;
+  BlockScatterMap scatter_;
 };
 
 }  // namespace surgical_sim::core

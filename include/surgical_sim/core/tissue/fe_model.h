@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "surgical_sim/core/mesh/tet_mesh.h"
+#include "surgical_sim/core/tissue/block_sparsity.h"
 #include "surgical_sim/core/tissue/hyperelastic_law.h"
 #include "surgical_sim/core/tissue/material.h"
 #include "surgical_sim/core/tissue/tissue_model.h"
@@ -84,7 +85,7 @@ class FeModel final : public TissueModel {
   std::vector<double> rest_gradients_;  ///< per (element, point): dN/dX, npe x 3 col-major [1/m]
   std::vector<double> weight_det_j_;    ///< per (element, point): w detJ [m^3]
   Eigen::SparseMatrix<double> pattern_;
-  std::vector<int> scatter_;  ///< see makeScatterMap
+  BlockScatterMap scatter_;
 };
 
 }  // namespace surgical_sim::core
