@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "surgical_sim/core/solve/cholmod_solver.h"
 
@@ -39,8 +40,14 @@ bool SinglePrecisionCholesky::assign(const CholmodSolver& solver) {
   size_t widest_below = 0;
   for (size_t s = 0; s < supernodes; ++s) {
     const int columns = first_column_[s + 1] - first_column_[s];
-    widest_below =
-        std::max(widest_below, static_cast<size_t>(row_start_[s + 1] - row_start_[s] - columns));
+    const int height = row_start_[s + 1] - row_start_[s];
+    widest_below = std::max(widest_below, static_cast<size_t>(height - columns));
+    for (int j = 0; j < columns; ++j) {  // a pivot below float's normal range divides badly
+      if (!(values_[static_cast<size_t>(value_start_[s] + j * height + j)] >=
+            std::numeric_limits<float>::min())) {
+        return false;
+      }
+    }
   }
   permuted_.resize(static_cast<Eigen::Index>(L->n));
   below_.resize(static_cast<Eigen::Index>(widest_below));
@@ -51,7 +58,13 @@ bool SinglePrecisionCholesky::assign(const CholmodSolver& solver) {
 void SinglePrecisionCholesky::solve(const Eigen::VectorXd& r, Eigen::VectorXd& z) {
   const Eigen::Index n = rows();
   const auto supernodes = static_cast<int>(first_column_.size()) - 1;
-  for (Eigen::Index k = 0; k < n; ++k) permuted_[k] = static_cast<float>(r[perm_[k]]);
+  // Solved for r / |r|_inf, so a residual of any magnitude stays in float's normal range.
+  const double scale = r.cwiseAbs().maxCoeff();
+  if (!(scale > 0.0) || !std::isfinite(scale)) {
+    z = r;  // zero stays zero; non-finite propagates
+    return;
+  }
+  for (Eigen::Index k = 0; k < n; ++k) permuted_[k] = static_cast<float>(r[perm_[k]] / scale);
   // Forward: per supernode, its diagonal block, then the rows below it.
   for (int s = 0; s < supernodes; ++s) {
     const int first = first_column_[s], columns = first_column_[s + 1] - first;
@@ -80,7 +93,7 @@ void SinglePrecisionCholesky::solve(const Eigen::VectorXd& r, Eigen::VectorXd& z
     block.topRows(columns).transpose().triangularView<Eigen::Upper>().solveInPlace(own);
   }
   z.resize(n);
-  for (Eigen::Index k = 0; k < n; ++k) z[perm_[k]] = static_cast<double>(permuted_[k]);
+  for (Eigen::Index k = 0; k < n; ++k) z[perm_[k]] = scale * static_cast<double>(permuted_[k]);
 }
 
 }  // namespace surgical_sim::core

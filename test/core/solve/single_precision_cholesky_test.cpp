@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <limits>
 
 #include "solve_test_util.h"
 #include "surgical_sim/core/solve/cholmod_solver.h"
@@ -26,42 +27,56 @@ Eigen::VectorXd rightHandSide(Eigen::Index n) {
   return b;
 }
 
-TEST(SinglePrecisionCholesky, SolvesLikeTheDoubleFactorToSinglePrecision) {
+/// The lattice matrix factorized by CHOLMOD, its single-precision copy and the double solution
+/// of one right-hand side.
+class CopiedFactor : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    cholmod.analyzePattern(A);
+    ASSERT_TRUE(cholmod.factorize(A));
+    ASSERT_TRUE(single.assign(cholmod));
+    exact.setZero(A.rows());
+    ASSERT_TRUE(cholmod.solveWithFactor(b, exact));
+  }
+
   const Eigen::SparseMatrix<double> A = latticeMatrix();
+  const Eigen::VectorXd b = rightHandSide(A.rows());
   CholmodSolver cholmod;
-  cholmod.analyzePattern(A);
-  ASSERT_TRUE(cholmod.factorize(A));
   SinglePrecisionCholesky single;
-  ASSERT_TRUE(single.assign(cholmod));
+  Eigen::VectorXd exact, z;
+};
+
+TEST_F(CopiedFactor, SolvesLikeTheDoubleFactorToSinglePrecision) {
   EXPECT_TRUE(single.valid());
   EXPECT_EQ(single.rows(), A.rows());
-  const Eigen::VectorXd b = rightHandSide(A.rows());
-  Eigen::VectorXd exact = Eigen::VectorXd::Zero(A.rows()), z;
-  ASSERT_TRUE(cholmod.solveWithFactor(b, exact));
   single.solve(b, z);
   ASSERT_EQ(z.size(), A.rows());
   // Single precision: float rounding of L and of the work vector (unit roundoff 6e-8) times a
   // modest condition number; a wrong ordering, supernode layout or transpose gives O(1) errors.
-  const double error = (z - exact).norm() / exact.norm();
-  EXPECT_LT(error, 1e-5);
+  EXPECT_LT((z - exact).norm() / exact.norm(), 1e-5);
   EXPECT_LT((b - A * z).norm() / b.norm(), 1e-5);
   // Reused work vectors: a second solve of another right-hand side is as accurate.
   const Eigen::VectorXd b2 = -2.0 * b.reverse();
-  ASSERT_TRUE(cholmod.solveWithFactor(b2, exact));
+  Eigen::VectorXd exact2 = Eigen::VectorXd::Zero(A.rows());
+  ASSERT_TRUE(cholmod.solveWithFactor(b2, exact2));
   single.solve(b2, z);
-  EXPECT_LT((z - exact).norm() / exact.norm(), 1e-5);
+  EXPECT_LT((z - exact2).norm() / exact2.norm(), 1e-5);
 }
 
-TEST(SinglePrecisionCholesky, StaysValidWhileTheSolverFactorizesAnotherMatrix) {
-  const Eigen::SparseMatrix<double> A = latticeMatrix();
-  CholmodSolver cholmod;
-  cholmod.analyzePattern(A);
-  ASSERT_TRUE(cholmod.factorize(A));
-  SinglePrecisionCholesky single;
-  ASSERT_TRUE(single.assign(cholmod));
-  const Eigen::VectorXd b = rightHandSide(A.rows());
-  Eigen::VectorXd exact = Eigen::VectorXd::Zero(A.rows()), z;
-  ASSERT_TRUE(cholmod.solveWithFactor(b, exact));
+TEST_F(CopiedFactor, KeepsItsRelativeAccuracyForTinyHugeAndZeroRightHandSides) {
+  for (const double factor : {1e-42, 1e-20, 1e30}) {  // 1e-42 r is subnormal in float
+    single.solve(factor * b, z);
+    EXPECT_LT((z - factor * exact).norm() / (factor * exact.norm()), 1e-5) << factor;
+  }
+  single.solve(Eigen::VectorXd::Zero(A.rows()), z);
+  EXPECT_EQ(z, Eigen::VectorXd::Zero(A.rows()));
+  Eigen::VectorXd nan = b;
+  nan[7] = std::numeric_limits<double>::quiet_NaN();
+  single.solve(nan, z);
+  EXPECT_FALSE(z.allFinite());
+}
+
+TEST_F(CopiedFactor, StaysValidWhileTheSolverFactorizesAnotherMatrix) {
   const Eigen::SparseMatrix<double> B = 3.0 * A;
   ASSERT_TRUE(cholmod.factorize(B));  // the copy is of A, not of the solver's current factor
   single.solve(b, z);
@@ -82,6 +97,10 @@ TEST(SinglePrecisionCholesky, RejectsASolverWithoutFactorAndValuesBeyondSinglePr
   ASSERT_TRUE(cholmod.factorize(huge));
   EXPECT_FALSE(single.assign(cholmod));
   EXPECT_FALSE(single.valid());
+  // L ~ 1e-40: pivots below float's normal range.
+  const Eigen::SparseMatrix<double> tiny = 1e-80 * A;
+  ASSERT_TRUE(cholmod.factorize(tiny));
+  EXPECT_FALSE(single.assign(cholmod));
   ASSERT_TRUE(cholmod.factorize(A));
   EXPECT_TRUE(single.assign(cholmod));
 }

@@ -19,15 +19,16 @@ class CholmodSolver;
 class SinglePrecisionCholesky {
  public:
   /// Copies the solver's numeric factor. Returns false, and holds no factor, if the solver has
-  /// none, its factor is not supernodal LL^T, or a value is not finite in single precision (an
-  /// entry beyond ~3e38: use the double factor then).
+  /// none, its factor is not supernodal LL^T, a value is not finite in single precision (beyond
+  /// ~3e38) or a pivot is below float's normal range (~1e-38): use the double factor then.
   bool assign(const CholmodSolver& solver);
   /// True if assign() succeeded.
   bool valid() const { return !perm_.empty(); }
   /// Size n of the factorized matrix (0 without a factor).
   Eigen::Index rows() const { return static_cast<Eigen::Index>(perm_.size()); }
   /// z = A^-1 r with the copied factor, rounded to single precision (r and z of size rows(); z
-  /// is resized). Requires valid().
+  /// is resized). Solves for r / max|r_i| and scales back, so any finite r keeps its relative
+  /// accuracy; r = 0 gives z = 0, a non-finite r a non-finite z. Requires valid().
   void solve(const Eigen::VectorXd& r, Eigen::VectorXd& z);
 
  private:
