@@ -65,32 +65,38 @@ void SinglePrecisionCholesky::solve(const Eigen::VectorXd& r, Eigen::VectorXd& z
     return;
   }
   for (Eigen::Index k = 0; k < n; ++k) permuted_[k] = static_cast<float>(r[perm_[k]] / scale);
+  // Supernode s: its columns [first, first + columns) in the block's top rows, then the rows
+  // below (indices `rows`).
+  struct Supernode {
+    int first, columns, below;
+    const int* rows;
+    Block block;
+  };
+  const auto supernode = [this](int s) {
+    const int first = first_column_[s], columns = first_column_[s + 1] - first;
+    const int height = row_start_[s + 1] - row_start_[s];
+    return Supernode{
+        first, columns, height - columns, rows_.data() + row_start_[s] + columns,
+        Block(values_.data() + value_start_[s], height, columns, Eigen::OuterStride<>(height))};
+  };
   // Forward: per supernode, its diagonal block, then the rows below it.
   for (int s = 0; s < supernodes; ++s) {
-    const int first = first_column_[s], columns = first_column_[s + 1] - first;
-    const int height = row_start_[s + 1] - row_start_[s], below = height - columns;
-    const Block block(values_.data() + value_start_[s], height, columns,
-                      Eigen::OuterStride<>(height));
-    auto own = permuted_.segment(first, columns);
-    block.topRows(columns).triangularView<Eigen::Lower>().solveInPlace(own);
-    if (below == 0) continue;
-    below_.head(below).noalias() = block.bottomRows(below) * own;
-    const int* row = rows_.data() + row_start_[s] + columns;
-    for (int i = 0; i < below; ++i) permuted_[row[i]] -= below_[i];
+    const Supernode node = supernode(s);
+    auto own = permuted_.segment(node.first, node.columns);
+    node.block.topRows(node.columns).triangularView<Eigen::Lower>().solveInPlace(own);
+    if (node.below == 0) continue;
+    below_.head(node.below).noalias() = node.block.bottomRows(node.below) * own;
+    for (int i = 0; i < node.below; ++i) permuted_[node.rows[i]] -= below_[i];
   }
   // Backward with L^T, supernodes in reverse.
   for (int s = supernodes - 1; s >= 0; --s) {
-    const int first = first_column_[s], columns = first_column_[s + 1] - first;
-    const int height = row_start_[s + 1] - row_start_[s], below = height - columns;
-    const Block block(values_.data() + value_start_[s], height, columns,
-                      Eigen::OuterStride<>(height));
-    auto own = permuted_.segment(first, columns);
-    if (below > 0) {
-      const int* row = rows_.data() + row_start_[s] + columns;
-      for (int i = 0; i < below; ++i) below_[i] = permuted_[row[i]];
-      own.noalias() -= block.bottomRows(below).transpose() * below_.head(below);
+    const Supernode node = supernode(s);
+    auto own = permuted_.segment(node.first, node.columns);
+    if (node.below > 0) {
+      for (int i = 0; i < node.below; ++i) below_[i] = permuted_[node.rows[i]];
+      own.noalias() -= node.block.bottomRows(node.below).transpose() * below_.head(node.below);
     }
-    block.topRows(columns).transpose().triangularView<Eigen::Upper>().solveInPlace(own);
+    node.block.topRows(node.columns).transpose().triangularView<Eigen::Upper>().solveInPlace(own);
   }
   z.resize(n);
   for (Eigen::Index k = 0; k < n; ++k) z[perm_[k]] = scale * static_cast<double>(permuted_[k]);
