@@ -9,7 +9,7 @@ void validateBladePolyline(const std::string& name, const Eigen::Matrix3Xd& blad
   const Eigen::Index k = blade.cols();
   if (k < 2 || k > kMaxBladePoints)
     throw std::invalid_argument(name + " has " + std::to_string(k) +
-                                " points; a blade polyline needs 2 to " +
+                                " points; a blade polyline needs at least 2 and at most " +
                                 std::to_string(kMaxBladePoints));
   if (!blade.allFinite()) throw std::invalid_argument(name + " is not finite");
   const double length = (blade.rightCols(k - 1) - blade.leftCols(k - 1)).colwise().norm().sum();
