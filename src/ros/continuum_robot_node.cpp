@@ -24,27 +24,17 @@ constexpr const char* kName = "continuum_robot_controller";
 }  // namespace
 
 ContinuumRobotNode::ContinuumRobotNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
-    : tf_listener_(tf_buffer_) {
-  const std::string config = param<std::string>(
-      pnh, "config", std::string(SURGICAL_SIM_CONFIG_DIR) + "/continuum_robot.yaml");
-  const std::string robot = param<std::string>(pnh, "robot", "trunk");
-  rate_ = param(pnh, "rate", 10.0);
-  base_frame_ = param<std::string>(pnh, "base_frame", "robot_base");
-  link_prefix_ = param<std::string>(pnh, "link_prefix", "vertebra_");
-  tip_frame_ = param<std::string>(pnh, "tip_frame", "robot_tip");
-  tolerance_ = param(pnh, "tolerance", 1e-4);
-  max_iterations_ = param(pnh, "max_iterations", 30);
-  step_iterations_ = param(pnh, "step_iterations", 5);
-  requireParam(std::isfinite(rate_) && rate_ > 0.0 && rate_ <= 1000.0,
-               "~rate = " + std::to_string(rate_) + " Hz must be in (0, 1000]");
-  requireParam(std::isfinite(tolerance_) && tolerance_ > 0.0 && tolerance_ <= 1.0,
-               "~tolerance = " + std::to_string(tolerance_) + " m must be in (0, 1]");
-  requireParam(max_iterations_ >= 1 && max_iterations_ <= 10000,
-               "~max_iterations = " + std::to_string(max_iterations_) + " must be in [1, 10000]");
-  requireParam(step_iterations_ >= 1 && step_iterations_ <= 1000,
-               "~step_iterations = " + std::to_string(step_iterations_) + " must be in [1, 1000]");
-  requireParam(!base_frame_.empty() && !link_prefix_.empty() && !tip_frame_.empty(),
-               "~base_frame, ~link_prefix and ~tip_frame must not be empty");
+    : tf_listener_(tf_buffer_), control_spinner_(1, &control_queue_) {
+  const std::string config =
+      stringParam(pnh, "config", std::string(SURGICAL_SIM_CONFIG_DIR) + "/continuum_robot.yaml");
+  const std::string robot = stringParam(pnh, "robot", "trunk");
+  rate_ = numberParam(pnh, "rate", 10.0, {0.0, 1000.0, true}, "Hz");
+  base_frame_ = stringParam(pnh, "base_frame", "robot_base");
+  link_prefix_ = stringParam(pnh, "link_prefix", "vertebra_");
+  tip_frame_ = stringParam(pnh, "tip_frame", "robot_tip");
+  tolerance_ = numberParam(pnh, "tolerance", 1e-4, {0.0, 1.0, true}, "m");
+  max_iterations_ = intParam(pnh, "max_iterations", 30, 1, kMaxIterations, "");
+  step_iterations_ = intParam(pnh, "step_iterations", 5, 1, 1000, "");
 
   core::ContinuumRobotDescription description;
   try {
@@ -59,6 +49,7 @@ ContinuumRobotNode::ContinuumRobotNode(ros::NodeHandle& nh, ros::NodeHandle& pnh
   model_ = std::make_unique<core::ContinuumRobotModel>(description, compliances);
   controller_ =
       std::make_unique<core::InverseController>(*model_, core::InverseControllerSettings{});
+  controller_->setCancelCheck([this] { return cancel_.load() || ros::isShuttingDown(); });
   result_.actuation = controller_->actuation();
 
   actuation_pub_ = nh.advertise<surgical_sim::Actuation>("continuum_robot/actuation", 100);
@@ -69,7 +60,11 @@ ContinuumRobotNode::ContinuumRobotNode(ros::NodeHandle& nh, ros::NodeHandle& pnh
       nh.advertiseService("continuum_robot/set_target", &ContinuumRobotNode::onSetTarget, this);
   follow_path_srv_ =
       nh.advertiseService("continuum_robot/follow_path", &ContinuumRobotNode::onFollowPath, this);
-  reset_srv_ = nh.advertiseService("continuum_robot/reset", &ContinuumRobotNode::onReset, this);
+  // reset is served by its own thread: it answers during a long set_target and interrupts it.
+  ros::NodeHandle control_nh(nh);
+  control_nh.setCallbackQueue(&control_queue_);
+  reset_srv_ =
+      control_nh.advertiseService("continuum_robot/reset", &ContinuumRobotNode::onReset, this);
   timer_ = nh.createTimer(ros::Duration(1.0 / rate_), [this](const auto&) { onTimer(); });
   publishShape(ros::Time::now());
   ROS_INFO_NAMED(
@@ -78,6 +73,7 @@ ContinuumRobotNode::ContinuumRobotNode(ros::NodeHandle& nh, ros::NodeHandle& pnh
       "control at %.1f Hz in frame %s",
       robot.c_str(), description.num_vertebrae, model_->numActuators(), compliances.seconds,
       compliances.cache_hits, rate_, base_frame_.c_str());
+  control_spinner_.start();
 }
 
 bool ContinuumRobotNode::toBaseFrame(const std::string& frame, const Eigen::Vector3d& p_F,
@@ -104,6 +100,7 @@ bool ContinuumRobotNode::toBaseFrame(const std::string& frame, const Eigen::Vect
 }
 
 void ContinuumRobotNode::onTimer() {
+  std::lock_guard<std::mutex> lock(robot_mutex_);
   const ros::Time stamp = ros::Time::now();
   if (path_index_ < path_.size()) {
     controller_->solveTarget(path_[path_index_++], tolerance_, step_iterations_, result_);
@@ -123,6 +120,7 @@ void ContinuumRobotNode::onStreamTarget(const geometry_msgs::PointStamped::Const
                             message.c_str());
     return;
   }
+  std::lock_guard<std::mutex> lock(robot_mutex_);
   path_.clear();
   path_index_ = 0;
   streaming_ = true;
@@ -132,14 +130,20 @@ void ContinuumRobotNode::onStreamTarget(const geometry_msgs::PointStamped::Const
 bool ContinuumRobotNode::onSetTarget(surgical_sim::SetTarget::Request& req,
                                      surgical_sim::SetTarget::Response& res) {
   const double tolerance = req.tolerance == 0.0 ? tolerance_ : req.tolerance;
-  const int iterations = req.max_iterations == 0
-                             ? max_iterations_
-                             : static_cast<int>(std::min<uint32_t>(req.max_iterations, 10001));
+  const uint32_t iterations =
+      req.max_iterations == 0 ? static_cast<uint32_t>(max_iterations_) : req.max_iterations;
+  std::lock_guard<std::mutex> lock(robot_mutex_);
   res.actuation.assign(result_.actuation.data(),
                        result_.actuation.data() + result_.actuation.size());
-  if (!(std::isfinite(tolerance) && tolerance > 0.0) || iterations > 10000) {
+  if (!(std::isfinite(tolerance) && tolerance > 0.0)) {
     res.status = "invalid_request";
-    res.message = "tolerance must be finite and > 0 m, max_iterations <= 10000";
+    res.message = "tolerance = " + std::to_string(tolerance) + " m must be finite and > 0";
+    return true;
+  }
+  if (iterations > static_cast<uint32_t>(kMaxIterations)) {
+    res.status = "invalid_request";
+    res.message = "max_iterations = " + std::to_string(iterations) +
+                  " must be <= " + std::to_string(kMaxIterations) + " (0: ~max_iterations)";
     return true;
   }
   Eigen::Vector3d p_B;
@@ -149,13 +153,17 @@ bool ContinuumRobotNode::onSetTarget(surgical_sim::SetTarget::Request& req,
   path_.clear();
   path_index_ = 0;
   streaming_ = false;
-  controller_->solveTarget(p_B, tolerance, iterations, result_);
+  controller_->solveTarget(p_B, tolerance, static_cast<int>(iterations), result_);
   res.actuation.assign(result_.actuation.data(),
                        result_.actuation.data() + result_.actuation.size());
   res.effector_error = result_.effector_error;
   res.iterations = static_cast<uint32_t>(result_.iterations);
   res.status = core::toString(result_.status);
-  res.message = result_.message;
+  res.message = result_.status == core::InverseStatus::Interrupted
+                    ? std::string("interrupted by ") +
+                          (ros::isShuttingDown() ? "shutdown" : "continuum_robot/reset") +
+                          " after " + std::to_string(result_.iterations) + " iterations"
+                    : result_.message;
   const ros::Time stamp = ros::Time::now();
   publishActuation(stamp);
   publishShape(stamp);
@@ -180,6 +188,7 @@ bool ContinuumRobotNode::onFollowPath(surgical_sim::FollowPath::Request& req,
     res.message = "path would take more than 1e6 control steps; raise the speed";
     return true;
   }
+  std::lock_guard<std::mutex> lock(robot_mutex_);
   path_ = core::resamplePolyline(points, req.speed / rate_);
   path_index_ = 0;
   streaming_ = false;
@@ -194,6 +203,9 @@ bool ContinuumRobotNode::onFollowPath(surgical_sim::FollowPath::Request& req,
 }
 
 bool ContinuumRobotNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  cancel_ = true;  // a running solve stops before its next iteration and releases the lock
+  std::lock_guard<std::mutex> lock(robot_mutex_);
+  cancel_ = false;
   path_.clear();
   path_index_ = 0;
   streaming_ = false;

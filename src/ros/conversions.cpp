@@ -1,5 +1,7 @@
 #include "surgical_sim/ros/conversions.h"
 
+#include <ros/console.h>
+
 #include <cmath>
 
 namespace surgical_sim::ros_layer {
@@ -44,13 +46,36 @@ geometry_msgs::Pose toPoseMsg(const Eigen::Isometry3d& pose) {
   return m;
 }
 
-bool isUsablePose(const geometry_msgs::Pose& pose, double max_distance) {
+PoseProblem poseProblem(const geometry_msgs::Pose& pose, double max_distance) {
   const Eigen::Vector3d p = toEigen(pose.position);
   const Eigen::Vector4d q(pose.orientation.w, pose.orientation.x, pose.orientation.y,
                           pose.orientation.z);
-  if (!p.allFinite() || !q.allFinite()) return false;
+  if (!p.allFinite()) return PoseProblem::NonFinitePosition;
   const double qn = q.norm();
-  return qn >= 0.5 && qn <= 2.0 && p.norm() <= max_distance;
+  if (!(qn >= 0.5 && qn <= 2.0)) return PoseProblem::BadQuaternion;
+  return p.norm() <= max_distance ? PoseProblem::None : PoseProblem::TooFar;
+}
+
+bool acceptPose(const geometry_msgs::Pose& pose, double max_distance, const char* node) {
+  switch (poseProblem(pose, max_distance)) {
+    case PoseProblem::None:
+      return true;
+    case PoseProblem::NonFinitePosition:
+      ROS_WARN_THROTTLE_NAMED(1.0, node, "rejected tool pose: NaN/Inf position");
+      break;
+    case PoseProblem::BadQuaternion:
+      ROS_WARN_THROTTLE_NAMED(1.0, node,
+                              "rejected tool pose: zero or non-finite quaternion (norm must be in "
+                              "[0.5, 2])");
+      break;
+    case PoseProblem::TooFar:
+      ROS_WARN_THROTTLE_NAMED(1.0, node,
+                              "rejected tool pose: farther than %.3g m (~max_tool_distance) from "
+                              "the origin",
+                              max_distance);
+      break;
+  }
+  return false;
 }
 
 }  // namespace surgical_sim::ros_layer

@@ -1,58 +1,57 @@
 #include "surgical_sim/ros/cutting_tool_node.h"
 
 #include <stdexcept>
-#include <vector>
 
 #include "surgical_sim/BladeSweep.h"
+#include "surgical_sim/core/cutting/blade_sweep.h"
 #include "surgical_sim/ros/conversions.h"
+#include "surgical_sim/ros/parameters.h"
 
 namespace surgical_sim::ros_layer {
+namespace {
 
-CuttingToolNode::CuttingToolNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) {
-  std::vector<double> blade{0.0, 0.0, 0.0, 0.02, 0.0, 0.0};
-  pnh.param("blade", blade, blade);
-  pnh.param("max_tool_distance", max_tool_distance_, max_tool_distance_);
-  pnh.param("max_step", max_step_, max_step_);
-  if (blade.size() % 3 != 0)
-    throw std::invalid_argument("~blade has " + std::to_string(blade.size()) +
-                                " numbers; expected x y z per point");
-  blade_T_ = Eigen::Map<const Eigen::Matrix3Xd>(blade.data(), 3,
-                                                static_cast<Eigen::Index>(blade.size() / 3));
-  const std::string problem = bladeProblem(blade_T_);
-  if (!problem.empty()) throw std::invalid_argument("~blade: " + problem);
-  if (!(max_tool_distance_ > 0.0)) throw std::invalid_argument("~max_tool_distance must be > 0 m");
-  if (!(max_step_ > 0.0)) throw std::invalid_argument("~max_step must be > 0 m");
+constexpr char kLog[] = "cutting_tool";
 
+/// Default blade: a 20 mm scalpel edge along the tool x axis from the tip [m].
+Eigen::Matrix3Xd defaultBlade() {
+  Eigen::Matrix3Xd blade = Eigen::Matrix3Xd::Zero(3, 2);
+  blade(0, 1) = 0.02;
+  return blade;
+}
+
+}  // namespace
+
+CuttingToolNode::CuttingToolNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
+    : blade_T_(pointListParam(pnh, "blade", defaultBlade(), "m")),
+      max_tool_distance_(numberParam(pnh, "max_tool_distance", 5.0, {0.0, 1000.0, true}, "m")),
+      max_step_(numberParam(pnh, "max_step", 0.1, {0.0, 10.0, true}, "m")) {
+  validateBlade("~blade", blade_T_);
   sweep_pub_ = nh.advertise<surgical_sim::BladeSweep>("cutting/blade_sweep", 100);
   pose_sub_ = nh.subscribe("tool/pose", 1000, &CuttingToolNode::onPose, this);
   activate_sub_ = nh.subscribe("cutting/activate", 100, &CuttingToolNode::onActivate, this);
   set_blade_srv_ = nh.advertiseService("cutting/set_blade", &CuttingToolNode::onSetBlade, this);
-  ROS_INFO_NAMED("cutting_tool", "blade of %d points, inactive until cutting/activate",
+  ROS_INFO_NAMED(kLog, "blade of %d points, inactive until cutting/activate",
                  static_cast<int>(blade_T_.cols()));
 }
 
-std::string CuttingToolNode::bladeProblem(const Eigen::Matrix3Xd& blade) {
-  if (blade.cols() < 2)
-    return "a blade polyline needs at least 2 points, got " + std::to_string(blade.cols());
-  if (!blade.allFinite()) return "a blade point is not finite";
-  if (blade.colwise().norm().maxCoeff() > 1.0)
-    return "a blade point is farther than 1 m from the tool frame origin";
-  return "";
+void CuttingToolNode::validateBlade(const std::string& name, const Eigen::Matrix3Xd& blade) {
+  core::validateBladePolyline(name, blade);
+  if (blade.colwise().norm().maxCoeff() > kMaxBladeReach)
+    throw std::invalid_argument(name + " has a point farther than 1 m from the tool frame origin");
 }
 
 void CuttingToolNode::onPose(const geometry_msgs::PoseStamped::ConstPtr& msg) {
-  if (!isUsablePose(msg->pose, max_tool_distance_)) {
-    ROS_WARN_THROTTLE_NAMED(1.0, "cutting_tool",
-                            "rejected tool pose: NaN/Inf, zero quaternion or farther than %.3g m "
-                            "(~max_tool_distance) from the origin",
-                            max_tool_distance_);
-    return;
-  }
+  if (!acceptPose(msg->pose, max_tool_distance_, kLog)) return;
   const Eigen::Isometry3d X_FT = toEigen(msg->pose);
   const Eigen::Matrix3Xd blade_F = X_FT * blade_T_;
-  const bool continues = has_previous_ && msg->header.frame_id == previous_frame_ &&
-                         previous_F_.cols() == blade_F.cols() &&
+  const bool same_frame = msg->header.frame_id == previous_frame_;
+  const bool continues = has_previous_ && same_frame && previous_F_.cols() == blade_F.cols() &&
                          (blade_F - previous_F_).colwise().norm().maxCoeff() <= max_step_;
+  if (active_ && has_previous_ && !same_frame)
+    ROS_WARN_THROTTLE_NAMED(1.0, kLog,
+                            "tool/pose in frame '%s' while cutting in frame '%s': no sweep for "
+                            "this pose, the sequence restarts in the new frame",
+                            msg->header.frame_id.c_str(), previous_frame_.c_str());
   if (active_ && continues) {
     surgical_sim::BladeSweep sweep;
     sweep.header = msg->header;
@@ -80,11 +79,16 @@ bool CuttingToolNode::onSetBlade(surgical_sim::SetBlade::Request& req,
   Eigen::Matrix3Xd blade(3, static_cast<Eigen::Index>(req.points.size()));
   for (std::size_t i = 0; i < req.points.size(); ++i)
     blade.col(static_cast<Eigen::Index>(i)) = toEigen(req.points[i]);
-  res.message = bladeProblem(blade);
-  res.success = res.message.empty();
-  if (!res.success) return true;
+  try {
+    validateBlade("points", blade);
+  } catch (const std::invalid_argument& e) {
+    res.success = false;
+    res.message = e.what();
+    return true;
+  }
   blade_T_ = blade;
   has_previous_ = false;
+  res.success = true;
   res.message = "blade of " + std::to_string(blade.cols()) + " points";
   return true;
 }

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "surgical_sim/ContactModel.h"
 #include "surgical_sim/TissueStats.h"
@@ -19,22 +20,14 @@
 namespace surgical_sim::ros_layer {
 
 TissueSimulatorNode::TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
-    : tf_listener_(tf_buffer_) {
-  std::string scene_path;
-  requireParam(pnh.getParam("scene", scene_path),
-               "parameter ~scene (path of a scene YAML file) is required");
-  realtime_ = param(pnh, "realtime", true);
-  steps_per_pose_ = param(pnh, "steps_per_pose", 1);
-  world_frame_ = param<std::string>(pnh, "world_frame", "world");
-  tissue_frame_ = param<std::string>(pnh, "tissue_frame", "tissue");
-  max_tool_distance_ = param(pnh, "max_tool_distance", 5.0);
-  const double surface_rate = param(pnh, "surface_rate", 30.0);
-  requireParam(steps_per_pose_ >= 1 && steps_per_pose_ <= 1000,
-               "~steps_per_pose = " + std::to_string(steps_per_pose_) + " must be in [1, 1000]");
-  requireParam(surface_rate > 0.0 && surface_rate <= 1000.0,
-               "~surface_rate must be in (0, 1000] Hz");
-  requireParam(max_tool_distance_ > 0.0, "~max_tool_distance must be > 0 m");
-  surface_period_ = 1.0 / surface_rate;
+    : tf_listener_(tf_buffer_), control_spinner_(1, &control_queue_) {
+  const std::string scene_path = requiredStringParam(pnh, "scene", "path of a scene YAML file");
+  realtime_ = boolParam(pnh, "realtime", true);
+  steps_per_pose_ = intParam(pnh, "steps_per_pose", 1, 1, 1000, "");
+  world_frame_ = stringParam(pnh, "world_frame", "world");
+  tissue_frame_ = stringParam(pnh, "tissue_frame", "tissue");
+  max_tool_distance_ = numberParam(pnh, "max_tool_distance", 5.0, {0.0, 1000.0, true}, "m");
+  surface_period_ = 1.0 / numberParam(pnh, "surface_rate", 30.0, {0.0, 1000.0, true}, "Hz");
 
   sim_ = std::make_unique<core::TissueSimulation>(core::loadSceneConfig(scene_path));
   X_WS_ = sim_->scene().tissue_pose;
@@ -52,6 +45,10 @@ TissueSimulatorNode::TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& p
   for (int i = 0; i < sim_->numTools(); ++i) {
     const core::ToolSpec& spec = sim_->scene().tools[static_cast<std::size_t>(i)];
     ToolIo& io = tools_[static_cast<std::size_t>(i)];
+    requireTopic(i, "pose_topic", spec.pose_topic);
+    requireTopic(i, "wrench_topic", spec.wrench_topic);
+    requireTopic(i, "contact_model_topic", spec.contact_model_topic);
+    if (!spec.grip_joint.empty()) requireTopic(i, "grip_topic", spec.grip_topic);
     io.pose_sub = nh.subscribe<geometry_msgs::PoseStamped>(
         spec.pose_topic, 1000, [this, i](const auto& msg) { onPose(msg, i); });
     if (!spec.grasp_topic.empty())
@@ -63,8 +60,12 @@ TissueSimulatorNode::TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& p
     io.wrench_pub = nh.advertise<geometry_msgs::WrenchStamped>(spec.wrench_topic, 1000);
     io.contact_pub = nh.advertise<surgical_sim::ContactModel>(spec.contact_model_topic, 1000);
   }
-  reset_srv_ = nh.advertiseService("tissue/reset", &TissueSimulatorNode::onReset, this);
-  pause_srv_ = nh.advertiseService("tissue/pause", &TissueSimulatorNode::onPause, this);
+  // pause and reset are served by their own thread: they answer (and interrupt) during a long
+  // tissue/step or lockstep burst, which runs on the main thread.
+  ros::NodeHandle control_nh(nh);
+  control_nh.setCallbackQueue(&control_queue_);
+  reset_srv_ = control_nh.advertiseService("tissue/reset", &TissueSimulatorNode::onReset, this);
+  pause_srv_ = control_nh.advertiseService("tissue/pause", &TissueSimulatorNode::onPause, this);
   step_srv_ = nh.advertiseService("tissue/step", &TissueSimulatorNode::onStep, this);
   blade_sub_ = nh.subscribe("cutting/blade_sweep", 100, &TissueSimulatorNode::onBladeSweep, this);
 
@@ -80,24 +81,37 @@ TissueSimulatorNode::TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& p
                  sim_->model().name().c_str(), realtime_ ? "realtime" : "lockstep",
                  sim_->numTools());
   for (const auto& c : sim_->components()) ROS_INFO_NAMED("tissue_simulator", "  %s", c.c_str());
+  control_spinner_.start();
+}
+
+void TissueSimulatorNode::requireTopic(int tool, const char* key, const std::string& topic) const {
+  if (topic.empty())
+    throw std::invalid_argument("tools[" + std::to_string(tool) + "]." + key + " of tool '" +
+                                sim_->scene().tools[static_cast<std::size_t>(tool)].name +
+                                "' is empty: the node needs a topic name");
+}
+
+void TissueSimulatorNode::interrupt(const char* reason) {
+  interrupt_reason_ = reason;
+  ++interrupts_;
+}
+
+const char* TissueSimulatorNode::interruption(unsigned since) const {
+  if (ros::isShuttingDown()) return "shutdown";
+  return interrupts_.load() != since ? interrupt_reason_.load() : nullptr;
 }
 
 bool TissueSimulatorNode::toTissueFrame(const geometry_msgs::PoseStamped& msg,
                                         Eigen::Isometry3d& X_ST) {
-  if (!isUsablePose(msg.pose, max_tool_distance_)) {
-    ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator",
-                            "rejected tool pose: NaN/Inf, zero quaternion or farther than %.3g m "
-                            "(~max_tool_distance) from the origin",
-                            max_tool_distance_);
-    return false;
-  }
+  if (!acceptPose(msg.pose, max_tool_distance_, "tissue_simulator")) return false;
   Eigen::Isometry3d X_SF;
-  if (!frameInTissue(msg.header.frame_id, X_SF)) return false;
+  if (!frameInTissue(msg.header.frame_id, "tool pose", X_SF)) return false;
   X_ST = X_SF * toEigen(msg.pose);
   return true;
 }
 
-bool TissueSimulatorNode::frameInTissue(const std::string& frame, Eigen::Isometry3d& X_SF) {
+bool TissueSimulatorNode::frameInTissue(const std::string& frame, const char* what,
+                                        Eigen::Isometry3d& X_SF) {
   if (frame == tissue_frame_) {
     X_SF = Eigen::Isometry3d::Identity();
   } else if (frame == world_frame_ || frame.empty()) {
@@ -106,8 +120,8 @@ bool TissueSimulatorNode::frameInTissue(const std::string& frame, Eigen::Isometr
     try {
       X_SF = tf2::transformToEigen(tf_buffer_.lookupTransform(tissue_frame_, frame, ros::Time(0)));
     } catch (const tf2::TransformException& e) {
-      ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator", "rejected input in unknown frame '%s': %s",
-                              frame.c_str(), e.what());
+      ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator", "rejected %s in unknown frame '%s': %s",
+                              what, frame.c_str(), e.what());
       return false;
     }
   }
@@ -117,15 +131,20 @@ bool TissueSimulatorNode::frameInTissue(const std::string& frame, Eigen::Isometr
 void TissueSimulatorNode::onPose(const geometry_msgs::PoseStamped::ConstPtr& msg, int tool) {
   Eigen::Isometry3d X_ST;
   if (!toTissueFrame(*msg, X_ST)) return;
-  sim_->setToolPose(tool, X_ST);
-  tools_[static_cast<std::size_t>(tool)].has_pose = true;
-  tools_[static_cast<std::size_t>(tool)].X_ST = X_ST;
+  const unsigned interrupts = interrupts_.load();
+  {
+    std::lock_guard<std::mutex> lock(sim_mutex_);
+    sim_->setToolPose(tool, X_ST);
+    tools_[static_cast<std::size_t>(tool)].has_pose = true;
+    tools_[static_cast<std::size_t>(tool)].X_ST = X_ST;
+  }
   if (realtime_ || paused_) return;
-  for (int k = 0; k < steps_per_pose_; ++k)
+  for (int k = 0; k < steps_per_pose_ && !interruption(interrupts); ++k)
     if (!stepAndPublish(msg->header.stamp, k + 1 == steps_per_pose_)) break;
 }
 
 void TissueSimulatorNode::onGrasp(const std_msgs::Bool::ConstPtr& msg, int tool) {
+  std::lock_guard<std::mutex> lock(sim_mutex_);
   sim_->setGrasp(tool, msg->data);
 }
 
@@ -140,12 +159,13 @@ void TissueSimulatorNode::onGrip(const sensor_msgs::JointState::ConstPtr& msg, i
                             spec.name.c_str(), spec.grip_topic.c_str(), spec.grip_joint.c_str());
     return;
   }
+  std::lock_guard<std::mutex> lock(sim_mutex_);
   sim_->setGrasp(tool, msg->position[k] <= spec.grip_closed_angle);
 }
 
 void TissueSimulatorNode::onBladeSweep(const surgical_sim::BladeSweep::ConstPtr& msg) {
   Eigen::Isometry3d X_SF;
-  if (!frameInTissue(msg->header.frame_id, X_SF)) return;
+  if (!frameInTissue(msg->header.frame_id, "cutting/blade_sweep", X_SF)) return;
   core::BladeSweep sweep;
   sweep.start.resize(3, static_cast<Eigen::Index>(msg->start.size()));
   sweep.end.resize(3, static_cast<Eigen::Index>(msg->end.size()));
@@ -154,6 +174,7 @@ void TissueSimulatorNode::onBladeSweep(const surgical_sim::BladeSweep::ConstPtr&
   for (std::size_t i = 0; i < msg->end.size(); ++i)
     sweep.end.col(static_cast<Eigen::Index>(i)) = X_SF * toEigen(msg->end[i]);
   try {
+    std::lock_guard<std::mutex> lock(sim_mutex_);
     sim_->requestCut(sweep);
   } catch (const std::invalid_argument& e) {
     ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator", "rejected cutting/blade_sweep: %s", e.what());
@@ -169,6 +190,7 @@ void TissueSimulatorNode::onTimer() {
 }
 
 bool TissueSimulatorNode::stepAndPublish(const ros::Time& stamp, bool publish_surface) {
+  std::lock_guard<std::mutex> lock(sim_mutex_);
   const core::SimulationStepStats s = sim_->step();
   ++step_count_;
   core::Stopwatch publish_watch;
@@ -313,6 +335,8 @@ void TissueSimulatorNode::publishToolMarkers(const ros::Time& stamp) {
 }
 
 bool TissueSimulatorNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  interrupt("reset");
+  std::lock_guard<std::mutex> lock(sim_mutex_);  // waits for at most the step in progress
   sim_->reset();
   step_count_ = 0;
   ROS_INFO_NAMED("tissue_simulator", "reset to the rest state");
@@ -322,28 +346,36 @@ bool TissueSimulatorNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Re
 bool TissueSimulatorNode::onPause(std_srvs::SetBool::Request& req,
                                   std_srvs::SetBool::Response& res) {
   paused_ = req.data;
+  interrupt("pause");
   res.success = true;
-  res.message = paused_ ? "paused" : "running";
+  res.message = req.data ? "paused" : "running";
   return true;
 }
 
 bool TissueSimulatorNode::onStep(surgical_sim::StepTissue::Request& req,
                                  surgical_sim::StepTissue::Response& res) {
+  const unsigned interrupts = interrupts_.load();
   res.steps_done = 0;
   if (!paused_) {
     res.success = false;
     res.message = "tissue/step needs the simulator paused (call tissue/pause with data: true)";
     return true;
   }
-  if (req.steps < 1 || req.steps > 10000) {
+  if (req.steps < 1 || req.steps > kMaxStepRequest) {
     res.success = false;
-    res.message = "steps = " + std::to_string(req.steps) + " must be in [1, 10000]";
+    res.message = "steps = " + std::to_string(req.steps) + " must be in [1, " +
+                  std::to_string(kMaxStepRequest) + "]";
     return true;
   }
+  res.success = false;
   for (unsigned k = 0; k < req.steps; ++k) {
+    if (const char* reason = interruption(interrupts)) {
+      res.message = std::string("interrupted by ") + reason + " after " +
+                    std::to_string(res.steps_done) + " steps";
+      return true;
+    }
     if (!stepAndPublish(ros::Time::now(), k + 1 == req.steps)) {
       res.message = "step failed after " + std::to_string(res.steps_done) + " steps";
-      res.success = false;
       return true;
     }
     ++res.steps_done;

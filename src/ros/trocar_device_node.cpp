@@ -7,10 +7,11 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 #include "surgical_sim/LoopStats.h"
-#include "surgical_sim/core/common/validate.h"
 #include "surgical_sim/ros/conversions.h"
+#include "surgical_sim/ros/parameters.h"
 
 namespace surgical_sim::ros_layer {
 namespace {
@@ -19,83 +20,56 @@ constexpr char kLog[] = "trocar_device";
 constexpr double kDeg = M_PI / 180.0;
 constexpr double kStatsWindowSeconds = 5.0;  ///< loop periods kept for mean / p99 / max [s]
 
-/// Reads a parameter, fallback if unset. One that is set with the wrong type is an error (never a
-/// silent fallback): "~<name> must be <what>".
-template <class T>
-T typedParam(const ros::NodeHandle& pnh, const std::string& name, const T& fallback,
-             const std::string& what) {
-  T value = fallback;
-  if (pnh.hasParam(name) && !pnh.getParam(name, value))
-    throw std::invalid_argument("~" + name + " must be " + what);
-  return value;
-}
-
-/// Reads a number parameter and requires it in [lo, hi]; the message names ~name, unit and range.
-double rangedParam(const ros::NodeHandle& pnh, const std::string& name, double fallback, double lo,
-                   double hi, const std::string& unit) {
-  const double value = typedParam(pnh, name, fallback, "a number [" + unit + "]");
-  core::requireInRange("~" + name, value, lo, hi, unit);
-  return value;
-}
-
-/// Same, for a half-open range (lo, hi].
-double positiveParam(const ros::NodeHandle& pnh, const std::string& name, double fallback,
-                     double hi, const std::string& unit) {
-  const double value = rangedParam(pnh, name, fallback, 0.0, hi, unit);
-  core::requirePositive("~" + name, value, unit);
-  return value;
-}
-
-/// Reads a non-empty string parameter.
-std::string stringParam(const ros::NodeHandle& pnh, const std::string& name,
-                        const std::string& fallback) {
-  std::string value = typedParam(pnh, name, fallback, "a non-empty string");
-  if (value.empty()) throw std::invalid_argument("~" + name + " must be a non-empty string");
-  return value;
-}
-
 const char* jointUnit(int joint) { return joint == core::kTrocarInsertion ? "m" : "rad"; }
+
+/// The first name that appears more than once in `names`, or nullptr.
+const std::string* duplicatedName(const std::vector<std::string>& names) {
+  for (std::size_t i = 0; i < names.size(); ++i)
+    for (std::size_t k = i + 1; k < names.size(); ++k)
+      if (names[i] == names[k]) return &names[i];
+  return nullptr;
+}
 
 }  // namespace
 
 TrocarDeviceSettings loadTrocarDeviceSettings(const ros::NodeHandle& pnh) {
+  constexpr double kTwoPi = 2.0 * M_PI;
   TrocarDeviceSettings s;
   core::HapticRendererConfig& c = s.renderer;
   c.geometry = core::TrocarGeometry::chendebPrototype();
   c.device = core::TrocarDeviceConfig::chendebPrototype();
-  c.rate_hz = rangedParam(pnh, "rate", 1000.0, 100.0, 20000.0, "Hz");
-  c.device.pitch_limit = kDeg * rangedParam(pnh, "pitch_limit_deg", 45.0, 0.0, 70.0, "deg");
-  c.device.yaw_limit = kDeg * rangedParam(pnh, "yaw_limit_deg", 45.0, 0.0, 70.0, "deg");
-  c.contact.max_age = positiveParam(pnh, "stale_age", 0.1, 10.0, "s");
-  c.contact.fade_time = rangedParam(pnh, "fade_time", 0.05, 0.0, 10.0, "s");
-  const std::string policy = stringParam(pnh, "stale_policy", "fade");
-  if (policy != "fade" && policy != "hold")
-    throw std::invalid_argument("~stale_policy = '" + policy + "' must be 'fade' or 'hold'");
-  c.contact.stale_policy = policy == "fade" ? core::StalePolicy::Fade : core::StalePolicy::Hold;
-  c.coupling.stiffness = positiveParam(pnh, "coupling_stiffness", 3000.0, 1e6, "N/m");
-  c.coupling.damping = rangedParam(pnh, "coupling_damping", 2.0, 0.0, 1e4, "N s/m");
-  c.passivity.control_enabled = typedParam(pnh, "passivity", true, "true or false");
+  c.rate_hz = numberParam(pnh, "rate", 1000.0, {100.0, 20000.0}, "Hz");
+  c.device.pitch_limit = kDeg * numberParam(pnh, "pitch_limit_deg", 45.0, {0.0, 70.0}, "deg");
+  c.device.yaw_limit = kDeg * numberParam(pnh, "yaw_limit_deg", 45.0, {0.0, 70.0}, "deg");
+  c.contact.max_age = numberParam(pnh, "stale_age", 0.1, {0.0, 10.0, true}, "s");
+  c.contact.fade_time = numberParam(pnh, "fade_time", 0.05, {0.0, 10.0}, "s");
+  c.contact.stale_policy = choiceParam(pnh, "stale_policy", "fade", {"fade", "hold"}) == "fade"
+                               ? core::StalePolicy::Fade
+                               : core::StalePolicy::Hold;
+  c.coupling.stiffness = numberParam(pnh, "coupling_stiffness", 3000.0, {0.0, 1e6, true}, "N/m");
+  c.coupling.damping = numberParam(pnh, "coupling_damping", 2.0, {0.0, 1e4}, "N s/m");
+  c.passivity.control_enabled = boolParam(pnh, "passivity", true);
 
   // Pose of the trocar frame F (fulcrum, z along the cannula) in W: fixed-axis roll-pitch-yaw.
   Eigen::Vector3d p_WF;
-  p_WF.x() = rangedParam(pnh, "x", 0.0, -10.0, 10.0, "m");
-  p_WF.y() = rangedParam(pnh, "y", 0.0, -10.0, 10.0, "m");
-  p_WF.z() = rangedParam(pnh, "z", 0.2, -10.0, 10.0, "m");
-  const double roll = rangedParam(pnh, "roll", M_PI, -2.0 * M_PI, 2.0 * M_PI, "rad");
-  const double pitch = rangedParam(pnh, "pitch", 0.0, -2.0 * M_PI, 2.0 * M_PI, "rad");
-  const double yaw = rangedParam(pnh, "yaw", 0.0, -2.0 * M_PI, 2.0 * M_PI, "rad");
+  p_WF.x() = numberParam(pnh, "x", 0.0, {-10.0, 10.0}, "m");
+  p_WF.y() = numberParam(pnh, "y", 0.0, {-10.0, 10.0}, "m");
+  p_WF.z() = numberParam(pnh, "z", 0.2, {-10.0, 10.0}, "m");
+  const double roll = numberParam(pnh, "roll", M_PI, {-kTwoPi, kTwoPi}, "rad");
+  const double pitch = numberParam(pnh, "pitch", 0.0, {-kTwoPi, kTwoPi}, "rad");
+  const double yaw = numberParam(pnh, "yaw", 0.0, {-kTwoPi, kTwoPi}, "rad");
   c.X_WF = Eigen::Translation3d(p_WF) * Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
            Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
            Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX());
 
-  s.realtime_priority = static_cast<int>(rangedParam(pnh, "realtime_priority", 0.0, 0.0, 99.0, ""));
-  s.publish_rate = positiveParam(pnh, "publish_rate", 100.0, 1000.0, "Hz");
-  s.stats_rate = positiveParam(pnh, "stats_rate", 1.0, 100.0, "Hz");
-  s.pose_rate = rangedParam(pnh, "pose_rate", 0.0, 0.0, 1000.0, "Hz");
+  s.realtime_priority = intParam(pnh, "realtime_priority", 0, 0, 99, "");
+  s.publish_rate = numberParam(pnh, "publish_rate", 100.0, {0.0, 1000.0, true}, "Hz");
+  s.stats_rate = numberParam(pnh, "stats_rate", 1.0, {0.0, 100.0, true}, "Hz");
+  s.pose_rate = numberParam(pnh, "pose_rate", 0.0, {0.0, 1000.0}, "Hz");
   s.world_frame = stringParam(pnh, "world_frame", "world");
   s.trocar_frame = stringParam(pnh, "trocar_frame", "trocar");
-  s.joint_prefix = typedParam<std::string>(pnh, "joint_prefix", "trocar_", "a string");
-  s.publish_trocar_tf = typedParam(pnh, "publish_trocar_tf", true, "true or false");
+  s.joint_prefix = stringParam(pnh, "joint_prefix", "trocar_", true);
+  s.publish_trocar_tf = boolParam(pnh, "publish_trocar_tf", true);
   core::validateHapticRendererConfig(c);
   return s;
 }
@@ -163,6 +137,13 @@ void TrocarDeviceNode::onJointCommand(const sensor_msgs::JointState::ConstPtr& m
                             "trocar/joint_command ignored: %zu names but %zu positions (positions "
                             "are required, by joint name)",
                             msg->name.size(), msg->position.size());
+    return;
+  }
+  if (const std::string* twice = duplicatedName(msg->name)) {
+    ROS_WARN_THROTTLE_NAMED(1.0, kLog,
+                            "trocar/joint_command ignored: joint '%s' appears more than once "
+                            "(each joint at most once per command)",
+                            twice->c_str());
     return;
   }
   core::TrocarJointVector q = command_;

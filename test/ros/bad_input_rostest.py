@@ -2,6 +2,7 @@
 """rostest: bad input never crashes tissue_simulator; bad scenes stop it at start-up, naming the key."""
 import os
 import sys
+import tempfile
 import threading
 import unittest
 
@@ -55,19 +56,43 @@ class BadInputTest(unittest.TestCase):
 
     def test_nan_pose_is_rejected_and_node_survives(self):
         self.pub.publish(self.pose(float("nan"), 0.0, 0.05))
-        self.assertTrue(self.wait_for_log("rejected tool pose: NaN/Inf"))
+        self.assertTrue(self.wait_for_log("rejected tool pose: NaN/Inf position"))
         self.assert_alive()
 
-    def test_absurd_pose_is_rejected(self):
+    def test_absurd_pose_and_zero_quaternion_get_their_own_warnings(self):
         self.pub.publish(self.pose(1e6, 0.0, 0.0))
-        self.assertTrue(self.wait_for_log("farther than"))
+        self.assertTrue(self.wait_for_log("rejected tool pose: farther than 5 m"))
         self.pub.publish(self.pose(0.0, 0.0, 0.05, qw=0.0))
+        self.assertTrue(self.wait_for_log("rejected tool pose: zero or non-finite quaternion"))
         self.assert_alive()
 
     def test_unknown_frame_is_rejected(self):
         self.pub.publish(self.pose(0.0, 0.0, 0.05, frame="no_such_frame"))
-        self.assertTrue(self.wait_for_log("unknown frame 'no_such_frame'"))
+        self.assertTrue(self.wait_for_log("rejected tool pose in unknown frame 'no_such_frame'"))
         self.assert_alive()
+
+    def test_bad_parameters_exit_naming_the_parameter(self):
+        scene = "_scene:=" + rospy.get_param("~scene")
+        for args, message in ((["_realtime:=1"], "~realtime must be true or false"),
+                              (["_steps_per_pose:=2.5"], "~steps_per_pose must be an integer"),
+                              (["_steps_per_pose:=0"], "~steps_per_pose = 0 is out of range"),
+                              (["_surface_rate:=0"], "~surface_rate = 0 Hz is out of range"),
+                              (["_max_tool_distance:=far"], "~max_tool_distance must be a number"),
+                              (["_tissue_frame:=7"], "~tissue_frame must be a non-empty string")):
+            code, out = run_node("tissue_simulator", [scene] + args)
+            self.assertNotEqual(code, 0, "%s accepted" % args)
+            self.assertIn(message, out)
+
+    def test_tool_with_an_empty_pose_topic_exits_naming_it(self):
+        with open(rospy.get_param("~scene")) as f:
+            text = f.read()
+        self.assertIn("pose_topic: tool/pose", text)
+        with tempfile.NamedTemporaryFile("w", suffix=".yaml") as scene:
+            scene.write(text.replace("pose_topic: tool/pose", 'pose_topic: ""'))
+            scene.flush()
+            code, out = run_node("tissue_simulator", ["_scene:=" + scene.name])
+        self.assertNotEqual(code, 0)
+        self.assertIn("pose_topic", out)
 
     def test_out_of_range_scene_exits_naming_the_key(self):
         code, out = run_node("tissue_simulator",

@@ -23,17 +23,24 @@ TEST(Conversions, UnnormalisedQuaternionIsNormalised) {
   EXPECT_LT((t.linear() - Eigen::Matrix3d::Identity()).norm(), 1e-12);
 }
 
-TEST(Conversions, RejectsNanZeroQuaternionAndFarPoses) {
+TEST(Conversions, PoseProblemTellsEachKindOfBadPoseApart) {
   geometry_msgs::Pose pose;
   pose.orientation.w = 1.0;
-  EXPECT_TRUE(isUsablePose(pose, 10.0));
+  EXPECT_EQ(poseProblem(pose, 10.0), PoseProblem::None);
   pose.position.x = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_FALSE(isUsablePose(pose, 10.0));
+  EXPECT_EQ(poseProblem(pose, 10.0), PoseProblem::NonFinitePosition);
+  pose.position.x = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(poseProblem(pose, 10.0), PoseProblem::NonFinitePosition);
   pose.position.x = 100.0;
-  EXPECT_FALSE(isUsablePose(pose, 10.0));
+  EXPECT_EQ(poseProblem(pose, 10.0), PoseProblem::TooFar);
   pose.position.x = 0.0;
   pose.orientation.w = 0.0;
-  EXPECT_FALSE(isUsablePose(pose, 10.0));
+  EXPECT_EQ(poseProblem(pose, 10.0), PoseProblem::BadQuaternion);
+  pose.orientation.w = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(poseProblem(pose, 10.0), PoseProblem::BadQuaternion);
+  pose.orientation.w = 1.0;
+  pose.orientation.z = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(poseProblem(pose, 10.0), PoseProblem::BadQuaternion);
 }
 
 }  // namespace

@@ -102,7 +102,7 @@ class CuttingTest(unittest.TestCase):
     def test_3_set_blade_rejects_a_single_point(self):
         res = self.set_blade(points=[Point(0, 0, 0)])
         self.assertFalse(res.success)
-        self.assertIn("at least 2 points", res.message)
+        self.assertIn("points has 1 points; a blade polyline needs at least 2", res.message)
         res = self.set_blade(points=[Point(0, 0, 0), Point(0, 0, -0.07)])
         self.assertTrue(res.success, res.message)
 

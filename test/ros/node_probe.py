@@ -1,6 +1,8 @@
 """Shared by the rostests: start-up rejection probes (a node run once, outside the launch),
 waiting for the nodes under test to subscribe, and collecting their replies by stamp."""
+import signal
 import subprocess
+import time
 import uuid
 
 import rospy
@@ -35,3 +37,25 @@ def run_node(node_type, extra_args, timeout=60):
     proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=timeout,
                           text=True)
     return proc.returncode, proc.stdout
+
+
+def start_node(node_type, namespace, extra_args):
+    """Starts a second `node_type` of surgical_sim in `namespace` (its topics and services under
+    /namespace/...) with `extra_args`; returns the subprocess.Popen (output piped)."""
+    cmd = ["rosrun", "surgical_sim", node_type, "__ns:=" + namespace,
+           "__name:=" + node_type] + extra_args
+    return subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+
+
+def sigint_and_wait(proc, timeout=10.0):
+    """Sends SIGINT to `proc` and polls for its exit for at most `timeout` s; returns the time it
+    took to exit [s], or None (after killing it) if it did not."""
+    start = time.monotonic()
+    proc.send_signal(signal.SIGINT)
+    try:
+        proc.wait(timeout)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.wait()
+        return None
+    return time.monotonic() - start

@@ -125,6 +125,18 @@ class TrocarBadInputTest(unittest.TestCase):
         self.assertTrue(self.wait_for_log("5 names but 1 positions"))
         self.assert_alive_and_finite()
 
+    def test_duplicated_joint_rejects_the_command_naming_it(self):
+        self.command(["trocar_pitch"], [0.2])
+        self.wait_for_joints(lambda j: abs(j["trocar_pitch"] - 0.2) < ENCODER_PITCH)
+        self.command(["trocar_pitch", "trocar_yaw", "trocar_pitch"], [0.4, 0.1, -0.4])
+        self.assertTrue(self.wait_for_log(
+            "trocar/joint_command ignored: joint 'trocar_pitch' appears more than once"))
+        self.command(["trocar_insertion"], [0.05])  # a later valid command still applies
+        joints = self.wait_for_joints(lambda j: abs(j["trocar_insertion"] - 0.05) < 1e-4)
+        self.assertAlmostEqual(joints["trocar_pitch"], 0.2, delta=ENCODER_PITCH)
+        self.assertAlmostEqual(joints["trocar_yaw"], 0.0, delta=ENCODER_PITCH)
+        self.assert_alive_and_finite()
+
     def test_set_limits_validates_and_applies(self):
         reply = self.set_limits(80.0, 10.0)
         self.assertFalse(reply.success)
@@ -197,7 +209,11 @@ class TrocarBadInputTest(unittest.TestCase):
                            (["_stale_age:=-1"], "~stale_age"),
                            (["_stale_policy:=maybe"], "~stale_policy"),
                            (["_z:=.nan"], "~z"),
-                           (["_x:=far"], "~x must be a number")):
+                           (["_x:=far"], "~x must be a number"),
+                           (["_passivity:=1"], "~passivity must be true or false"),
+                           (["_realtime_priority:=2.5"], "~realtime_priority must be an integer"),
+                           (["_world_frame:=3"], "~world_frame must be a non-empty string"),
+                           (["_joint_prefix:=true"], "~joint_prefix must be a string")):
             code, out = run_node("trocar_device", args)
             self.assertNotEqual(code, 0, "%s accepted" % args)
             self.assertIn(name, out)

@@ -17,9 +17,21 @@ geometry_msgs::Point toPointMsg(const Eigen::Vector3d& p);
 geometry_msgs::Vector3 toVector3Msg(const Eigen::Vector3d& v);
 geometry_msgs::Pose toPoseMsg(const Eigen::Isometry3d& pose);
 
-/// True when every field is finite, the quaternion's norm is within [0.5, 2] (so normalising it
-/// is meaningful) and the position is within `max_distance` [m] of the origin (absurd poses are
-/// rejected at the node boundary).
-bool isUsablePose(const geometry_msgs::Pose& pose, double max_distance);
+/// Why a tool pose is rejected at the node boundary (None: usable).
+enum class PoseProblem {
+  None,
+  NonFinitePosition,  ///< a position coordinate is NaN or Inf
+  BadQuaternion,      ///< a quaternion component is not finite, or its norm is outside [0.5, 2]
+                      ///< (normalising it would not be meaningful)
+  TooFar,             ///< the position is farther than max_distance [m] from the origin
+};
+
+/// Classifies `pose`; the checks run in the order of PoseProblem.
+PoseProblem poseProblem(const geometry_msgs::Pose& pose, double max_distance);
+
+/// True if `pose` is usable; otherwise logs a throttled warning (1 s) on logger `node` whose text
+/// is specific to the problem ("rejected tool pose: NaN/Inf position", "...: zero or non-finite
+/// quaternion", "...: farther than <max_distance> m (~max_tool_distance) from the origin").
+bool acceptPose(const geometry_msgs::Pose& pose, double max_distance, const char* node);
 
 }  // namespace surgical_sim::ros_layer

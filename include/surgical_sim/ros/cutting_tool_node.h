@@ -18,23 +18,30 @@ namespace surgical_sim::ros_layer {
 /// publishes `cutting/blade_sweep` (BladeSweep in frame F) holding the blade polyline at the
 /// previous and at the current pose with both stamps. Activating starts a new sweep sequence
 /// (the first pose after activation is only remembered); a pose in a different frame than the
-/// previous one also restarts it.
-/// Service `cutting/set_blade` (SetBlade) replaces the blade polyline.
-/// Parameters (private):
-///   ~blade (double list, [0, 0, 0, 0.02, 0, 0]) blade polyline in the tool frame [m],
-///                                x0 y0 z0 x1 y1 z1 ..., >= 2 points within 1 m of the tool
-///                                origin (default: a 20 mm scalpel edge along the tool x axis
-///                                from the tip)
-///   ~max_tool_distance (double, 5 m)  poses farther than this from the origin are rejected
-///   ~max_step (double, 0.1 m)   a pose that moves the blade farther than this since the previous
+/// previous one also restarts it (with a throttled warning while active), and so does a jump.
+/// Service `cutting/set_blade` (SetBlade) replaces the blade polyline (checked by validateBlade).
+/// Parameters (private; all strict, see parameters.h):
+///   ~blade [m; list; [0, 0, 0, 0.02, 0, 0]]  blade polyline in the tool frame: x0 y0 z0 x1 y1
+///                                z1 ... or [[x0, y0, z0], [x1, y1, z1], ...], also given as a
+///                                YAML string (rosrun _blade:="[[0,0,0],[0,0,0.02]]"); checked
+///                                by validateBlade (default: a 20 mm scalpel edge along the tool
+///                                x axis from the tip)
+///   ~max_tool_distance [m; (0, 1000]; 5]  poses farther than this from the origin are rejected
+///   ~max_step [m; (0, 10]; 0.1]  a pose that moves the blade farther than this since the previous
 ///                                pose restarts the sequence instead of cutting (a jump, not a cut)
 /// Bad parameters throw std::invalid_argument from the constructor naming the parameter.
 class CuttingToolNode {
  public:
   CuttingToolNode(ros::NodeHandle& nh, ros::NodeHandle& pnh);
 
-  /// Checks a blade polyline [m] (tool frame); returns "" or the problem.
-  static std::string bladeProblem(const Eigen::Matrix3Xd& blade);
+  /// Farthest accepted blade point from the tool frame origin [m].
+  static constexpr double kMaxBladeReach = 1.0;
+
+  /// Checks a blade polyline [m] (tool frame): core::validateBladePolyline (2 to
+  /// core::kMaxBladePoints finite points, total length >= core::kMinBladeLength) and every point
+  /// within kMaxBladeReach of the tool origin.
+  /// @throws std::invalid_argument naming `name`.
+  static void validateBlade(const std::string& name, const Eigen::Matrix3Xd& blade);
 
  private:
   void onPose(const geometry_msgs::PoseStamped::ConstPtr& msg);

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <geometry_msgs/PoseStamped.h>
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
 #include <std_msgs/Bool.h>
@@ -12,7 +13,9 @@
 #include <visualization_msgs/Marker.h>
 
 #include <Eigen/Geometry>
+#include <atomic>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -22,23 +25,35 @@
 
 namespace surgical_sim::ros_layer {
 
-/// ROS wrapper of core::TissueSimulation (node `tissue_simulator`). Parameters (private):
-///   ~scene (string, required)      scene YAML path
-///   ~realtime (bool, true)         true: step on a wall-clock timer at the scene's dt;
-///                                  false: lockstep, steps_per_pose steps per received tool pose
-///                                  (deterministic replay), or free-running without tools
-///   ~steps_per_pose (int, 1)       lockstep steps per tool pose, [1, 1000]
-///   ~world_frame (string, world)   frame of the wrench / contact-model outputs
-///   ~tissue_frame (string, tissue) rest frame of the organ (tf world -> tissue published)
-///   ~surface_rate (double, 30 Hz)  rate of tissue/surface in realtime mode, (0, 1000]
-///   ~max_tool_distance (double, 5 m) poses farther than this from the world origin are rejected
+/// ROS wrapper of core::TissueSimulation (node `tissue_simulator`). Parameters (private; all
+/// strict, see parameters.h):
+///   ~scene [string; required]          scene YAML path
+///   ~realtime [bool; true]             true: step on a wall-clock timer at the scene's dt;
+///                                      false: lockstep, steps_per_pose steps per received tool
+///                                      pose (deterministic replay), or free-running without tools
+///   ~steps_per_pose [-; 1..1000; 1]    lockstep steps per tool pose
+///   ~world_frame [string; world]       frame of the wrench / contact-model outputs
+///   ~tissue_frame [string; tissue]     rest frame of the organ (tf world -> tissue published)
+///   ~surface_rate [Hz; (0, 1000]; 30]  rate of tissue/surface in realtime mode
+///   ~max_tool_distance [m; (0, 1000]; 5]  poses farther than this from the world origin are
+///                                      rejected
+/// Tool poses that are NaN/Inf, have a zero or non-finite quaternion, lie too far or are in a
+/// frame tf cannot resolve are rejected, each with its own throttled warning.
 /// Subscribes cutting/blade_sweep (BladeSweep, any frame tf can resolve): each sweep is applied
 /// before the next step; tissue/stats reports its cost (cut_time) and the pieces; the surface
 /// marker draws cut faces in dark red.
-/// Scene errors throw std::invalid_argument from the constructor (main exits naming the key).
+/// Services: tissue/pause and tissue/reset run on their own thread, so they answer during a long
+/// tissue/step (or lockstep burst) and interrupt it between two steps; tissue/step then answers
+/// success = false, "interrupted by <pause|reset> after N steps" with steps_done = N. On
+/// shutdown (SIGINT) a running request stops the same way.
+/// Scene errors (and a tool with an empty topic) throw std::invalid_argument from the constructor
+/// (main exits naming the key).
 class TissueSimulatorNode {
  public:
   TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& pnh);
+
+  /// Most steps one tissue/step request may ask for [-].
+  static constexpr unsigned kMaxStepRequest = 10000;
 
  private:
   struct ToolIo {
@@ -62,17 +77,30 @@ class TissueSimulatorNode {
   void publishTool(int tool, const ros::Time& stamp);
   /// Resolves a pose to the tissue frame; false (with a throttled warning) if impossible.
   bool toTissueFrame(const geometry_msgs::PoseStamped& msg, Eigen::Isometry3d& X_ST);
-  /// Pose X_SF of frame F in the tissue frame S; false (with a throttled warning) if unknown.
-  bool frameInTissue(const std::string& frame, Eigen::Isometry3d& X_SF);
+  /// Pose X_SF of frame F in the tissue frame S; false (with a throttled warning naming `what`
+  /// was rejected) if unknown.
+  bool frameInTissue(const std::string& frame, const char* what, Eigen::Isometry3d& X_SF);
+  /// @throws std::invalid_argument naming tools[tool].<key> if `topic` is empty.
+  void requireTopic(int tool, const char* key, const std::string& topic) const;
+  /// Makes running step loops stop before their next step; `reason` is a static string.
+  void interrupt(const char* reason);
+  /// Why a loop that started when interrupts_ was `since` must stop ("pause", "reset",
+  /// "shutdown"), or nullptr to go on.
+  const char* interruption(unsigned since) const;
   bool onReset(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
   bool onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res);
   bool onStep(surgical_sim::StepTissue::Request& req, surgical_sim::StepTissue::Response& res);
 
+  /// Guards sim_, step_count_ and the tools' poses: held for one step at a time, so tissue/reset
+  /// (control thread) waits for at most the step in progress.
+  std::mutex sim_mutex_;
   std::unique_ptr<core::TissueSimulation> sim_;
   Eigen::Isometry3d X_WS_ = Eigen::Isometry3d::Identity();
   std::string world_frame_, tissue_frame_;
   bool realtime_ = true;
-  bool paused_ = false;
+  std::atomic<bool> paused_{false};
+  std::atomic<unsigned> interrupts_{0};                ///< bumped by every pause / reset
+  std::atomic<const char*> interrupt_reason_{"none"};  ///< reason of the last bump
   int steps_per_pose_ = 1;
   double max_tool_distance_ = 5.0;
   double surface_period_ = 1.0 / 30.0;
@@ -90,6 +118,9 @@ class TissueSimulatorNode {
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   tf2_ros::StaticTransformBroadcaster static_broadcaster_;
+  ros::CallbackQueue control_queue_;  ///< tissue/pause and tissue/reset
+  /// Serves control_queue_; declared last so it stops first when the node is destroyed.
+  ros::AsyncSpinner control_spinner_;
 };
 
 }  // namespace surgical_sim::ros_layer

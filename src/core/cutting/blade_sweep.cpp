@@ -1,20 +1,33 @@
 #include "surgical_sim/core/cutting/blade_sweep.h"
 
+#include <sstream>
 #include <stdexcept>
-#include <string>
 
 namespace surgical_sim::core {
 
+void validateBladePolyline(const std::string& name, const Eigen::Matrix3Xd& blade) {
+  const Eigen::Index k = blade.cols();
+  if (k < 2 || k > kMaxBladePoints)
+    throw std::invalid_argument(name + " has " + std::to_string(k) +
+                                " points; a blade polyline needs at least 2 and at most " +
+                                std::to_string(kMaxBladePoints));
+  if (!blade.allFinite()) throw std::invalid_argument(name + " is not finite");
+  const double length = (blade.rightCols(k - 1) - blade.leftCols(k - 1)).colwise().norm().sum();
+  if (!(length >= kMinBladeLength)) {
+    std::ostringstream msg;
+    msg << name << " has a total length of " << length << " m; a blade needs at least "
+        << kMinBladeLength << " m (its points must not all coincide)";
+    throw std::invalid_argument(msg.str());
+  }
+}
+
 void validateBladeSweep(const BladeSweep& sweep) {
-  if (sweep.start.cols() < 2)
-    throw std::invalid_argument("blade_sweep.start has " + std::to_string(sweep.start.cols()) +
-                                " points; a blade polyline needs at least 2");
+  validateBladePolyline("blade_sweep.start", sweep.start);
   if (sweep.end.cols() != sweep.start.cols())
     throw std::invalid_argument("blade_sweep.end has " + std::to_string(sweep.end.cols()) +
                                 " points but blade_sweep.start has " +
                                 std::to_string(sweep.start.cols()));
-  if (!sweep.start.allFinite()) throw std::invalid_argument("blade_sweep.start is not finite");
-  if (!sweep.end.allFinite()) throw std::invalid_argument("blade_sweep.end is not finite");
+  validateBladePolyline("blade_sweep.end", sweep.end);
 }
 
 }  // namespace surgical_sim::core

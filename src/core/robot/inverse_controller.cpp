@@ -17,6 +17,8 @@ const char* toString(InverseStatus status) {
       return "max_iterations";
     case InverseStatus::InvalidTarget:
       return "invalid_target";
+    case InverseStatus::Interrupted:
+      return "interrupted";
   }
   return "unknown";
 }
@@ -128,6 +130,11 @@ void InverseController::solveTarget(const Eigen::Vector3d& p_target, double tole
     return;
   }
   for (int it = 0; it < max_iterations; ++it) {
+    if (cancelled_ && cancelled_()) {
+      result.status = InverseStatus::Interrupted;
+      result.message = "interrupted: the last iterate is returned";
+      break;
+    }
     lambda_prev_ = lambda_;
     const bool ok = iterate(p_target, &result.qp_iterations);
     ++result.iterations;

@@ -1,6 +1,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
+#include <utility>
 
 #include "surgical_sim/core/robot/box_qp_solver.h"
 #include "surgical_sim/core/robot/continuum_robot_model.h"
@@ -13,6 +15,7 @@ enum class InverseStatus {
   Unreachable,    ///< the actuation stopped changing above tolerance: closest feasible actuation
   MaxIterations,  ///< iteration cap reached while still improving (or the model did not converge)
   InvalidTarget,  ///< target not finite or farther than max_target_distance from the base
+  Interrupted,    ///< the cancel check (setCancelCheck) asked to stop between two iterations
 };
 
 /// Lower-case name, e.g. "unreachable".
@@ -71,6 +74,10 @@ class InverseController {
   const Eigen::VectorXd& actuation() const { return lambda_; }
   /// Zero actuation (clamped to the bounds) and rest shape.
   void reset();
+  /// `cancelled` is called before every iteration of solveTarget (from its thread); when it
+  /// returns true the solve stops with status Interrupted, keeping the last iterate. Empty: never
+  /// cancelled. Lets another thread interrupt a long solve (e.g. a reset or a shutdown).
+  void setCancelCheck(std::function<bool()> cancelled) { cancelled_ = std::move(cancelled); }
 
  private:
   /// One iteration; returns false if the model could not be factorized or solved.
@@ -78,6 +85,7 @@ class InverseController {
 
   ContinuumRobotModel& model_;
   InverseControllerSettings settings_;
+  std::function<bool()> cancelled_;
   BoxQpSolver qp_;
   Eigen::VectorXd lambda_, lambda_new_, lambda_prev_, lo_, hi_, c_, delta_;
   Eigen::MatrixXd Ja_, X_, Wea_, Waa_, H_;
