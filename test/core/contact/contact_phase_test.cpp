@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "surgical_sim/core/contact/closest_point_on_segment.h"
 #include "surgical_sim/core/contact/closest_point_on_triangle.h"
@@ -51,6 +52,8 @@ struct Palpation {
     tool.response = response;
     tool.proxy_stiffness = 200.0;
     tool.grasp_radius = 0.006;
+    tool.coupling_stiffness = 1e4;
+    tool.max_force = 20.0;
     settings.tools.push_back(tool);
     settings.solver.max_iterations = 5000;
     settings.solver.relative_tolerance = 1e-6;
@@ -292,7 +295,8 @@ TEST(ContactValidators, RejectOutOfRangeSettings) {
   };
   expectNaming([] { ToolCapsule(0.0, 0.01); }, "tool.radius");
   expectNaming([] { ToolCapsule(0.01, -1.0); }, "tool.shaft_length");
-  expectNaming([] { ProxyContact(-5.0); }, "tool.proxy_stiffness");
+  expectNaming([] { ProxyContact(-5.0, 20.0); }, "tool.proxy_stiffness");
+  expectNaming([] { ProxyContact(200.0, 0.0); }, "tool.max_force");
   expectNaming([] { GraspConstraint(std::nan("")); }, "tool.grasp_radius");
   ContactDetectorSettings detector;
   detector.margin = -1.0;
@@ -305,16 +309,22 @@ TEST(ContactValidators, RejectOutOfRangeSettings) {
   expectNaming([&] { ContactDetector{detector}; }, "contact.merge_tolerance");
   ContactSolverSettings solver;
   solver.max_iterations = 0;
-  expectNaming([&] { ContactSolver(solver, 8); }, "contact.solver.max_iterations");
+  const std::vector<ToolCoupling> coupling = {{1e4, 20.0}};
+  expectNaming([&] { ContactSolver(solver, 8, coupling); }, "contact.solver.max_iterations");
   solver = {};
   solver.relative_tolerance = 0.0;
-  expectNaming([&] { ContactSolver(solver, 8); }, "contact.solver.relative_tolerance");
-  expectNaming([] { ContactSolver({}, 0); }, "contact.max_contacts");
+  expectNaming([&] { ContactSolver(solver, 8, coupling); }, "contact.solver.relative_tolerance");
+  expectNaming([&] { ContactSolver({}, 0, coupling); }, "contact.max_contacts");
+  expectNaming([] { ContactSolver({}, 8, {}); }, "contact.tools");
+  expectNaming([] { ContactSolver({}, 8, {{0.0, 20.0}}); }, "tool.coupling_stiffness");
+  expectNaming([] { ContactSolver({}, 8, {{1e4, std::nan("")}}); }, "tool.max_force");
   const TetMesh mesh = makeBox({0, 0, 0}, {1, 1, 1}, {1, 1, 1}, ElementType::Tet4);
   const Eigen::VectorXd rest = Eigen::Map<const Eigen::VectorXd>(mesh.nodes.data(), 24);
   expectNaming([&] { ContactPhase(extractSurface(mesh), rest, {}, true); }, "contact.tools");
   ContactPhaseSettings missing_radius;
   missing_radius.tools.emplace_back();
+  missing_radius.tools.back().coupling_stiffness = 1e4;
+  missing_radius.tools.back().max_force = 20.0;
   expectNaming([&] { ContactPhase(extractSurface(mesh), rest, missing_radius, true); },
                "tool.radius");
 }
