@@ -23,24 +23,31 @@ constexpr double kSide = 0.04;      // box edge along x and y [m]
 constexpr double kHeight = 0.02;    // box height [m]; underside z = 0 fixed
 constexpr double kMaxForce = 20.0;  // ToolSpec::max_force default [N]
 
+/// A tissue model, integrator, solver and stiffness, and whether the energy bound is asserted.
+/// Stiff: E = 1 MPa, about 5e3 N/m under a tool, so the force limit (20 N) deforms the box by
+/// millimetres. Soft: E = 5 kPa, where 20 N crushes this small box far beyond its own size; the
+/// contact correction S (H^T lambda - F_a) is linear in the step compliance, and at such strains
+/// its energy error exceeds the work bound (a quasi-static neo-Hookean step added 7 kJ for 0.2 J
+/// of work), so only the finite state, the force bound and the status are asserted there.
 struct Combination {
   std::string model, integrator, solver;
+  double young_modulus = 1e6;  ///< [Pa]
+  bool energy_bound = true;
 };
 
 std::ostream& operator<<(std::ostream& out, const Combination& c) {
-  return out << c.model << "/" << c.integrator << "/" << c.solver;
+  return out << c.model << "/" << c.integrator << "/" << c.solver << "/E=" << c.young_modulus;
 }
 
 /// A 40 x 40 x 20 mm box (4 x 4 x 2 cells, tet4) under gravity, fixed at z = 0, with `tools`
-/// 5 mm tools (the fourth one a proxy tool), default coupling and force limit. E = 1 MPa: about
-/// 5e3 N/m under a tool, so the force limit (20 N) deforms the box by millimetres; soft tissue
-/// in a box this small would be crushed far beyond its size by 20 N.
+/// 5 mm tools (the fourth one a proxy tool), default coupling and force limit.
 SceneConfig boxScene(const Combination& c, int tools) {
   std::ostringstream yaml;
   yaml << "name: hostile_tools\n"
        << "mesh: {generator: box, size: [" << kSide << ", " << kSide << ", " << kHeight
        << "], resolutions: [[4, 4, 2]]}\n"
-       << "material: {young_modulus: 1.0e6, poisson_ratio: 0.45, density: 1000.0}\n"
+       << "material: {young_modulus: " << c.young_modulus
+       << ", poisson_ratio: 0.45, density: 1000.0}\n"
        << "models: " << c.model << "\nintegrators: " << c.integrator << "\nsolvers: " << c.solver
        << "\ntime_step: 0.01\nsteps: 1\ngravity: [0.0, 0.0, -9.81]\n"
        << "damping: {mass: 2.0, stiffness: 0.02}\n"
@@ -80,7 +87,8 @@ bool isFailure(StepStatus s) {
 /// Steps a simulation and checks the invariants of every step.
 class Checked {
  public:
-  explicit Checked(const SceneConfig& scene) : sim(scene) {}
+  Checked(const Combination& c, int tools)
+      : sim(boxScene(c, tools)), energy_bound(c.energy_bound) {}
 
   /// One step; `energy` false while a grasp holds nodes (their reaction is not in the applied
   /// contact force) or when the caller expects a topology change.
@@ -101,7 +109,7 @@ class Checked {
     if (at_cap) {
       EXPECT_NE(status, StepStatus::Ok) << where();
     }
-    if (energy && !s.topology_changed && x0.size() == sim.state().x.size()) {
+    if (energy && energy_bound && !s.topology_changed && x0.size() == sim.state().x.size()) {
       const Eigen::VectorXd dx = sim.state().x - x0;
       const double work =
           sim.appliedContactForce().dot(dx) + sim.model().bodyForce(sim.scene().gravity).dot(dx);
@@ -122,6 +130,7 @@ class Checked {
   std::string where() const { return "step " + std::to_string(steps); }
 
   TissueSimulation sim;
+  bool energy_bound;
   int steps = 0;
   int counts[8] = {};
   double max_force = 0.0;
@@ -130,7 +139,7 @@ class Checked {
 class SimulationStability : public ::testing::TestWithParam<Combination> {};
 
 TEST_P(SimulationStability, ToolDrivenThroughTheBodyAndSweptSideways) {
-  Checked run(boxScene(GetParam(), 1));
+  Checked run(GetParam(), 1);
   // Down at 0.5 m/s from above the top to 1 cm below the fixed underside.
   for (int k = 0; k <= 8; ++k) {
     run.sim.setToolPose(0, toolAt({0.5 * kSide, 0.5 * kSide, 0.03 - 0.005 * k}));
@@ -146,7 +155,7 @@ TEST_P(SimulationStability, ToolDrivenThroughTheBodyAndSweptSideways) {
 }
 
 TEST_P(SimulationStability, ToolPressedIntoTheFixedUndersideIsCappedAndLabelled) {
-  Checked run(boxScene(GetParam(), 1));
+  Checked run(GetParam(), 1);
   // From below, pointing up: every contact is on a fixed node; k_c d reaches 45 N at 4.5 mm.
   StepStatus last = StepStatus::Ok;
   for (int k = 0; k <= 10; ++k) {
@@ -159,7 +168,7 @@ TEST_P(SimulationStability, ToolPressedIntoTheFixedUndersideIsCappedAndLabelled)
 }
 
 TEST_P(SimulationStability, ToolTeleportedOneMetreAndBack) {
-  Checked run(boxScene(GetParam(), 1));
+  Checked run(GetParam(), 1);
   const Eigen::Vector3d centre(0.5 * kSide, 0.5 * kSide, kHeight + 0.0025);
   for (int k = 1; k <= 5; ++k) {
     run.sim.setToolPose(0, toolAt(centre - Eigen::Vector3d(0, 0, 6e-4 * k)));
@@ -177,7 +186,7 @@ TEST_P(SimulationStability, ToolTeleportedOneMetreAndBack) {
 }
 
 TEST_P(SimulationStability, FourToolsAtOnce) {
-  Checked run(boxScene(GetParam(), 4));
+  Checked run(GetParam(), 4);
   const double spots[4][2] = {{0.01, 0.01}, {0.03, 0.01}, {0.01, 0.03}, {0.03, 0.03}};
   for (int k = 1; k <= 12; ++k) {
     for (int t = 0; t < 4; ++t) {
@@ -192,7 +201,7 @@ TEST_P(SimulationStability, FourToolsAtOnce) {
 }
 
 TEST_P(SimulationStability, CutWhileGraspingThenTeleportSlipsTheGrasp) {
-  Checked run(boxScene(GetParam(), 1));
+  Checked run(GetParam(), 1);
   const Eigen::Vector3d grip(0.01, 0.02, kHeight + 0.001);
   run.sim.setToolPose(0, toolAt(grip));
   run.step();
@@ -223,7 +232,7 @@ TEST_P(SimulationStability, CutWhileGraspingThenTeleportSlipsTheGrasp) {
 }
 
 TEST_P(SimulationStability, PieceCutFreeUnderATool) {
-  Checked run(boxScene(GetParam(), 1));
+  Checked run(GetParam(), 1);
   const Eigen::Vector3d press(0.033, 0.02, kHeight + 0.0025);
   for (int k = 1; k <= 4; ++k) {
     run.sim.setToolPose(0, toolAt(press - Eigen::Vector3d(0, 0, 1e-3 * k)));
@@ -256,11 +265,23 @@ std::vector<Combination> combinations() {
   return all;
 }
 
+std::vector<Combination> softCombinations() {
+  std::vector<Combination> all;
+  for (const char* model : {"mass_spring", "corotational", "svk", "ems", "neo_hookean"}) {
+    for (const char* integrator :
+         {"implicit_euler_linearized", "implicit_euler_newton", "quasi_static"}) {
+      all.push_back({model, integrator, "cholmod", 5e3, false});
+    }
+  }
+  return all;
+}
+
 std::string name(const ::testing::TestParamInfo<Combination>& info) {
   return info.param.model + "_" + info.param.integrator + "_" + info.param.solver;
 }
 
-INSTANTIATE_TEST_SUITE_P(Hostile, SimulationStability, ::testing::ValuesIn(combinations()), name);
+INSTANTIATE_TEST_SUITE_P(Stiff, SimulationStability, ::testing::ValuesIn(combinations()), name);
+INSTANTIATE_TEST_SUITE_P(Soft, SimulationStability, ::testing::ValuesIn(softCombinations()), name);
 
 }  // namespace
 }  // namespace surgical_sim::core
