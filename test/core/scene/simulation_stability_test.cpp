@@ -250,6 +250,23 @@ TEST_P(SimulationStability, PieceCutFreeUnderATool) {
   }
 }
 
+TEST(SimulationGuards, NonFiniteLoadLeavesTheStateAsItWasAndReportsAFailure) {
+  // A scene assembled in code (no parser to reject it) with a NaN body force and a tool in
+  // contact: every step reports a failure and keeps the finite state from before it.
+  SceneConfig scene = boxScene({"corotational", "implicit_euler_linearized", "cholmod"}, 1);
+  scene.gravity.x() = std::nan("");
+  TissueSimulation sim(scene);
+  sim.setToolPose(0, toolAt({0.5 * kSide, 0.5 * kSide, kHeight + 0.0015}));
+  const Eigen::VectorXd before = sim.state().x;
+  for (int k = 0; k < 3; ++k) {
+    const StepStatus status = sim.step().report.status;
+    EXPECT_TRUE(isFailure(status)) << toString(status);
+    EXPECT_EQ(sim.state().x, before);
+    EXPECT_TRUE(sim.state().v.allFinite());
+    EXPECT_TRUE(sim.toolContact(0).f0_S.allFinite());
+  }
+}
+
 std::vector<Combination> combinations() {
   std::vector<Combination> all;
   for (const char* model : {"mass_spring", "corotational", "svk", "ems", "neo_hookean"}) {
