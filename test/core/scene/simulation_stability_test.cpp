@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -23,16 +24,19 @@ constexpr double kSide = 0.04;      // box edge along x and y [m]
 constexpr double kHeight = 0.02;    // box height [m]; underside z = 0 fixed
 constexpr double kMaxForce = 20.0;  // ToolSpec::max_force default [N]
 
-/// A tissue model, integrator, solver and stiffness, and whether the energy bound is asserted.
-/// Stiff: E = 1 MPa, about 5e3 N/m under a tool, so the force limit (20 N) deforms the box by
-/// millimetres. Soft: E = 5 kPa, where 20 N crushes this small box far beyond its own size; the
-/// contact correction S (H^T lambda - F_a) is linear in the step compliance, and at such strains
-/// its energy error exceeds the work bound (a quasi-static neo-Hookean step added 7 kJ for 0.2 J
-/// of work), so only the finite state, the force bound and the status are asserted there.
+/// A tissue model, integrator, solver and stiffness, and how much energy a step may add beyond
+/// the work of the contact forces and gravity. Stiff: E = 1 MPa, about 5e3 N/m under a tool, so
+/// the force limit (20 N) deforms the box by millimetres: 1 % of the work. Soft: E = 5 kPa, where
+/// 20 N crushes this small box beyond its own size; the contact correction
+/// S (H^T lambda - F_a) is linear in the step compliance and its energy error grows with the
+/// strain: 15 % of the work for the implicit Euler integrators (neo-Hookean Newton with four
+/// capped tools reaches 9 %), not asserted for quasi-static steps (no inertia limits the
+/// correction; a neo-Hookean step added 7 kJ for 0.2 J of work before the next step's Newton
+/// solve restored equilibrium). Finite state, force bound and status are asserted everywhere.
 struct Combination {
   std::string model, integrator, solver;
   double young_modulus = 1e6;  ///< [Pa]
-  bool energy_bound = true;
+  double energy_slack = 1e-2;  ///< allowed excess, relative to |work| [-]; infinite: none
 };
 
 std::ostream& operator<<(std::ostream& out, const Combination& c) {
@@ -88,7 +92,7 @@ bool isFailure(StepStatus s) {
 class Checked {
  public:
   Checked(const Combination& c, int tools)
-      : sim(boxScene(c, tools)), energy_bound(c.energy_bound) {}
+      : sim(boxScene(c, tools)), energy_slack(c.energy_slack) {}
 
   /// One step; `energy` false while a grasp holds nodes (their reaction is not in the applied
   /// contact force) or when the caller expects a topology change.
@@ -109,12 +113,13 @@ class Checked {
     if (at_cap) {
       EXPECT_NE(status, StepStatus::Ok) << where();
     }
-    if (energy && energy_bound && !s.topology_changed && x0.size() == sim.state().x.size()) {
+    if (energy && std::isfinite(energy_slack) && !s.topology_changed &&
+        x0.size() == sim.state().x.size()) {
       const Eigen::VectorXd dx = sim.state().x - x0;
       const double work =
           sim.appliedContactForce().dot(dx) + sim.model().bodyForce(sim.scene().gravity).dot(dx);
       const double added = mechanical() - e0;
-      EXPECT_LE(added, work + 1e-2 * std::abs(work) + 1e-7)
+      EXPECT_LE(added, work + energy_slack * std::abs(work) + 1e-7)
           << where() << " energy added " << added << " J, work " << work << " J";
     }
     ++steps;
@@ -130,7 +135,7 @@ class Checked {
   std::string where() const { return "step " + std::to_string(steps); }
 
   TissueSimulation sim;
-  bool energy_bound;
+  double energy_slack;
   int steps = 0;
   int counts[8] = {};
   double max_force = 0.0;
@@ -287,7 +292,9 @@ std::vector<Combination> softCombinations() {
   for (const char* model : {"mass_spring", "corotational", "svk", "ems", "neo_hookean"}) {
     for (const char* integrator :
          {"implicit_euler_linearized", "implicit_euler_newton", "quasi_static"}) {
-      all.push_back({model, integrator, "cholmod", 5e3, false});
+      const bool dynamic = std::string(integrator) != "quasi_static";
+      all.push_back({model, integrator, "cholmod", 5e3,
+                     dynamic ? 0.15 : std::numeric_limits<double>::infinity()});
     }
   }
   return all;
