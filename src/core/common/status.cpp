@@ -14,6 +14,8 @@ const char* toString(StepStatus status) {
       return "non_finite";
     case StepStatus::BlowUp:
       return "blow_up";
+    case StepStatus::ContactLimited:
+      return "contact_limited";
   }
   return "unknown";
 }

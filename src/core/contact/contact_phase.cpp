@@ -24,6 +24,18 @@ double meanEdgeLength(const Eigen::Matrix3Xi& triangles, const Eigen::VectorXd& 
   return triangles.cols() > 0 ? sum / (3.0 * static_cast<double>(triangles.cols())) : 0.0;
 }
 
+/// The solver's coupling of each tool; a proxy tool has no constraint contacts, its spring is its
+/// coupling.
+std::vector<ToolCoupling> toolCouplings(const ContactPhaseSettings& settings) {
+  std::vector<ToolCoupling> couplings;
+  for (const ToolSettings& tool : settings.tools) {
+    const bool proxy = tool.response == ContactResponse::Proxy;
+    if (proxy) requirePositive("tool.proxy_stiffness", tool.proxy_stiffness, "N/m");
+    couplings.push_back({proxy ? tool.proxy_stiffness : tool.coupling_stiffness, tool.max_force});
+  }
+  return couplings;
+}
+
 int checkedToolCount(const ContactPhaseSettings& settings) {
   if (settings.tools.empty()) {
     throw std::invalid_argument(
@@ -42,7 +54,8 @@ ContactPhase::ContactPhase(const SurfaceMesh& surface, const Eigen::VectorXd& re
       update_velocity_(update_velocity),
       bvh_(surface.triangles, rest, kFatMarginPerEdge * meanEdgeLength(surface.triangles, rest)),
       detector_(settings.detector),
-      solver_(settings.solver, checkedToolCount(settings) * settings.detector.max_contacts) {
+      solver_(settings.solver, checkedToolCount(settings) * settings.detector.max_contacts,
+              toolCouplings(settings)) {
   for (const ToolSettings& tool : settings.tools) {
     Tool entry{ToolCapsule(tool.radius, tool.shaft_length),
                tool.response,
@@ -50,13 +63,18 @@ ContactPhase::ContactPhase(const SurfaceMesh& surface, const Eigen::VectorXd& re
                GraspConstraint(tool.grasp_radius),
                false,
                false,
+               false,
+               tool.max_force,
                ContactLinearization()};
-    if (tool.response == ContactResponse::Proxy) entry.proxy.emplace(tool.proxy_stiffness);
+    if (tool.response == ContactResponse::Proxy) {
+      entry.proxy.emplace(tool.proxy_stiffness, tool.max_force);
+    }
     tools_.push_back(std::move(entry));
   }
   contacts_.reserve(static_cast<size_t>(numTools() * settings.detector.max_contacts));
   fixed_mask_.assign(static_cast<size_t>(rest.size()), 0);
   applied_force_.setZero(rest.size());
+  proxy_force_.setZero(rest.size());
   internal_force_.setZero(rest.size());
 }
 
@@ -70,7 +88,9 @@ bool ContactPhase::setToolPose(int tool, const Eigen::Isometry3d& X_ST) {
 
 void ContactPhase::setGrasp(int tool, bool closed) {
   if (tool < 0 || tool >= numTools()) return;
-  tools_[static_cast<size_t>(tool)].grasp_requested = closed;
+  Tool& entry = tools_[static_cast<size_t>(tool)];
+  entry.grasp_requested = closed;
+  if (!closed) entry.slipped = false;
 }
 
 const ContactLinearization& ContactPhase::linearization(int tool) const {
@@ -83,8 +103,8 @@ void ContactPhase::prepareStep(const Eigen::VectorXd& x, const Eigen::VectorXd& 
   markDirichletDofs(base_dirichlet.dofs, fixed_mask_);
   dirichlet.dofs.assign(base_dirichlet.dofs.begin(), base_dirichlet.dofs.end());
   for (Tool& tool : tools_) {
-    tool.grasp.update(tool.grasp_requested && tool.posed, tool.capsule.pose(), surface_nodes_, x,
-                      fixed_mask_);
+    tool.grasp.update(tool.grasp_requested && tool.posed && !tool.slipped, tool.capsule.pose(),
+                      surface_nodes_, x, fixed_mask_);
     tool.grasp.appendDofs(dirichlet.dofs);
   }
   const auto total = static_cast<Eigen::Index>(dirichlet.dofs.size());
@@ -103,9 +123,37 @@ void ContactPhase::prepareStep(const Eigen::VectorXd& x, const Eigen::VectorXd& 
   } else {
     applied_force_.setZero(base_force.size());
   }
+  proxy_force_.setZero(base_force.size());
   for (const Tool& tool : tools_) {
-    if (tool.proxy) tool.proxy->addTissueForce(external_force);
+    if (tool.proxy) tool.proxy->addTissueForce(proxy_force_);
   }
+  external_force += proxy_force_;
+}
+
+bool ContactPhase::slipOverloadedGrasps(const TissueModel& model, const Eigen::VectorXd& x,
+                                        bool step_failed) {
+  const bool grasping =
+      std::any_of(tools_.begin(), tools_.end(), [](const Tool& t) { return t.grasp.active(); });
+  if (!grasping) return false;
+  if (!step_failed) {
+    internal_force_.setZero();
+    model.addInternalForce(x, internal_force_);
+  }
+  bool slipped = false;
+  for (Tool& tool : tools_) {
+    if (!tool.grasp.active()) continue;
+    if (!step_failed && tool.grasp.toolForce(internal_force_).norm() <= tool.max_force) continue;
+    tool.grasp.update(false, tool.capsule.pose(), surface_nodes_, x, fixed_mask_);
+    tool.slipped = true;
+    slipped = true;
+  }
+  return slipped;
+}
+
+Eigen::VectorXd ContactPhase::appliedForce() const {
+  Eigen::VectorXd force = proxy_force_;
+  if (solver_.tissueForce().size() == force.size()) force += solver_.tissueForce();
+  return force;
 }
 
 StepStatus ContactPhase::finishStep(Integrator& integrator, const TissueModel& model, double dt,
@@ -122,7 +170,7 @@ StepStatus ContactPhase::finishStep(Integrator& integrator, const TissueModel& m
   }
   timings_.collision_ms = watch.milliseconds();
   watch.restart();
-  const StepStatus status =
+  StepStatus status =
       solver_.solve(integrator, contacts_, applied_force_, dt, update_velocity_, state);
   bool grasping = false;
   for (size_t t = 0; t < tools_.size(); ++t) {
@@ -131,6 +179,10 @@ StepStatus ContactPhase::finishStep(Integrator& integrator, const TissueModel& m
     if (tool.proxy) {
       tool.proxy->update(tool.capsule.tip(), tool.capsule.radius(), triangles_, state.x, bvh_);
       tool.linearization = tool.proxy->linearization();
+      if (tool.proxy->limited() &&
+          (status == StepStatus::Ok || status == StepStatus::NotConverged)) {
+        status = StepStatus::ContactLimited;
+      }
     } else {
       solver_.linearize(static_cast<int>(t), tool.capsule.tip(), tool.linearization);
     }

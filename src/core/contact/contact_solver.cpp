@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "surgical_sim/core/common/validate.h"
 
@@ -20,6 +21,14 @@ int checkedMaxContacts(int max_contacts) {
   return max_contacts;
 }
 
+const std::vector<ToolCoupling>& checkedCouplings(const std::vector<ToolCoupling>& tools) {
+  if (tools.empty()) {
+    throw std::invalid_argument("contact.tools: the contact solver needs at least one tool");
+  }
+  for (const ToolCoupling& tool : tools) validateToolCoupling(tool);
+  return tools;
+}
+
 }  // namespace
 
 void validateContactSolverSettings(const ContactSolverSettings& settings) {
@@ -29,9 +38,17 @@ void validateContactSolverSettings(const ContactSolverSettings& settings) {
                          "");
 }
 
-ContactSolver::ContactSolver(const ContactSolverSettings& settings, int max_contacts)
+void validateToolCoupling(const ToolCoupling& coupling) {
+  requirePositive("tool.coupling_stiffness", coupling.stiffness, "N/m");
+  requirePositive("tool.max_force", coupling.max_force, "N");
+}
+
+ContactSolver::ContactSolver(const ContactSolverSettings& settings, int max_contacts,
+                             const std::vector<ToolCoupling>& tools)
     : settings_(settings),
       max_contacts_(checkedMaxContacts(max_contacts)),
+      couplings_(checkedCouplings(tools)),
+      force_scale_(tools.size(), 1.0),
       active_set_(max_contacts_) {
   validateContactSolverSettings(settings);
   W_.setZero(max_contacts, max_contacts);
@@ -74,8 +91,14 @@ StepStatus ContactSolver::solve(Integrator& integrator, const std::vector<Contac
   if (tissue_force_.size() != size) resize(size);
   count_ = 0;
   tissue_force_.setZero();
+  std::fill(force_scale_.begin(), force_scale_.end(), 1.0);
   if (contacts.size() > static_cast<size_t>(max_contacts_) || applied_force.size() != size) {
     return StepStatus::SolverFailed;
+  }
+  for (const ContactPoint& contact : contacts) {
+    if (contact.tool < 0 || static_cast<size_t>(contact.tool) >= couplings_.size()) {
+      return StepStatus::SolverFailed;
+    }
   }
   const bool carried = applied_force.squaredNorm() > 0.0;
   if (contacts.empty() && !carried) return StepStatus::Ok;
@@ -114,6 +137,15 @@ StepStatus ContactSolver::solve(Integrator& integrator, const std::vector<Contac
   }
   auto W = W_.topLeftCorner(m, m);
   W = 0.5 * (W + W.transpose()).eval();
+  // Tool-body coupling: contacts of one tool share its displacement -(1/k_t) sum lambda_j n_j.
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const int tool = tools_[static_cast<size_t>(i)];
+    const double compliance = 1.0 / couplings_[static_cast<size_t>(tool)].stiffness;
+    for (Eigen::Index j = 0; j < m; ++j) {
+      if (tools_[static_cast<size_t>(j)] != tool) continue;
+      W(i, j) += compliance * contact_normals_.col(i).dot(contact_normals_.col(j));
+    }
+  }
   count_ = m;
 
   auto lambda = lambda_.head(m);
@@ -124,6 +156,11 @@ StepStatus ContactSolver::solve(Integrator& integrator, const std::vector<Contac
   const PgsReport refined = refineLcpActiveSet(
       W, q_.head(m), tolerance, kPivotsPerContact * static_cast<int>(m), lambda, active_set_);
   if (refined.converged) report_ = refined;
+  if (!lambda.allFinite()) {
+    count_ = 0;
+    return StepStatus::SolverFailed;
+  }
+  const bool capped = capToolForces();
   for (Eigen::Index i = 0; i < m; ++i) {
     addColumn(contacts[static_cast<size_t>(i)], lambda[i], tissue_force_);
   }
@@ -137,7 +174,30 @@ StepStatus ContactSolver::solve(Integrator& integrator, const std::vector<Contac
     state.x += response_;
     if (update_velocity) state.v += response_ / dt;
   }
+  if (capped) return StepStatus::ContactLimited;
   return report_.converged || m == 0 ? StepStatus::Ok : StepStatus::NotConverged;
+}
+
+bool ContactSolver::capToolForces() {
+  bool capped = false;
+  for (size_t t = 0; t < couplings_.size(); ++t) {
+    double sum = 0.0;
+    for (Eigen::Index i = 0; i < count_; ++i) {
+      if (tools_[static_cast<size_t>(i)] == static_cast<int>(t)) sum += lambda_[i];
+    }
+    if (sum <= couplings_[t].max_force) continue;
+    capped = true;
+    force_scale_[t] = couplings_[t].max_force / sum;
+    for (Eigen::Index i = 0; i < count_; ++i) {
+      if (tools_[static_cast<size_t>(i)] == static_cast<int>(t)) lambda_[i] *= force_scale_[t];
+    }
+  }
+  return capped;
+}
+
+bool ContactSolver::limited(int tool) const {
+  return tool >= 0 && static_cast<size_t>(tool) < force_scale_.size() &&
+         force_scale_[static_cast<size_t>(tool)] < 1.0;
 }
 
 Eigen::Vector3d ContactSolver::toolForce(int tool) const {
@@ -185,8 +245,23 @@ void ContactSolver::linearize(int tool, const Eigen::Vector3d& p0_S, ContactLine
   Eigen::Ref<Eigen::MatrixXd> Y = solved_.topRows(a);
   Y = E;
   llt.solveInPlace(Y);
-  const Eigen::Matrix3d product = E.transpose() * Y;
-  out.K_S = -0.5 * (product + product.transpose());
+  const bool capped = limited(tool);
+  if (capped) {
+    // Applied multipliers F lambda* / sum(lambda*): their derivative, on this tool's rows.
+    const double scale = force_scale_[static_cast<size_t>(tool)];
+    const double max_force = couplings_[static_cast<size_t>(tool)].max_force;
+    Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
+    for (Eigen::Index r = 0; r < a; ++r) {
+      if (tools_[static_cast<size_t>(active_[static_cast<size_t>(r)])] == tool) sum += Y.row(r);
+    }
+    for (Eigen::Index r = 0; r < a; ++r) {
+      const int i = active_[static_cast<size_t>(r)];
+      if (tools_[static_cast<size_t>(i)] != tool) continue;
+      Y.row(r) = scale * (Y.row(r) - (lambda_[i] / max_force) * sum);
+    }
+  }
+  out.K_S = -E.transpose() * Y;
+  if (!capped) out.K_S = (0.5 * (out.K_S + out.K_S.transpose())).eval();
   // Geometric part: f = -sum lambda_i n_i with n_i turning with the tool (dn_du) and with the
   // tissue nodes under contact i, which move by sum_s S h_s Y_s per metre of tool motion.
   for (Eigen::Index r = 0; r < a; ++r) {

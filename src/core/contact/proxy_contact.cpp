@@ -17,8 +17,10 @@ Eigen::Vector3d outwardNormal(const Eigen::Vector3i& nodes, const Eigen::VectorX
 
 }  // namespace
 
-ProxyContact::ProxyContact(double stiffness) : stiffness_(stiffness) {
+ProxyContact::ProxyContact(double stiffness, double max_force)
+    : stiffness_(stiffness), max_force_(max_force) {
   requirePositive("tool.proxy_stiffness", stiffness, "N/m");
+  requirePositive("tool.max_force", max_force, "N");
 }
 
 void ProxyContact::update(const Eigen::Vector3d& p_tip_S, double search_radius,
@@ -97,7 +99,14 @@ void ProxyContact::addTissueForce(Eigen::VectorXd& f_ext) const {
 }
 
 Eigen::Vector3d ProxyContact::toolForce() const {
-  return in_contact_ ? Eigen::Vector3d(stiffness_ * (p_proxy_ - p_tip_)) : Eigen::Vector3d::Zero();
+  if (!in_contact_) return Eigen::Vector3d::Zero();
+  const Eigen::Vector3d spring = stiffness_ * (p_proxy_ - p_tip_);
+  const double magnitude = spring.norm();
+  return magnitude > max_force_ ? Eigen::Vector3d((max_force_ / magnitude) * spring) : spring;
+}
+
+bool ProxyContact::limited() const {
+  return in_contact_ && stiffness_ * (p_proxy_ - p_tip_).norm() > max_force_;
 }
 
 ContactLinearization ProxyContact::linearization() const {
@@ -107,7 +116,7 @@ ContactLinearization ProxyContact::linearization() const {
   out.in_contact = true;
   out.contacts = 1;
   out.f0_S = toolForce();
-  out.K_S = -stiffness_ * normal_ * normal_.transpose();
+  if (!limited()) out.K_S = -stiffness_ * normal_ * normal_.transpose();
   return out;
 }
 

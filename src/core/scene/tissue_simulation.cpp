@@ -11,6 +11,24 @@
 #include "surgical_sim/core/tissue/model_factory.h"
 
 namespace surgical_sim::core {
+namespace {
+
+bool isFailure(StepStatus s) {
+  return s == StepStatus::SolverFailed || s == StepStatus::NonFinite || s == StepStatus::BlowUp;
+}
+
+/// Status of a step from the integrator's and the contact phase's: a failure first, then a
+/// capped contact, then an inexact solve.
+StepStatus combined(StepStatus integrator, StepStatus contact) {
+  if (isFailure(integrator)) return integrator;
+  if (isFailure(contact)) return contact;
+  for (const StepStatus s : {StepStatus::ContactLimited, StepStatus::NotConverged}) {
+    if (integrator == s || contact == s) return s;
+  }
+  return StepStatus::Ok;
+}
+
+}  // namespace
 
 TissueSimulation::TissueSimulation(const SceneConfig& scene) : scene_(scene) {
   original_mesh_ = buildSceneMesh(scene_.mesh, scene_.mesh.resolutions.front(),
@@ -30,8 +48,10 @@ TissueSimulation::TissueSimulation(const SceneConfig& scene) : scene_(scene) {
       tool.radius = t.radius;
       tool.shaft_length = t.shaft_length;
       tool.response = t.contact == "proxy" ? ContactResponse::Proxy : ContactResponse::Constraint;
-      tool.proxy_stiffness = t.contact == "proxy" ? t.proxy_stiffness : 1.0;
+      tool.proxy_stiffness = t.proxy_stiffness;
       tool.grasp_radius = t.grasp_radius > 0.0 ? t.grasp_radius : 1e-9;
+      tool.coupling_stiffness = t.coupling_stiffness;
+      tool.max_force = t.max_force;
       contact.tools.push_back(tool);
     }
     contact_settings_ = contact;
@@ -146,15 +166,28 @@ SimulationStepStats TissueSimulation::step() {
     stats.cut_seconds = cut_watch.seconds();
   }
   x_previous_ = state_.x;
+  v_previous_ = state_.v;
+  const double time_previous = state_.time;
   if (contact_)
     contact_->prepareStep(state_.x, base_force_, base_dirichlet_, problem_.external_force,
                           problem_.dirichlet);
   Stopwatch phase;
   stats.report = integrator_->step(problem_, scene_.time_step, state_);
+  bool slipped = false;
+  if (contact_ &&
+      contact_->slipOverloadedGrasps(*model_, state_.x, isFailure(stats.report.status))) {
+    // The jaws let go: the step again from its start, without the slipped grasps.
+    slipped = true;
+    restoreStart(time_previous);
+    contact_->prepareStep(state_.x, base_force_, base_dirichlet_, problem_.external_force,
+                          problem_.dirichlet);
+    stats.report = integrator_->step(problem_, scene_.time_step, state_);
+  }
   stats.integrate_seconds = phase.seconds();
   if (contact_) {
     const StepStatus s = contact_->finishStep(*integrator_, *model_, scene_.time_step, state_);
-    if (stats.report.status == StepStatus::Ok) stats.report.status = s;
+    stats.report.status =
+        combined(stats.report.status, slipped ? combined(s, StepStatus::ContactLimited) : s);
     stats.collision_seconds = 1e-3 * contact_->timings().collision_ms;
     stats.contact_seconds = 1e-3 * contact_->timings().contact_ms;
     stats.contacts = static_cast<int>(contact_->contacts().size());
@@ -162,8 +195,22 @@ SimulationStepStats TissueSimulation::step() {
     for (const ContactPoint& c : contact_->contacts())
       for (int k = 0; k < 3; ++k) contact_nodes_.push_back(c.nodes[k]);
   }
+  if (!state_.x.allFinite() || !state_.v.allFinite()) {
+    restoreStart(time_previous);
+    stats.report.status = StepStatus::NonFinite;
+  }
   stats.step_seconds = step_watch.seconds();
   return stats;
+}
+
+void TissueSimulation::restoreStart(double time) {
+  state_.x = x_previous_;
+  state_.v = v_previous_;
+  state_.time = time;
+}
+
+Eigen::VectorXd TissueSimulation::appliedContactForce() const {
+  return contact_ ? contact_->appliedForce() : Eigen::VectorXd::Zero(state_.x.size());
 }
 
 ContactLinearization TissueSimulation::toolContact(int tool) const {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "surgical_sim/core/contact/closest_point_on_segment.h"
 #include "surgical_sim/core/contact/closest_point_on_triangle.h"
@@ -25,7 +26,8 @@ constexpr int kSettleSteps = 12;   // quasi-static steps at a fixed pose
 /// (z_T = -z_S) above the centre of the top face.
 struct Palpation {
   explicit Palpation(ContactResponse response = ContactResponse::Constraint,
-                     const std::string& integrator_name = "quasi_static", int cells = 8)
+                     const std::string& integrator_name = "quasi_static", int cells = 8,
+                     double max_force = 20.0)
       : mesh(makeBox({0, 0, 0}, {kSide, kSide, kHeight}, {cells, cells, 4}, ElementType::Tet4)),
         surface(extractSurface(mesh)),
         model(makeTissueModel("corotational", mesh, Material::create(5e3, 0.3, 1000.0))),
@@ -51,6 +53,8 @@ struct Palpation {
     tool.response = response;
     tool.proxy_stiffness = 200.0;
     tool.grasp_radius = 0.006;
+    tool.coupling_stiffness = 1e4;
+    tool.max_force = max_force;
     settings.tools.push_back(tool);
     settings.solver.max_iterations = 5000;
     settings.solver.relative_tolerance = 1e-6;
@@ -281,6 +285,51 @@ TEST(ProxyContact, ForceIsStiffnessTimesPenetration) {
   EXPECT_LT((lin.K_S * lin.K_S + 200.0 * lin.K_S).norm(), 1e-9);  // rank one: K^2 = -k K
 }
 
+TEST(ProxyContact, SpringForceSaturatesAtMaxForce) {
+  // The same press as above with F_max = 0.1 N, below k_proxy x penetration (about 0.3 N).
+  const double max_force = 0.1;
+  Palpation p(ContactResponse::Proxy, "implicit_euler_linearized", 8, max_force);
+  StepStatus status = StepStatus::Ok;
+  for (int s = 0; s <= 10; ++s) status = p.step(Palpation::pose(kRadius - 1e-3 + s * 3e-4));
+  EXPECT_EQ(status, StepStatus::ContactLimited);
+  const ContactLinearization lin = p.contact->linearization(0);
+  ASSERT_TRUE(lin.in_contact);
+  EXPECT_NEAR(lin.f0_S.norm(), max_force, 1e-12);
+  EXPECT_GT(lin.f0_S.z(), 0.0);
+  EXPECT_EQ(lin.K_S, Eigen::Matrix3d::Zero());  // saturated: no change with the tip position
+  // The next free step pushes the tissue with exactly the capped force.
+  p.step(Palpation::pose(kRadius + 2e-3));
+  const Eigen::VectorXd applied = p.contact->appliedForce();
+  Eigen::Vector3d total = Eigen::Vector3d::Zero();
+  for (Eigen::Index n = 0; n < applied.size() / 3; ++n) total += applied.segment<3>(3 * n);
+  EXPECT_NEAR(total.norm(), max_force, 1e-12);
+}
+
+TEST(ContactPhase, GraspSlipsWhenHoldingWouldTakeMoreThanMaxForce) {
+  // Pressing 0.5 mm takes about 0.02 N (flat punch 2 E a d / (1 - nu^2)), below F_max.
+  Palpation p(ContactResponse::Constraint, "quasi_static", 8, 0.05);
+  ASSERT_EQ(p.step(Palpation::pose(5e-4)), StepStatus::Ok);
+  p.contact->setGrasp(0, true);
+  ASSERT_EQ(p.step(Palpation::pose(5e-4)), StepStatus::Ok);  // capture
+  ASSERT_GT(p.problem.dirichlet.dofs.size(), p.base_bc.dofs.size());
+  // Lift 5 mm: the tissue pulls back with more than 0.05 N, the jaws slip.
+  p.contact->setToolPose(0, Palpation::pose(5e-4 - 5e-3));
+  p.contact->prepareStep(p.state.x, p.base_force, p.base_bc, p.problem.external_force,
+                         p.problem.dirichlet);
+  ASSERT_EQ(p.integrator->step(p.problem, 0.01, p.state).status, StepStatus::Ok);
+  EXPECT_TRUE(p.contact->slipOverloadedGrasps(*p.model, p.state.x, false));
+  // Released, and it stays released while the jaws are held closed.
+  p.contact->prepareStep(p.state.x, p.base_force, p.base_bc, p.problem.external_force,
+                         p.problem.dirichlet);
+  EXPECT_EQ(p.problem.dirichlet.dofs.size(), p.base_bc.dofs.size());
+  EXPECT_FALSE(p.contact->slipOverloadedGrasps(*p.model, p.state.x, false));
+  // Opening and closing the jaws grasps again.
+  p.contact->setGrasp(0, false);
+  p.contact->setGrasp(0, true);
+  ASSERT_EQ(p.step(Palpation::pose(5e-4)), StepStatus::Ok);
+  EXPECT_GT(p.problem.dirichlet.dofs.size(), p.base_bc.dofs.size());
+}
+
 TEST(ContactValidators, RejectOutOfRangeSettings) {
   auto expectNaming = [](auto&& f, const std::string& name) {
     try {
@@ -292,7 +341,8 @@ TEST(ContactValidators, RejectOutOfRangeSettings) {
   };
   expectNaming([] { ToolCapsule(0.0, 0.01); }, "tool.radius");
   expectNaming([] { ToolCapsule(0.01, -1.0); }, "tool.shaft_length");
-  expectNaming([] { ProxyContact(-5.0); }, "tool.proxy_stiffness");
+  expectNaming([] { ProxyContact(-5.0, 20.0); }, "tool.proxy_stiffness");
+  expectNaming([] { ProxyContact(200.0, 0.0); }, "tool.max_force");
   expectNaming([] { GraspConstraint(std::nan("")); }, "tool.grasp_radius");
   ContactDetectorSettings detector;
   detector.margin = -1.0;
@@ -305,16 +355,22 @@ TEST(ContactValidators, RejectOutOfRangeSettings) {
   expectNaming([&] { ContactDetector{detector}; }, "contact.merge_tolerance");
   ContactSolverSettings solver;
   solver.max_iterations = 0;
-  expectNaming([&] { ContactSolver(solver, 8); }, "contact.solver.max_iterations");
+  const std::vector<ToolCoupling> coupling = {{1e4, 20.0}};
+  expectNaming([&] { ContactSolver(solver, 8, coupling); }, "contact.solver.max_iterations");
   solver = {};
   solver.relative_tolerance = 0.0;
-  expectNaming([&] { ContactSolver(solver, 8); }, "contact.solver.relative_tolerance");
-  expectNaming([] { ContactSolver({}, 0); }, "contact.max_contacts");
+  expectNaming([&] { ContactSolver(solver, 8, coupling); }, "contact.solver.relative_tolerance");
+  expectNaming([&] { ContactSolver({}, 0, coupling); }, "contact.max_contacts");
+  expectNaming([] { ContactSolver({}, 8, {}); }, "contact.tools");
+  expectNaming([] { ContactSolver({}, 8, {{0.0, 20.0}}); }, "tool.coupling_stiffness");
+  expectNaming([] { ContactSolver({}, 8, {{1e4, std::nan("")}}); }, "tool.max_force");
   const TetMesh mesh = makeBox({0, 0, 0}, {1, 1, 1}, {1, 1, 1}, ElementType::Tet4);
   const Eigen::VectorXd rest = Eigen::Map<const Eigen::VectorXd>(mesh.nodes.data(), 24);
   expectNaming([&] { ContactPhase(extractSurface(mesh), rest, {}, true); }, "contact.tools");
   ContactPhaseSettings missing_radius;
   missing_radius.tools.emplace_back();
+  missing_radius.tools.back().coupling_stiffness = 1e4;
+  missing_radius.tools.back().max_force = 20.0;
   expectNaming([&] { ContactPhase(extractSurface(mesh), rest, missing_radius, true); },
                "tool.radius");
 }

@@ -11,6 +11,9 @@ enum class StepStatus {
   SolverFailed,  ///< the linear solver failed (e.g. matrix not positive definite)
   NonFinite,     ///< NaN or Inf detected; the state was restored to the last finite one
   BlowUp,        ///< explicit integration became unstable (energy or velocity grew without bound)
+  /// A tool's contact or grasp force reached its limit (ToolSpec::max_force): the force was
+  /// capped (a grasp slipped); the state is finite and bounded but the tool pose is not honoured.
+  ContactLimited,
 };
 
 /// Lower-case name of a status, e.g. "not_converged".

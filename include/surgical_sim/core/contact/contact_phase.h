@@ -34,6 +34,11 @@ struct ToolSettings {
   ContactResponse response = ContactResponse::Constraint;
   double proxy_stiffness = std::numeric_limits<double>::quiet_NaN();  ///< Proxy only [N/m], > 0
   double grasp_radius = std::numeric_limits<double>::quiet_NaN();     ///< [m], > 0
+  /// Constraint only: tool body to commanded pose spring k_c [N/m], > 0 (ToolCoupling).
+  double coupling_stiffness = std::numeric_limits<double>::quiet_NaN();
+  /// Cap on the tool's contact force (constraint multipliers, proxy spring) and on its grasp
+  /// force (the grasp slips above it) [N], > 0.
+  double max_force = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// Settings of the contact phase.
@@ -54,6 +59,9 @@ struct ContactTimings {
 ///   contact.setToolPose(i, X_ST); contact.setGrasp(i, closed);        // inputs, any time
 ///   contact.prepareStep(state.x, f_base, bc_base, problem.external_force, problem.dirichlet);
 ///   integrator.step(problem, dt, state);                               // free motion
+///   if (contact.slipOverloadedGrasps(model, state.x, failed)) {        // a grasp let go:
+///     restore state; prepareStep again; integrator.step again;        //   redo the step
+///   }
 ///   contact.finishStep(integrator, model, dt, state);                  // detect, solve, correct
 ///   contact.linearization(i), contact.timings()                        // outputs
 /// All quantities in the tissue frame S. prepareStep/finishStep never throw and allocate nothing
@@ -63,7 +71,8 @@ class ContactPhase {
   /// @param surface the tissue surface (volume node indices)
   /// @param rest rest positions [m], size 3n, in S (BVH construction)
   /// @param update_velocity false for quasi-static integrators
-  /// @throws std::invalid_argument naming "contact.tools" (empty), "tool.*" or "contact.*"
+  /// @throws std::invalid_argument naming "contact.tools" (empty), "tool.*" (coupling_stiffness
+  ///         is checked for constraint tools only) or "contact.*"
   ContactPhase(const SurfaceMesh& surface, const Eigen::VectorXd& rest,
                const ContactPhaseSettings& settings, bool update_velocity);
 
@@ -71,7 +80,8 @@ class ContactPhase {
   /// Sets tool `tool`'s tip pose X_ST. Returns false (pose kept) for a bad index or NaN/Inf.
   /// A tool whose pose was never set touches and grasps nothing.
   bool setToolPose(int tool, const Eigen::Isometry3d& X_ST);
-  /// Requests the jaws of tool `tool` closed or open (applied at the next prepareStep).
+  /// Requests the jaws of tool `tool` closed or open (applied at the next prepareStep). A grasp
+  /// that slipped stays released until the jaws are opened and closed again.
   void setGrasp(int tool, bool closed);
 
   /// Before Integrator::step: updates grasps at positions x; writes
@@ -80,9 +90,18 @@ class ContactPhase {
   void prepareStep(const Eigen::VectorXd& x, const Eigen::VectorXd& base_force,
                    const DirichletBc& base_dirichlet, Eigen::VectorXd& external_force,
                    DirichletBc& dirichlet);
+  /// After Integrator::step, before finishStep: the jaws of a grasping tool slip (the grasp is
+  /// released) when the force of the tissue on them at positions x [m] (size 3n), the sum of
+  /// the internal forces on the grasped nodes, exceeds the tool's max_force, or when
+  /// step_failed (the integrator could not take the step with the grasps). Returns whether a
+  /// grasp slipped: the caller then restores the state from before the step and repeats
+  /// prepareStep and the integrator step (nothing else of the contact phase has changed since
+  /// prepareStep). Never throws.
+  bool slipOverloadedGrasps(const TissueModel& model, const Eigen::VectorXd& x, bool step_failed);
   /// After Integrator::step (state = free motion): refits the BVH, detects, solves the
   /// constraints and corrects state, updates proxies and the per-tool linearizations.
-  /// Returns the contact solver's status (Ok when no constraint tool touches).
+  /// Returns the contact solver's status (Ok when no constraint tool touches), ContactLimited
+  /// also when a proxy spring force was capped.
   StepStatus finishStep(Integrator& integrator, const TissueModel& model, double dt,
                         SimulationState& state);
 
@@ -91,6 +110,10 @@ class ContactPhase {
   /// Contacts of the constraint tools found in the last step.
   const std::vector<ContactPoint>& contacts() const { return contacts_; }
   const ContactSolver& solver() const { return solver_; }
+  /// Contact force the last step applied to the tissue [N], size 3n, S: the proxy spring
+  /// forces of its free step plus the constraint force H^T lambda that replaced the carried one
+  /// (grasp reactions excluded). Allocates its result (diagnostics only).
+  Eigen::VectorXd appliedForce() const;
 
  private:
   struct Tool {
@@ -99,7 +122,9 @@ class ContactPhase {
     std::optional<ProxyContact> proxy;
     GraspConstraint grasp;
     bool grasp_requested = false;
-    bool posed = false;  ///< a pose was set: until then the tool touches and grasps nothing
+    bool posed = false;    ///< a pose was set: until then the tool touches and grasps nothing
+    bool slipped = false;  ///< the grasp slipped; cleared when the jaws open
+    double max_force;      ///< [N]
     ContactLinearization linearization;
   };
 
@@ -113,6 +138,7 @@ class ContactPhase {
   std::vector<ContactPoint> contacts_;
   std::vector<std::uint8_t> fixed_mask_;
   Eigen::VectorXd applied_force_;   ///< constraint force applied in the current free step [N]
+  Eigen::VectorXd proxy_force_;     ///< proxy forces applied in the current free step [N]
   Eigen::VectorXd internal_force_;  ///< work vector for grasp forces [N]
   ContactTimings timings_;
 };

@@ -31,8 +31,8 @@ struct ContactLinearization {
   bool in_contact = false;                         ///< at least one active contact / grasp
   Eigen::Vector3d p0_S = Eigen::Vector3d::Zero();  ///< tool tip position [m], S
   Eigen::Vector3d f0_S = Eigen::Vector3d::Zero();  ///< force of the tissue on the tool [N], S
-  Eigen::Matrix3d K_S = Eigen::Matrix3d::Zero();   ///< df/dp [N/m], S, 3x3, symmetric
-                                                   ///< (indefinite near vertices and edges)
+  Eigen::Matrix3d K_S = Eigen::Matrix3d::Zero();   ///< df/dp [N/m], S, 3x3 (not symmetric
+                                                   ///< near vertices and edges or at a force cap)
   int contacts = 0;                                ///< number of active contacts
 };
 

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <vector>
 
 #include "surgical_sim/core/common/status.h"
@@ -24,27 +25,50 @@ struct ContactSolverSettings {
 ///         "contact.solver.relative_tolerance"
 void validateContactSolverSettings(const ContactSolverSettings& settings);
 
+/// How one tool's body follows its commanded pose (DESIGN.md "The tool is coupled, not
+/// imposed"): the simulated tool is a massless body tied to the commanded pose by a spring, and
+/// its total contact force is capped. Physical parameters have no defaults (NaN fails validation).
+struct ToolCoupling {
+  /// k_c [N/m], finite and > 0: the tool body sits at the commanded pose displaced by
+  /// f_tool / k_c (f_tool: force of the tissue on the tool).
+  double stiffness = std::numeric_limits<double>::quiet_NaN();
+  /// F_max [N], finite and > 0: cap on the sum of the tool's contact multipliers, which bounds
+  /// |f_tool|.
+  double max_force = std::numeric_limits<double>::quiet_NaN();
+};
+
+/// @throws std::invalid_argument naming "tool.coupling_stiffness" or "tool.max_force"
+void validateToolCoupling(const ToolCoupling& coupling);
+
 /// Unilateral contact constraints solved through the compliance of the implicit step, in the
 /// spirit of SOFA's free-motion / correction loop:
 ///  1. the integrator takes the free step x_free, with the contact force of the previous step F_a
 ///     (applied_force, may be zero) already in its external force;
 ///  2. H has one row per contact, n^T times the barycentric weights on the triangle's 3 nodes;
-///     S = Integrator::applyStepCompliance (one call per contact column), W = H S H^T [m/N];
+///     S = Integrator::applyStepCompliance (one call per contact column); the gaps are measured
+///     with the tool at its commanded pose, and the tool body of tool t (ToolCoupling) is pushed
+///     back by -(1/k_t) sum_{j of t} lambda_j n_j, so the Delassus operator is
+///     W = H S H^T + C [m/N], C_ij = n_i . n_j / k_t for contacts i, j of the same tool t
+///     (W_ii >= 1/k_t: a contact on fixed nodes is well-posed);
 ///  3. the LCP 0 <= lambda _|_ q + W lambda >= 0 with q = g_free - H S F_a is solved by
 ///     projected Gauss-Seidel, whose active set is then refined to the exact solution by
 ///     principal pivoting (refineLcpActiveSet; lambda [N]: the new contact force replaces F_a);
+///     a tool whose multipliers sum above its max_force gets them scaled to sum to max_force
+///     (contradictory normals on fixed nodes make the LCP infeasible; the cap bounds the answer);
 ///  4. correction dx = S (H^T lambda - F_a): x += dx, v += dx / dt.
 /// tissueForce() = H^T lambda is the force on the tissue to carry into the next free step; the
-/// force of the tissue on tool t is -sum_{i of t} lambda_i n_i.
+/// force of the tissue on tool t is -sum_{i of t} lambda_i n_i, of magnitude <= max_force.
 ///
 /// Friction (not implemented): two tangent rows per contact with the same node weights and
 /// Coulomb cone projection in the Gauss-Seidel sweep fit this row structure unchanged.
 class ContactSolver {
  public:
   /// @param max_contacts largest number of contacts solve() will see (all tools), >= 1
-  /// @throws std::invalid_argument (validateContactSolverSettings) or naming
-  ///         "contact.max_contacts"
-  ContactSolver(const ContactSolverSettings& settings, int max_contacts);
+  /// @param tools coupling of each tool (index = ContactPoint::tool), at least one
+  /// @throws std::invalid_argument (validateContactSolverSettings, validateToolCoupling) or
+  ///         naming "contact.max_contacts" or "contact.tools" (empty)
+  ContactSolver(const ContactSolverSettings& settings, int max_contacts,
+                const std::vector<ToolCoupling>& tools);
 
   /// Solves the contacts (gaps measured at the free positions state.x) and corrects state.
   /// @param integrator integrator that just took the free step (its step compliance is used)
@@ -52,9 +76,11 @@ class ContactSolver {
   /// @param applied_force contact force already applied during the free step [N], size 3n
   /// @param dt step [s] (> 0) for the velocity correction
   /// @param update_velocity false for quasi-static integrators (v stays 0)
-  /// @return Ok; NotConverged (state corrected with the last Gauss-Seidel iterate) if neither
-  ///         Gauss-Seidel nor the active-set refinement converged; SolverFailed (state untouched,
-  ///         zero force) if the step compliance is unavailable or contacts exceed max_contacts.
+  /// @return Ok; ContactLimited if a tool's multipliers were scaled down to its max_force;
+  ///         otherwise NotConverged (state corrected with the last Gauss-Seidel iterate) if
+  ///         neither Gauss-Seidel nor the active-set refinement converged; SolverFailed (state
+  ///         untouched, zero force) if the step compliance is unavailable, contacts exceed
+  ///         max_contacts, a contact names an unknown tool or the multipliers are not finite.
   ///         Never throws; allocation-free once it has seen the size 3n and its largest contact
   ///         count.
   StepStatus solve(Integrator& integrator, const std::vector<ContactPoint>& contacts,
@@ -67,12 +93,16 @@ class ContactSolver {
   Eigen::Vector3d toolForce(int tool) const;
   /// Local linearization of tool `tool` at tip p0_S [m]: f0 = toolForce(tool) and
   /// K = -E^T Y - sum_i lambda_i (dn_i/du + dn_i/dx_i S H^T Y), Y = W_AA^-1 E, on the active set
-  /// A = {lambda_i > 0} (E: rows n_i^T of this tool's contacts, other tools held fixed). The first
-  /// term is the constraint stiffness (pushing along a normal n changes the force by -n/W per
-  /// metre); the second turns the normals at fixed multipliers, with the tool (vertex and edge
-  /// contacts, ContactPoint::dn_du) and with the tissue under the tool, which the multiplier
-  /// change moves by S H^T Y (ContactPoint::dn_dx). K is not symmetric in general. Allocation-free
-  /// after the solve.
+  /// A = {lambda_i > 0} (E: rows n_i^T of this tool's contacts, other tools held fixed; W includes
+  /// the coupling, so |K| is bounded by the coupling stiffness). The first term is the constraint
+  /// stiffness (pushing along a normal n changes the force by -n/W per metre); the second turns
+  /// the normals at fixed multipliers, with the tool (vertex and edge contacts,
+  /// ContactPoint::dn_du) and with the tissue under the tool, which the multiplier change moves
+  /// by S H^T Y (ContactPoint::dn_dx). For a tool capped at max_force F the applied multipliers
+  /// are lambda = F lambda* / sum(lambda*), so its rows of Y become
+  /// (F / sum(lambda*)) (Y_i - (lambda_i / F) sum_{j of the tool} Y_j): the stiffness of the
+  /// force actually applied (no change of magnitude along the cap). K is not symmetric in
+  /// general. Allocation-free after the solve.
   /// Allocation-free. out.in_contact is false (f0 = 0, K = 0) without an active contact.
   void linearize(int tool, const Eigen::Vector3d& p0_S, ContactLinearization& out);
   /// Multipliers lambda [N] of the last solve, one per contact.
@@ -83,9 +113,14 @@ class ContactSolver {
   Eigen::Ref<const Eigen::VectorXd> freeGaps() const { return q_.head(count_); }
   /// Report of the last LCP solve (the active-set refinement's when it converged).
   const PgsReport& report() const { return report_; }
+  /// Whether tool `tool`'s multipliers were capped at its max_force in the last solve.
+  bool limited(int tool) const;
 
  private:
   void resize(Eigen::Index size);
+  /// Scales each tool's multipliers whose sum exceeds its max_force down to it (force_scale_);
+  /// returns whether any tool was capped.
+  bool capToolForces();
   /// h_i^T v for contact i.
   double rowDot(const ContactPoint& contact, const Eigen::VectorXd& v) const;
   /// v += scale h_i.
@@ -93,6 +128,9 @@ class ContactSolver {
 
   ContactSolverSettings settings_;
   int max_contacts_;
+  std::vector<ToolCoupling> couplings_;
+  /// Per tool: applied / LCP multipliers of the last solve (1 when not capped) [-].
+  std::vector<double> force_scale_;
   Eigen::Index count_ = 0;
   Eigen::MatrixXd W_;                   ///< max x max, top-left count x count used
   Eigen::MatrixXd factor_;              ///< max x max, W_AA factorization work space

@@ -12,15 +12,17 @@ namespace surgical_sim::core {
 /// A proxy point stays on the deformed surface where the tool tip entered it (a triangle and
 /// barycentric weights, so it follows the deformation); while the tip is inside, the proxy slides
 /// to the surface point locally closest to the tip. A spring k_proxy between the tip and the
-/// proxy gives the force on the tool f = k_proxy (p_proxy - p_tip); its opposite is applied to
-/// the proxy triangle's nodes (barycentric weights) as external force in the next step. The
-/// stiffness for the haptic loop is K = df/dp = -k_proxy n n^T (n: the proxy triangle's outward
-/// normal; the proxy slides tangentially). All quantities in the tissue frame S.
+/// proxy gives the force on the tool f = k_proxy (p_proxy - p_tip), saturated at |f| = F_max;
+/// its opposite is applied to the proxy triangle's nodes (barycentric weights) as external force
+/// in the next step. The stiffness for the haptic loop is K = df/dp = -k_proxy n n^T (n: the
+/// proxy triangle's outward normal; the proxy slides tangentially), 0 while saturated. All
+/// quantities in the tissue frame S.
 class ProxyContact {
  public:
   /// @param stiffness k_proxy [N/m], finite and > 0
-  /// @throws std::invalid_argument naming "tool.proxy_stiffness"
-  explicit ProxyContact(double stiffness);
+  /// @param max_force F_max [N], finite and > 0
+  /// @throws std::invalid_argument naming "tool.proxy_stiffness" or "tool.max_force"
+  ProxyContact(double stiffness, double max_force);
 
   /// Updates the proxy for the tip position p_tip_S [m] and the deformed surface (bvh refit to
   /// x). Entry: the tip moved since the last update across a triangle from its outer side, or
@@ -38,9 +40,12 @@ class ProxyContact {
   bool inContact() const { return in_contact_; }
   /// Proxy point [m], S (meaningful while in contact).
   const Eigen::Vector3d& proxy() const { return p_proxy_; }
-  /// Force of the tissue on the tool k_proxy (p_proxy - p_tip) [N], S; 0 without contact.
+  /// Force of the tissue on the tool k_proxy (p_proxy - p_tip) saturated at F_max [N], S; 0
+  /// without contact.
   Eigen::Vector3d toolForce() const;
-  /// Local model at the tip: f0 = toolForce(), K = -k_proxy n n^T.
+  /// Whether the spring force is saturated at F_max (in contact only).
+  bool limited() const;
+  /// Local model at the tip: f0 = toolForce(), K = -k_proxy n n^T (0 while limited()).
   ContactLinearization linearization() const;
   double stiffness() const { return stiffness_; }  ///< k_proxy [N/m]
 
@@ -56,6 +61,7 @@ class ProxyContact {
                                  const Eigen::VectorXd& x, SurfaceBvh& bvh);
 
   double stiffness_;
+  double max_force_;  ///< [N]
   bool in_contact_ = false;
   bool has_previous_tip_ = false;
   Eigen::Vector3d p_tip_ = Eigen::Vector3d::Zero();

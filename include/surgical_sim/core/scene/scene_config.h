@@ -81,6 +81,13 @@ struct ToolSpec {
   std::string contact;           ///< "constraint" (Lagrange multipliers, PGS) or "proxy"
   double proxy_stiffness = 0.0;  ///< proxy spring [N/m], (0, 1e6] (contact: proxy)
   double grasp_radius = 0.0;     ///< nodes within this distance of the tip are grasped [m]
+  /// Constraint tools: the simulated tool body follows the commanded pose through this spring
+  /// [N/m], [1, 1e7]. Default 1e4: about 30x the tissue under a 5 mm tool (50-300 N/m), so a
+  /// palpation force changes by a few percent while a push against fixed tissue stays bounded.
+  double coupling_stiffness = 1e4;
+  /// Cap on the tool's contact force and grasp force (the jaws slip above it) [N], [1e-3, 1e4].
+  /// Default 20 N: above what a laparoscopic instrument applies to soft tissue in palpation.
+  double max_force = 20.0;
   /// Jaws from a device joint: the joint `grip_joint` of the sensor_msgs/JointState messages on
   /// grip_topic closes the jaws at or below grip_closed_angle [rad] (trocar_grip: 0 = closed).
   std::string grip_joint;  ///< empty: none

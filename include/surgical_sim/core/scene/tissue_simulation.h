@@ -47,7 +47,12 @@ class TissueSimulation {
   TissueSimulation(const TissueSimulation&) = delete;
   TissueSimulation& operator=(const TissueSimulation&) = delete;
 
-  /// Advances by the scene's time step.
+  /// Advances by the scene's time step. Status (stats.report.status): the integrator's failure
+  /// if any, else the contact solver's failure, else ContactLimited when a tool's contact force
+  /// was capped at its ToolSpec::max_force or a grasp slipped (the jaws let go when holding the
+  /// tissue would take more than max_force; the step is then repeated from its start without
+  /// that grasp), else NotConverged for an inexact solve, else Ok. A state that is not finite
+  /// after the step is replaced by the state before it and the status is NonFinite.
   SimulationStepStats step();
   /// Back to the rest state, time 0, tools released.
   void reset();
@@ -75,8 +80,12 @@ class TissueSimulation {
   const SurfaceMesh& surface() const { return surface_; }
   const SimulationState& state() const { return state_; }
   const TissueModel& model() const { return *model_; }
-  /// Contact model of tool `tool` after the last step (zero when not in contact / no tools).
+  /// Contact model of tool `tool` after the last step (zero when not in contact / no tools);
+  /// f0_S is the force of the tissue on the tool [N], |f0_S| <= ToolSpec::max_force.
   ContactLinearization toolContact(int tool) const;
+  /// Contact force the last step applied to the tissue (ContactPhase::appliedForce) [N], size
+  /// 3n, tissue frame; zero without tools. Allocates its result (diagnostics only).
+  Eigen::VectorXd appliedContactForce() const;
   /// Surface nodes touched by any tool in the last step (volume node indices, may repeat).
   const std::vector<int>& contactNodes() const { return contact_nodes_; }
   /// Structures this scene built, e.g. {"model", "integrator", "contact", "damping"}.
@@ -90,6 +99,8 @@ class TissueSimulation {
   std::unique_ptr<ContactPhase> makeContact(const Eigen::VectorXd& rest) const;
   /// Applies the queued cuts; returns true if the topology changed.
   bool applyCuts();
+  /// Puts the state back to the start of the current step (x_previous_, v_previous_, time [s]).
+  void restoreStart(double time);
 
   SceneConfig scene_;
   TetMesh original_mesh_;
@@ -108,6 +119,7 @@ class TissueSimulation {
   std::unique_ptr<TetCutter> cutter_;                         ///< null until the first cut request
   std::vector<BladeSweep> pending_cuts_;
   Eigen::VectorXd x_previous_;  ///< positions at the start of the last step [m]
+  Eigen::VectorXd v_previous_;  ///< velocities at the start of the last step [m/s]
   std::vector<bool> cut_faces_;
 };
 
