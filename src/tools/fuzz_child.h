@@ -96,14 +96,21 @@ inline ChildResult runInChild(const std::function<std::string()>& trial, double 
   return result;
 }
 
-/// `text` as one CSV field: quoted, inner quotes doubled, line breaks as spaces.
+/// `text` as one CSV field: quoted, inner quotes doubled, bytes outside printable ASCII (line
+/// breaks, bytes of corrupted files) written as \xNN.
 inline std::string csvField(const std::string& text) {
   std::string out = "\"";
-  for (char c : text) {
-    if (c == '"')
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (c == '"') {
       out += "\"\"";
-    else
-      out += (c == '\n' || c == '\r') ? ' ' : c;
+    } else if (byte < 0x20 || byte > 0x7e) {
+      char hex[5];
+      std::snprintf(hex, sizeof(hex), "\\x%02x", byte);
+      out += hex;
+    } else {
+      out += c;
+    }
   }
   return out + "\"";
 }

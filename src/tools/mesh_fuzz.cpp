@@ -37,7 +37,7 @@ int usage(const std::string& error) {
 
 std::vector<std::string> shippedMeshes(const fs::path& root) {
   std::vector<std::string> files;
-  for (const fs::path dir : {root / "config/meshes", root / "test/data"}) {
+  for (const fs::path& dir : {root / "config/meshes", root / "test/data"}) {
     if (!fs::is_directory(dir)) continue;
     for (const auto& entry : fs::directory_iterator(dir)) {
       const std::string ext = entry.path().extension().string();

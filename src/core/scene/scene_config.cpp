@@ -3,7 +3,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -20,6 +22,8 @@ constexpr std::size_t kMaxSceneBytes = 4 << 20;  ///< largest scene file [bytes]
 constexpr std::size_t kMaxListLength = 10000;    ///< longest list of any key
 constexpr long long kMaxYamlNodes = 1000000;     ///< YAML nodes visited (aliases count again)
 constexpr double kMaxTissueOffset = 100.0;       ///< |tissue_pose.position| limit [m]
+constexpr double kMaxDisplacement = 10.0;        ///< |prescribed displacement|, |reference| [m]
+constexpr double kMaxLoadFactor = 1e3;           ///< |load_factors entry| [-]
 /// Working memory per node and per element of a case (mesh, model, stiffness and system
 /// matrices, sparse factorisation), by element type [bytes]; see estimateMeshSize().
 constexpr double kBytesPerNode[2] = {20e3, 20e3};
@@ -165,15 +169,13 @@ class KeyReader {
     if (allow_infinite && (s == ".inf" || s == "+.inf"))
       return std::numeric_limits<double>::infinity();
     if (allow_infinite && s == "-.inf") return -std::numeric_limits<double>::infinity();
-    std::size_t used = 0;
-    double v = 0.0;
-    try {
-      v = std::stod(s, &used);
-    } catch (const std::exception&) {
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(s.c_str(), &end);  // an underflow to 0 / subnormal is accepted
+    if (s.empty() || std::isspace(static_cast<unsigned char>(s[0])) || *end != '\0')
       fail(key, "expected a number, got '" + s + "'");
-    }
-    if (used != s.size()) fail(key, "expected a number, got '" + s + "'");
-    if (!std::isfinite(v)) fail(key, "must be finite, got '" + s + "'");
+    if (!std::isfinite(v) || (errno == ERANGE && std::abs(v) > 1.0))
+      fail(key, "must be finite, got '" + s + "'");
     return v;
   }
 
@@ -223,8 +225,9 @@ void rejectDuplicateKeys(const YAML::Node& node, const std::string& dotted, cons
 void checkRange(const KeyReader& r, const std::string& key, double v, double lo, double hi,
                 const std::string& unit) {
   if (!(v >= lo && v <= hi)) {
+    const std::string u = unit.empty() ? "" : " " + unit;
     std::ostringstream s;
-    s << v << " " << unit << " is out of range [" << lo << ", " << hi << "] " << unit;
+    s << v << u << " is out of range [" << lo << ", " << hi << "]" << u;
     r.fail(key, s.str());
   }
 }
@@ -313,6 +316,7 @@ MeasureSpec readMeasure(const KeyReader& scene) {
       m.reference = r.number("reference");
       if (*m.reference == 0.0)
         r.fail("reference", "must be non-zero (error_rel is relative to it)");
+      checkRange(r, "reference", std::abs(*m.reference), 1e-12, kMaxDisplacement, "m (magnitude)");
     } else {
       m.reference_formula =
           r.choice("reference_formula", {"euler_bernoulli_timoshenko", "axial_self_weight"});
@@ -387,9 +391,11 @@ SceneConfig parse(const YAML::Node& root, const std::string& path) {
 
   const KeyReader mat = r.child("material");
   mat.onlyKeys({"young_modulus", "poisson_ratio", "density"});
+  const double young_modulus = mat.number("young_modulus");
+  const double poisson_ratio = mat.number("poisson_ratio");
+  const double density = mat.number("density");
   try {
-    s.material = Material::create(mat.number("young_modulus"), mat.number("poisson_ratio"),
-                                  mat.number("density"));
+    s.material = Material::create(young_modulus, poisson_ratio, density);
   } catch (const std::invalid_argument& e) {
     // Material names the parameter "material.<key> = ...".
     const std::string what = e.what();
@@ -409,6 +415,8 @@ SceneConfig parse(const YAML::Node& root, const std::string& path) {
   checkRange(r, "time_step", s.time_step, 1e-7, 1.0, "s");
   s.steps = r.integer("steps", 1, 1000000);
   if (r.has("load_factors")) s.load_factors = r.numbers("load_factors");
+  for (double f : s.load_factors)
+    checkRange(r, "load_factors", f, -kMaxLoadFactor, kMaxLoadFactor, "");
   if (r.has("gravity")) s.gravity = r.vector3("gravity");
   checkRange(r, "gravity", s.gravity.norm(), 0.0, 1e4, "m/s^2");
   if (r.has("damping")) {
@@ -450,6 +458,8 @@ SceneConfig parse(const YAML::Node& root, const std::string& path) {
     item.onlyKeys({"region", "components", "displacement"});
     s.prescribed.push_back(
         {readRegion(item, "region"), readComponents(item), item.vector3("displacement")});
+    checkRange(item, "displacement", s.prescribed.back().displacement.norm(), 0.0, kMaxDisplacement,
+               "m (magnitude)");
   });
   s.measure = readMeasure(r);
   readList("tools", [&](const KeyReader& item) {

@@ -225,11 +225,33 @@ TEST(SceneConfig, ReferenceFormulaNeedsGravityAndReferenceIsNonZero) {
                  {"key 'measure.reference'", "must be non-zero"});
 }
 
+TEST(SceneConfig, LoadPathAndReferencesAreBounded) {
+  expectRejected(replaced(kValidScene, "steps: 1\n", "steps: 1\nload_factors: [0.1, 1e20]\n"),
+                 {"key 'load_factors'", "1e+20 is out of range [-1000, 1000]"});
+  const std::string tip = replaced(kValidScene, "  type: self_reference",
+                                   "  type: tip_displacement\n  region: {}\n  component: z\n"
+                                   "  reference: 99999999999999999999");
+  expectRejected(tip, {"key 'measure.reference'", "out of range"});
+  expectRejected(replaced(kValidScene, "fixed:\n",
+                          "prescribed:\n  - region: {}\n    displacement: [0, 0, 1e6]\nfixed:\n"),
+                 {"key 'prescribed[0].displacement'", "out of range"});
+  // A subnormal underflows to (almost) zero and is accepted as a number.
+  EXPECT_NO_THROW(parseSceneConfig(
+      replaced(kValidScene, "steps: 1\n", "steps: 1\ngravity: [0, 1e-320, -9.81]\n"), "t"));
+}
+
 TEST(SceneConfig, MaterialErrorsNameTheKey) {
   expectRejected(replaced(kValidScene, "poisson_ratio: 0.3", "poisson_ratio: 0.7"),
                  {"key 'material.poisson_ratio'", "out of range"});
   expectRejected(replaced(kValidScene, "density: 1000.0", "density: 1e9"),
                  {"key 'material.density'"});
+  try {
+    parseSceneConfig(replaced(kValidScene, "density: 1000.0", "density: soft"), "test.yaml");
+    FAIL() << "accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "scene test.yaml: key 'material.density': expected a number, got 'soft'");
+  }
 }
 
 TEST(SceneConfig, EmptyStringsAndTopicNamesAreRejected) {
