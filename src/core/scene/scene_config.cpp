@@ -1,5 +1,6 @@
 #include "surgical_sim/core/scene/scene_config.h"
 
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cctype>
@@ -26,7 +27,7 @@ constexpr double kMaxDisplacement = 10.0;        ///< |prescribed displacement|,
 constexpr double kMaxLoadFactor = 1e3;           ///< |load_factors entry| [-]
 /// Working memory per node and per element of a case (mesh, model, stiffness and system
 /// matrices, sparse factorisation), by element type [bytes]; see estimateMeshSize().
-constexpr double kBytesPerNode[2] = {20e3, 20e3};
+constexpr double kBytesPerNode[2] = {40e3, 50e3};
 constexpr double kBytesPerElement[2] = {0.5e3, 3e3};
 
 /// Reads typed values from a YAML map and reports errors with the scene path and dotted key.
@@ -524,6 +525,10 @@ SceneConfig parseSceneConfig(const std::string& yaml_text, const std::string& pa
   YAML::Node root;
   try {
     root = YAML::Load(yaml_text);
+  } catch (const YAML::DeepRecursion& e) {
+    throw std::invalid_argument("scene " + path + ": malformed YAML at line " +
+                                std::to_string(e.mark.line + 1) + ": nested more than " +
+                                std::to_string(e.depth() - 1) + " levels deep");
   } catch (const YAML::Exception& e) {
     throw std::invalid_argument("scene " + path + ": malformed YAML at line " +
                                 std::to_string(e.mark.line + 1) + ": " + e.msg);

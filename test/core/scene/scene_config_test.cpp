@@ -65,6 +65,11 @@ TEST(SceneConfig, MalformedYamlNamesTheLine) {
   expectRejected("name: x\nmesh: [unclosed\n", {"test.yaml", "malformed YAML", "line"});
 }
 
+TEST(SceneConfig, DeepNestingNamesTheLine) {
+  expectRejected("name: x\nmesh: " + std::string(5000, '[') + std::string(5000, ']') + "\n",
+                 {"test.yaml", "malformed YAML at line 2", "levels deep"});
+}
+
 TEST(SceneConfig, MissingKeyIsNamed) {
   expectRejected(replaced(kValidScene, "  density: 1000.0\n", ""),
                  {"material.density", "missing required key"});
@@ -173,9 +178,9 @@ TEST(SceneConfig, MeshBeyondTheMemoryBudgetIsRejectedBeforeBuilding) {
                  {"key 'mesh.resolutions'", "resolution [4096, 4096, 4096] with tet4 needs about",
                   "above the budget of 8 GB"});
   expectRejected(replaced(kValidScene, "  resolutions: [[1, 1, 1]]\n",
-                          "  resolutions: [[1, 1, 1], [60, 60, 60]]\n"
+                          "  resolutions: [[1, 1, 1], [40, 40, 40]]\n"
                           "  element_types: [tet4, tet10]\n"),
-                 {"key 'mesh.resolutions'", "[60, 60, 60] with tet10"});
+                 {"key 'mesh.resolutions'", "[40, 40, 40] with tet10"});
   MeshSpec organ;
   organ.generator = "organ_blob";
   const MeshSizeEstimate e = estimateMeshSize(organ, {8, 0, 0}, ElementType::Tet4);

@@ -49,7 +49,7 @@ TEST(SceneFuzz, HundredMutantsAreAcceptedOrRejectedNamingTheirKey) {
     std::mt19937 rng(1400 + i);
     const SceneMutant mutant = mutateScene(scene.text, rng);
     // Construct only small meshes (the palpation and cutting organs, the T2 cube).
-    const SceneTrialResult r = trySceneMutant(mutant.text, scene.path, 20e6);
+    const SceneTrialResult r = trySceneMutant(mutant.text, scene.path, 40e6);
     SCOPED_TRACE(scene.path + " / " + mutant.mutation + ": " + r.message);
     EXPECT_NE(r.outcome, SceneFuzzOutcome::Crash);
     if (r.outcome == SceneFuzzOutcome::RejectedNamingKey) ++named;

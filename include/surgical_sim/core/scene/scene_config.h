@@ -126,8 +126,8 @@ struct MeshSizeEstimate {
   double nodes = 0.0;     ///< mesh nodes (tet10: corners plus edge nodes)
   double elements = 0.0;  ///< tetrahedra
   double bytes = 0.0;     ///< mesh, model, stiffness and system matrices and sparse
-                          ///< factorisation: 20 kB per node plus 0.5 kB (tet4) or 3 kB (tet10)
-                          ///< per element [bytes]
+                          ///< factorisation: 40 kB (tet4) or 50 kB (tet10) per node plus 0.5 kB
+                          ///< (tet4) or 3 kB (tet10) per element [bytes]
 };
 
 /// Estimate for the generator of `spec` at `resolution` (see MeshSpec::resolutions) and element
