@@ -251,7 +251,18 @@ TetMesh buildSceneMesh(const MeshSpec& spec, const Eigen::Vector3i& res, Element
   if (!problem.empty())
     throw std::invalid_argument("buildSceneMesh: key 'mesh.resolutions': " + problem);
   if (spec.generator == "file") {
-    TetMesh mesh = readGmsh(spec.file, spec.metres_per_unit);
+    const std::string key = "buildSceneMesh: key 'mesh.file': ";
+    TetMesh mesh;
+    try {
+      mesh = readGmsh(spec.file, spec.metres_per_unit);  // messages start with the path
+    } catch (const std::runtime_error& e) {
+      throw std::invalid_argument(key + e.what());
+    }
+    try {
+      requireValidMesh(mesh);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(key + spec.file + ": " + e.what());
+    }
     if (type == ElementType::Tet10 && mesh.type == ElementType::Tet4) return promoteToTet10(mesh);
     return mesh;
   }

@@ -1,6 +1,7 @@
 #include "surgical_sim/core/scene/tissue_case.h"
 
 #include <cmath>
+#include <fstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -67,6 +68,36 @@ TEST(TissueCase, MeshBeyondTheBudgetIsRejectedBeforeBuilding) {
     FAIL() << "a 4096^3 tet10 box was built";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("key 'mesh.resolutions'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(TissueCase, BadMeshFileIsNamedWithTheKey) {
+  // Two tets sharing a face, the second one inverted (its last two nodes swapped).
+  const std::string path = ::testing::TempDir() + "/inverted_two_tets.msh";
+  std::ofstream(path) << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n5\n1 0 0 0\n"
+                         "2 10 0 0\n3 0 10 0\n4 0 0 10\n5 10 10 10\n$EndNodes\n$Elements\n2\n"
+                         "1 4 0 1 2 3 4\n2 4 0 2 3 5 4\n$EndElements\n";
+  MeshSpec spec;
+  spec.generator = "file";
+  spec.file = path;
+  spec.metres_per_unit = 1e-3;
+  try {
+    buildSceneMesh(spec, Eigen::Vector3i::Zero(), ElementType::Tet4);
+    FAIL() << "an inverted mesh was built";
+  } catch (const std::invalid_argument& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("key 'mesh.file': " + path + ": invalid mesh"), std::string::npos)
+        << message;
+    EXPECT_NE(message.find("inverted"), std::string::npos) << message;
+  }
+  spec.file = ::testing::TempDir() + "/no_such_mesh.msh";
+  try {
+    buildSceneMesh(spec, Eigen::Vector3i::Zero(), ElementType::Tet4);
+    FAIL() << "a missing mesh was built";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("key 'mesh.file': " + spec.file + ": cannot open"),
+              std::string::npos)
+        << e.what();
   }
 }
 

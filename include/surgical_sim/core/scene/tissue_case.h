@@ -44,9 +44,10 @@ struct CaseResult {
 std::vector<CaseSpec> expandSweep(const SceneConfig& scene);
 
 /// Builds the mesh of one resolution / element type of the scene (metres).
-/// @throws std::invalid_argument or std::runtime_error on bad generator arguments / files, and
-///         std::invalid_argument naming 'mesh.resolutions' before allocating anything when the
-///         mesh exceeds the memory budget (meshBudgetProblem()).
+/// @throws std::invalid_argument on bad generator arguments; naming 'mesh.file' and the file
+///         for a mesh file that cannot be read or fails requireValidMesh(); naming
+///         'mesh.resolutions' before allocating anything when the mesh exceeds the memory budget
+///         (meshBudgetProblem()).
 TetMesh buildSceneMesh(const MeshSpec& spec, const Eigen::Vector3i& resolution, ElementType type);
 
 /// Node-major DOF indices of every node in `region` for the set components.
