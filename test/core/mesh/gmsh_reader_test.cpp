@@ -3,6 +3,7 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <Eigen/Core>
@@ -168,6 +169,29 @@ TEST(GmshReader, NonFiniteCoordinateIsRejected) {
   expectRejected(
       writeTemp("inf_node.msh", std::string(kFormat22) + "$Nodes\n1\n1 0 1e999 0\n$EndNodes\n"),
       "bad number '1e999' for node y");
+}
+
+TEST(GmshReader, TruncationAtEverySectionLineIsRejected) {
+  // Every prefix of a shipped file that ends just before or just after a '$' line (except the
+  // whole file) lacks $EndElements, so it must be rejected naming the file.
+  for (const std::string name : {"two_tets_v22.msh", "two_tets_v41.msh", "tet10_v22.msh"}) {
+    std::ifstream in(dataPath(name));
+    std::vector<std::string> lines;
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    std::string prefix;
+    for (std::size_t l = 0; l + 1 < lines.size(); ++l) {
+      const bool section_line = lines[l][0] == '$';
+      if (section_line && l > 0) {
+        SCOPED_TRACE(name + " before line " + std::to_string(l + 1));
+        expectRejected(writeTemp("cut_" + name, prefix), "");
+      }
+      prefix += lines[l] + "\n";
+      if (section_line) {
+        SCOPED_TRACE(name + " after line " + std::to_string(l + 1));
+        expectRejected(writeTemp("cut_" + name, prefix), "");
+      }
+    }
+  }
 }
 
 TEST(GmshReader, MissingFileThrowsNamingIt) {
