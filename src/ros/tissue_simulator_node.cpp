@@ -30,6 +30,8 @@ TissueSimulatorNode::TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& p
   surface_period_ = 1.0 / numberParam(pnh, "surface_rate", 30.0, {0.0, 1000.0, true}, "Hz");
 
   sim_ = std::make_unique<core::TissueSimulation>(core::loadSceneConfig(scene_path));
+  for (const std::string& warning : sim_->warnings())
+    ROS_WARN_NAMED("tissue_simulator", "scene %s: %s", scene_path.c_str(), warning.c_str());
   X_WS_ = sim_->scene().tissue_pose;
 
   geometry_msgs::TransformStamped t = tf2::eigenToTransform(X_WS_);

@@ -1,8 +1,11 @@
 #include "surgical_sim/core/mesh/gmsh_reader.h"
 
+#include <cmath>
 #include <cstddef>
+#include <stdexcept>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include <Eigen/Core>
@@ -15,11 +18,18 @@ namespace {
 
 enum class MshVersion { V2, V41 };
 
+/// Largest node or element count of one section or block: indices are int.
+constexpr long long kMaxEntities = 100'000'000;
+/// Fewest bytes one announced entry (node, element, block, tag) occupies in the file: a digit
+/// and a line break or space.
+constexpr long long kMinBytesPerEntry = 2;
+
 /// Nodes and tetrahedra as read, before compaction. Node indices refer to file order.
 struct RawMesh {
   std::vector<Eigen::Vector3d> node_positions;    ///< file units
   std::unordered_map<long long, int> node_index;  ///< Gmsh node tag -> file-order index
   std::vector<int> element_nodes;                 ///< flat, nodes_per_element per element
+  std::unordered_set<long long> element_tags;     ///< tags of all elements read (any type)
   int nodes_per_element = 0;                      ///< 0 until the first tetrahedron
 };
 
@@ -30,9 +40,26 @@ int tetNodesOfGmshType(long long gmsh_type) {
   return 0;
 }
 
-long long toCount(const LineTokenizer& in, const std::string& token, const std::string& what) {
+long long toNonNegative(const LineTokenizer& in, const std::string& token,
+                        const std::string& what) {
   const long long value = in.toInteger(token, what);
   if (value < 0) in.fail(what + " = " + token + " must be >= 0");
+  return value;
+}
+
+/// Parses a count of entries announced for the lines that follow and checks, before anything is
+/// read or allocated for them, that it is >= 0, at most kMaxEntities and that the rest of the
+/// file can hold that many entries.
+long long toCount(LineTokenizer& in, const std::string& token, const std::string& what) {
+  const long long value = toNonNegative(in, token, what);
+  if (value > kMaxEntities) {
+    in.fail(what + " = " + token + " exceeds the limit of " + std::to_string(kMaxEntities));
+  }
+  const long long remaining = in.bytesRemaining();
+  if (value > remaining / kMinBytesPerEntry) {
+    in.fail(what + " = " + token + " cannot fit in the " + std::to_string(remaining) +
+            " bytes left in the file");
+  }
   return value;
 }
 
@@ -52,12 +79,14 @@ void expectLine(LineTokenizer& in, const std::string& keyword) {
   if (in.tokens()[0] != keyword) in.fail("expected " + keyword + ", got '" + in.tokens()[0] + "'");
 }
 
+/// Skips an unknown section whose header line has just been read.
 void skipSection(LineTokenizer& in, const std::string& section) {
+  const int header_line = in.lineNumber();
   const std::string end = "$End" + section.substr(1);
   while (in.next()) {
     if (in.tokens()[0] == end) return;
   }
-  in.fail("unexpected end of file in " + section + " section: missing " + end);
+  in.fail("section " + section + " (line " + std::to_string(header_line) + ") has no " + end);
 }
 
 MshVersion readMeshFormat(LineTokenizer& in) {
@@ -89,6 +118,14 @@ void addNode(const LineTokenizer& in, RawMesh& raw, long long tag, const Eigen::
     in.fail("node tag " + std::to_string(tag) + " is defined twice");
   }
   raw.node_positions.push_back(p);
+}
+
+/// Records the tag of the element on the current line (tokens()[0]).
+void addElementTag(const LineTokenizer& in, RawMesh& raw) {
+  const long long tag = in.toInteger(in.tokens()[0], "element tag");
+  if (!raw.element_tags.insert(tag).second) {
+    in.fail("element tag " + std::to_string(tag) + " is defined twice");
+  }
 }
 
 Eigen::Vector3d readPosition(const LineTokenizer& in, std::size_t first) {
@@ -138,8 +175,9 @@ void readElementsV2(LineTokenizer& in, RawMesh& raw) {
     nextInSection(in, "$Elements",
                   "element " + std::to_string(i + 1) + " of " + std::to_string(count));
     in.requireTokens(3, "element tag, type and number of tags");
+    addElementTag(in, raw);
     const long long type = in.toInteger(in.tokens()[1], "element type");
-    const long long num_tags = toCount(in, in.tokens()[2], "number of element tags");
+    const long long num_tags = toNonNegative(in, in.tokens()[2], "number of element tags");
     if (tetNodesOfGmshType(type) != 0)
       addTet(in, raw, type, 3 + static_cast<std::size_t>(num_tags));
   }
@@ -193,6 +231,7 @@ void readElementsV41(LineTokenizer& in, RawMesh& raw) {
       nextInSection(in, "$Elements",
                     "element " + std::to_string(i + 1) + " of " + std::to_string(count) +
                         " in block " + std::to_string(b + 1));
+      addElementTag(in, raw);
       if (tetNodesOfGmshType(type) != 0) addTet(in, raw, type, 1);
     }
   }
@@ -200,7 +239,8 @@ void readElementsV41(LineTokenizer& in, RawMesh& raw) {
 }
 
 /// Keeps only the nodes used by tetrahedra, in file order, scaled to metres.
-TetMesh compact(const RawMesh& raw, double metres_per_unit) {
+/// @throws std::runtime_error "path: ..." if a scaled coordinate overflows.
+TetMesh compact(const RawMesh& raw, double metres_per_unit, const std::string& path) {
   const int npe = raw.nodes_per_element;
   std::vector<int> new_index(raw.node_positions.size(), -1);
   for (int node : raw.element_nodes) new_index[node] = 0;
@@ -219,6 +259,9 @@ TetMesh compact(const RawMesh& raw, double metres_per_unit) {
   for (int e = 0; e < num_elements; ++e) {
     for (int k = 0; k < npe; ++k) mesh.elements(k, e) = new_index[raw.element_nodes[e * npe + k]];
   }
+  if (!mesh.nodes.allFinite()) {
+    throw std::runtime_error(path + ": node coordinates overflow after scaling to metres");
+  }
   return mesh;
 }
 
@@ -230,7 +273,7 @@ TetMesh readGmsh(const std::string& path, double metres_per_unit) {
   const MshVersion version = readMeshFormat(in);
   RawMesh raw;
   while (in.next()) {
-    const std::string& section = in.tokens()[0];
+    const std::string section = in.tokens()[0];  // a copy: reading on clears tokens()
     if (section[0] != '$') {
       in.fail("expected a section header such as $Nodes, got '" + section + "'");
     }
@@ -245,7 +288,7 @@ TetMesh readGmsh(const std::string& path, double metres_per_unit) {
   if (raw.nodes_per_element == 0) {
     in.fail("no tetrahedra (Gmsh element type 4 or 11) in the file");
   }
-  return compact(raw, metres_per_unit);
+  return compact(raw, metres_per_unit, path);
 }
 
 }  // namespace surgical_sim::core

@@ -10,6 +10,15 @@ namespace surgical_sim::core {
 
 LineTokenizer::LineTokenizer(const std::string& path) : path_(path), in_(path) {
   if (!in_) throw std::runtime_error(path + ": cannot open file");
+  in_.seekg(0, std::ios::end);
+  size_ = static_cast<long long>(in_.tellg());
+  in_.seekg(0, std::ios::beg);
+  if (!in_ || size_ < 0) throw std::runtime_error(path + ": cannot read file size");
+}
+
+long long LineTokenizer::bytesRemaining() {
+  const std::streampos position = in_.tellg();
+  return position < 0 ? 0 : size_ - static_cast<long long>(position);
 }
 
 bool LineTokenizer::next() {

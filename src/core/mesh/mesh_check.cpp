@@ -12,6 +12,7 @@
 
 #include <Eigen/Dense>
 
+#include "surgical_sim/core/common/union_find.h"
 #include "surgical_sim/core/mesh/tet_faces.h"
 
 namespace surgical_sim::core {
@@ -20,6 +21,7 @@ namespace {
 constexpr double kDegenerateVolumeRatio = 1e-12;  ///< |V| / (mean edge length)^3
 constexpr double kDuplicateDistanceRatio = 1e-9;  ///< distance / bounding-box diagonal
 constexpr int kErrorsInException = 5;
+constexpr int kFloatingPiecesListed = 5;
 
 std::string formatValue(double value) {
   std::ostringstream s;
@@ -207,6 +209,63 @@ void checkSurfaceEdges(const TetFaceGroups& groups, std::vector<MeshIssue>& issu
   }
 }
 
+void addScaleWarning(const TetMesh& mesh, std::vector<std::string>& warnings) {
+  if (mesh.numNodes() == 0) return;
+  const double diagonal =
+      (mesh.nodes.rowwise().maxCoeff() - mesh.nodes.rowwise().minCoeff()).norm();
+  if (diagonal > kMaxPlausibleMeshDiagonal) {
+    warnings.push_back("mesh bounding-box diagonal is " + formatValue(diagonal) + " m, above " +
+                       formatValue(kMaxPlausibleMeshDiagonal) +
+                       " m: is the mesh unit right (e.g. mm read as m)?");
+  } else if (diagonal < kMinPlausibleMeshDiagonal) {
+    warnings.push_back("mesh bounding-box diagonal is " + formatValue(diagonal) + " m, below " +
+                       formatValue(kMinPlausibleMeshDiagonal) +
+                       " m: is the mesh unit right (e.g. m read as mm)?");
+  }
+}
+
+void addFloatingPieceWarnings(const TetMesh& mesh, const std::vector<int>& fixed_dofs,
+                              std::vector<std::string>& warnings) {
+  const int n = mesh.numNodes();
+  UnionFind pieces(n);
+  for (int e = 0; e < mesh.numElements(); ++e) {
+    for (int k = 1; k < mesh.elements.rows(); ++k)
+      pieces.unite(mesh.elements(0, e), mesh.elements(k, e));
+  }
+  std::vector<bool> held(static_cast<std::size_t>(n), false);
+  for (int dof : fixed_dofs) {
+    if (dof >= 0 && dof / 3 < n) held[static_cast<std::size_t>(pieces.find(dof / 3))] = true;
+  }
+  // Per piece root: node and element counts and lowest node (pieces in order of their lowest
+  // element).
+  std::vector<int> nodes_in(static_cast<std::size_t>(n), 0);
+  std::vector<int> lowest_node(static_cast<std::size_t>(n), -1);
+  std::vector<int> elements_in(static_cast<std::size_t>(n), 0);
+  std::vector<int> roots;
+  for (int e = 0; e < mesh.numElements(); ++e) {
+    const int root = pieces.find(mesh.elements(0, e));
+    if (elements_in[static_cast<std::size_t>(root)]++ == 0) roots.push_back(root);
+  }
+  for (int i = 0; i < n; ++i) {
+    const auto root = static_cast<std::size_t>(pieces.find(i));
+    if (nodes_in[root]++ == 0) lowest_node[root] = i;
+  }
+  int floating = 0;
+  for (int root : roots) {
+    if (held[static_cast<std::size_t>(root)]) continue;
+    if (floating++ < kFloatingPiecesListed) {
+      warnings.push_back("mesh piece with " + std::to_string(nodes_in[root]) + " nodes and " +
+                         std::to_string(elements_in[root]) + " elements (lowest node " +
+                         std::to_string(lowest_node[root]) +
+                         ") has no fixed node: it floats freely (rigid-body motion)");
+    }
+  }
+  if (floating > kFloatingPiecesListed) {
+    warnings.push_back(std::to_string(floating - kFloatingPiecesListed) +
+                       " more mesh pieces have no fixed node");
+  }
+}
+
 }  // namespace
 
 double signedVolume(const TetMesh& mesh, int element) {
@@ -253,6 +312,13 @@ std::vector<MeshIssue> checkMesh(const TetMesh& mesh) {
     checkSurfaceEdges(groups, issues);
   }
   return issues;
+}
+
+std::vector<std::string> meshWarnings(const TetMesh& mesh, const std::vector<int>& fixed_dofs) {
+  std::vector<std::string> warnings;
+  addScaleWarning(mesh, warnings);
+  addFloatingPieceWarnings(mesh, fixed_dofs, warnings);
+  return warnings;
 }
 
 void requireValidMesh(const TetMesh& mesh) {

@@ -1,8 +1,12 @@
 #include "surgical_sim/core/scene/scene_config.h"
 
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
+#include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -14,6 +18,17 @@
 
 namespace surgical_sim::core {
 namespace {
+
+constexpr std::size_t kMaxSceneBytes = 4 << 20;  ///< largest scene file [bytes]
+constexpr std::size_t kMaxListLength = 10000;    ///< longest list of any key
+constexpr long long kMaxYamlNodes = 1000000;     ///< YAML nodes visited (aliases count again)
+constexpr double kMaxTissueOffset = 100.0;       ///< |tissue_pose.position| limit [m]
+constexpr double kMaxDisplacement = 10.0;        ///< |prescribed displacement|, |reference| [m]
+constexpr double kMaxLoadFactor = 1e3;           ///< |load_factors entry| [-]
+/// Working memory per node and per element of a case (mesh, model, stiffness and system
+/// matrices, sparse factorisation), by element type [bytes]; see estimateMeshSize().
+constexpr double kBytesPerNode[2] = {40e3, 50e3};
+constexpr double kBytesPerElement[2] = {0.5e3, 3e3};
 
 /// Reads typed values from a YAML map and reports errors with the scene path and dotted key.
 class KeyReader {
@@ -36,6 +51,17 @@ class KeyReader {
     return node_[key];
   }
 
+  /// The sequence under `key` (non-empty unless allow_empty), at most kMaxListLength long.
+  YAML::Node list(const std::string& key, const std::string& expected,
+                  bool allow_empty = false) const {
+    YAML::Node n = required(key);
+    if (!n.IsSequence() || (n.size() == 0 && !allow_empty)) fail(key, "expected " + expected);
+    if (n.size() > kMaxListLength)
+      fail(key, "list has " + std::to_string(n.size()) + " entries, more than the limit of " +
+                    std::to_string(kMaxListLength));
+    return n;
+  }
+
   KeyReader child(const std::string& key) const {
     YAML::Node c = required(key);
     if (!c.IsMap()) fail(key, "expected a map");
@@ -48,20 +74,31 @@ class KeyReader {
   }
 
   int integer(const std::string& key, int lo, int hi) const {
-    const double v = number(key);
-    if (v != std::floor(v) || v < lo || v > hi)
-      fail(key, "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                    "], got " + required(key).as<std::string>());
-    return static_cast<int>(v);
+    return toInteger(required(key), key, lo, hi);
   }
   int integer(const std::string& key, int lo, int hi, int fallback) const {
     return has(key) ? integer(key, lo, hi) : fallback;
   }
 
+  /// A non-empty string.
   std::string text(const std::string& key) const {
     YAML::Node n = required(key);
     if (!n.IsScalar()) fail(key, "expected a string");
-    return n.as<std::string>();
+    const std::string v = n.as<std::string>();
+    if (v.empty()) fail(key, "must not be empty");
+    return v;
+  }
+
+  /// A ROS graph resource name: non-empty, starting with a letter, '/' or '~', then letters,
+  /// digits, '_' and '/'.
+  std::string topic(const std::string& key) const {
+    const std::string v = text(key);
+    bool valid = std::isalpha(static_cast<unsigned char>(v[0])) || v[0] == '/' || v[0] == '~';
+    for (std::size_t i = 1; i < v.size(); ++i)
+      valid =
+          valid && (std::isalnum(static_cast<unsigned char>(v[i])) || v[i] == '_' || v[i] == '/');
+    if (!valid) fail(key, "'" + v + "' is not a valid ROS topic name");
+    return v;
   }
 
   std::string choice(const std::string& key, const std::set<std::string>& allowed) const {
@@ -78,7 +115,7 @@ class KeyReader {
     if (n.IsScalar()) {
       out.push_back(n.as<std::string>());
     } else if (n.IsSequence() && n.size() > 0) {
-      for (const auto& item : n) {
+      for (const auto& item : list(key, "a non-empty list of strings")) {
         if (!item.IsScalar()) fail(key, "expected a list of strings");
         out.push_back(item.as<std::string>());
       }
@@ -100,11 +137,19 @@ class KeyReader {
   }
 
   std::vector<double> numbers(const std::string& key) const {
-    YAML::Node n = required(key);
-    if (!n.IsSequence() || n.size() == 0) fail(key, "expected a non-empty list of numbers");
     std::vector<double> out;
-    for (const auto& item : n) out.push_back(toNumber(item, key));
+    for (const auto& item : list(key, "a non-empty list of numbers"))
+      out.push_back(toNumber(item, key));
     return out;
+  }
+
+  /// A scalar `n` (found under `key`) as an integer in [lo, hi].
+  int toInteger(const YAML::Node& n, const std::string& key, int lo, int hi) const {
+    const double v = toNumber(n, key);
+    if (v != std::floor(v) || v < lo || v > hi)
+      fail(key, "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                    "], got " + n.as<std::string>());
+    return static_cast<int>(v);
   }
 
   /// Checks that the map holds no key outside `known` (catches typos such as "young_modulos").
@@ -125,15 +170,13 @@ class KeyReader {
     if (allow_infinite && (s == ".inf" || s == "+.inf"))
       return std::numeric_limits<double>::infinity();
     if (allow_infinite && s == "-.inf") return -std::numeric_limits<double>::infinity();
-    std::size_t used = 0;
-    double v = 0.0;
-    try {
-      v = std::stod(s, &used);
-    } catch (const std::exception&) {
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(s.c_str(), &end);  // an underflow to 0 / subnormal is accepted
+    if (s.empty() || std::isspace(static_cast<unsigned char>(s[0])) || *end != '\0')
       fail(key, "expected a number, got '" + s + "'");
-    }
-    if (used != s.size()) fail(key, "expected a number, got '" + s + "'");
-    if (!std::isfinite(v)) fail(key, "must be finite, got '" + s + "'");
+    if (!std::isfinite(v) || (errno == ERANGE && std::abs(v) > 1.0))
+      fail(key, "must be finite, got '" + s + "'");
     return v;
   }
 
@@ -148,11 +191,44 @@ class KeyReader {
   std::string path_;
 };
 
+/// Rejects, anywhere in the document, a map key that is not a plain scalar and a key written
+/// twice in one map (yaml-cpp keeps both and lookups see only one). `dotted` names `node`.
+void rejectDuplicateKeys(const YAML::Node& node, const std::string& dotted, const std::string& path,
+                         long long& visited) {
+  const auto fail = [&](const std::string& key, const std::string& what) {
+    throw std::invalid_argument("scene " + path + ": key '" + key + "': " + what);
+  };
+  if (++visited > kMaxYamlNodes)
+    fail(dotted.empty() ? "(top level)" : dotted,
+         "the document has more than " + std::to_string(kMaxYamlNodes) + " values");
+  if (node.IsSequence()) {
+    if (node.size() > kMaxListLength)
+      fail(dotted, "list has " + std::to_string(node.size()) + " entries, more than the limit of " +
+                       std::to_string(kMaxListLength));
+    for (std::size_t i = 0; i < node.size(); ++i)
+      rejectDuplicateKeys(node[i], dotted + "[" + std::to_string(i) + "]", path, visited);
+  } else if (node.IsMap()) {
+    std::set<std::string> seen;
+    for (const auto& kv : node) {
+      if (!kv.first.IsScalar())
+        fail(dotted.empty() ? "(top level)" : dotted, "a map key at line " +
+                                                          std::to_string(kv.first.Mark().line + 1) +
+                                                          " is not a plain string");
+      const std::string key = kv.first.as<std::string>();
+      const std::string child = dotted.empty() ? key : dotted + "." + key;
+      if (!seen.insert(key).second)
+        fail(child, "duplicate key (line " + std::to_string(kv.first.Mark().line + 1) + ")");
+      rejectDuplicateKeys(kv.second, child, path, visited);
+    }
+  }
+}
+
 void checkRange(const KeyReader& r, const std::string& key, double v, double lo, double hi,
                 const std::string& unit) {
   if (!(v >= lo && v <= hi)) {
+    const std::string u = unit.empty() ? "" : " " + unit;
     std::ostringstream s;
-    s << v << " " << unit << " is out of range [" << lo << ", " << hi << "] " << unit;
+    s << v << u << " is out of range [" << lo << ", " << hi << "]" << u;
     r.fail(key, s.str());
   }
 }
@@ -180,17 +256,21 @@ MeshSpec readMesh(const KeyReader& scene) {
               "element_types"});
   MeshSpec m;
   m.generator = r.choice("generator", {"box", "beam", "hex_beam", "organ_blob", "file"});
-  if (m.generator == "file") {
-    std::filesystem::path file = r.text("file");
-    if (file.is_relative()) file = std::filesystem::path(r.path()).parent_path() / file;
-    m.file = file.lexically_normal().string();
+  if (m.generator == "file" || r.has("unit")) {
     try {
       m.metres_per_unit = lengthUnitToMetres(r.text("unit"));
     } catch (const std::invalid_argument& e) {
       r.fail("unit", e.what());
     }
+  }
+  if (m.generator == "file") {
+    std::filesystem::path file = r.text("file");
+    if (file.is_relative()) file = std::filesystem::path(r.path()).parent_path() / file;
+    m.file = file.lexically_normal().string();
     m.resolutions = {Eigen::Vector3i::Zero()};
   } else {
+    if (m.metres_per_unit != 1.0)
+      r.fail("unit", "generated meshes are sized in metres; 'unit' applies to mesh files only");
     if (m.generator == "hex_beam") {
       m.hex_side = r.number("side");
       m.hex_length = r.number("length");
@@ -201,28 +281,25 @@ MeshSpec readMesh(const KeyReader& scene) {
       for (int i = 0; i < 3; ++i) checkRange(r, "size", m.size[i], 1e-6, 1e3, "m");
       if (r.has("origin")) m.origin = r.vector3("origin");
     }
-    YAML::Node res = r.required("resolutions");
-    if (!res.IsSequence() || res.size() == 0)
-      r.fail("resolutions", "expected a non-empty list of [nx, ny, nz] cell counts");
+    const YAML::Node res = r.list("resolutions", "a non-empty list of [nx, ny, nz] cell counts");
     for (const auto& item : res) {
       if (!item.IsSequence() || item.size() != 3)
         r.fail("resolutions", "each resolution is a list of 3 integers");
       // box/beam use all three counts; hex_beam [along, rings, -]; organ_blob [per_axis, -, -].
       const int used = m.generator == "hex_beam" ? 2 : m.generator == "organ_blob" ? 1 : 3;
       Eigen::Vector3i cells;
-      for (int i = 0; i < 3; ++i) {
-        const int c = item[i].as<int>();
-        if (c < (i < used ? 1 : 0) || c > 4096)
-          r.fail("resolutions", "cell count " + std::to_string(c) + " must be in [" +
-                                    (i < used ? "1" : "0") + ", 4096]");
-        cells[i] = c;
-      }
+      for (int i = 0; i < 3; ++i) cells[i] = r.toInteger(item[i], "resolutions", i < used, 4096);
       m.resolutions.push_back(cells);
     }
   }
   for (const auto& t : r.has("element_types") ? r.choices("element_types", {"tet4", "tet10"})
                                               : std::vector<std::string>{"tet4"})
     m.element_types.push_back(t == "tet4" ? ElementType::Tet4 : ElementType::Tet10);
+  for (const Eigen::Vector3i& res : m.resolutions)
+    for (ElementType type : m.element_types) {
+      const std::string problem = meshBudgetProblem(m, res, type);
+      if (!problem.empty()) r.fail("resolutions", problem);
+    }
   return m;
 }
 
@@ -238,6 +315,9 @@ MeasureSpec readMeasure(const KeyReader& scene) {
   if (m.type == "tip_displacement") {
     if (r.has("reference")) {
       m.reference = r.number("reference");
+      if (*m.reference == 0.0)
+        r.fail("reference", "must be non-zero (error_rel is relative to it)");
+      checkRange(r, "reference", std::abs(*m.reference), 1e-12, kMaxDisplacement, "m (magnitude)");
     } else {
       m.reference_formula =
           r.choice("reference_formula", {"euler_bernoulli_timoshenko", "axial_self_weight"});
@@ -257,10 +337,10 @@ ToolSpec readTool(const KeyReader& r) {
               "max_force", "grip_joint", "grip_topic", "grip_closed_angle"});
   ToolSpec t;
   t.name = r.text("name");
-  if (r.has("pose_topic")) t.pose_topic = r.text("pose_topic");
-  if (r.has("grasp_topic")) t.grasp_topic = r.text("grasp_topic");
-  if (r.has("wrench_topic")) t.wrench_topic = r.text("wrench_topic");
-  if (r.has("contact_model_topic")) t.contact_model_topic = r.text("contact_model_topic");
+  if (r.has("pose_topic")) t.pose_topic = r.topic("pose_topic");
+  if (r.has("grasp_topic")) t.grasp_topic = r.topic("grasp_topic");
+  if (r.has("wrench_topic")) t.wrench_topic = r.topic("wrench_topic");
+  if (r.has("contact_model_topic")) t.contact_model_topic = r.topic("contact_model_topic");
   t.radius = r.number("radius");
   checkRange(r, "radius", t.radius, 1e-5, 0.05, "m");
   t.shaft_length = r.number("shaft_length");
@@ -277,7 +357,7 @@ ToolSpec readTool(const KeyReader& r) {
   t.max_force = r.number("max_force", t.max_force);
   checkRange(r, "max_force", t.max_force, 1e-3, 1e4, "N");
   if (r.has("grip_joint")) t.grip_joint = r.text("grip_joint");
-  if (r.has("grip_topic")) t.grip_topic = r.text("grip_topic");
+  if (r.has("grip_topic")) t.grip_topic = r.topic("grip_topic");
   t.grip_closed_angle = r.number("grip_closed_angle", t.grip_closed_angle);
   checkRange(r, "grip_closed_angle", t.grip_closed_angle, -M_PI, M_PI, "rad");
   return t;
@@ -288,8 +368,10 @@ Eigen::Isometry3d readPose(const KeyReader& parent, const std::string& key) {
   r.onlyKeys({"position", "rpy"});
   Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
   if (r.has("position")) X.translation() = r.vector3("position");
+  checkRange(r, "position", X.translation().norm(), 0.0, kMaxTissueOffset, "m (magnitude)");
   if (r.has("rpy")) {
     const Eigen::Vector3d rpy = r.vector3("rpy");
+    for (int i = 0; i < 3; ++i) checkRange(r, "rpy", rpy[i], -2.0 * M_PI, 2.0 * M_PI, "rad");
     X.linear() = (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
                   Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
                   Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
@@ -301,6 +383,8 @@ Eigen::Isometry3d readPose(const KeyReader& parent, const std::string& key) {
 SceneConfig parse(const YAML::Node& root, const std::string& path) {
   if (!root.IsMap())
     throw std::invalid_argument("scene " + path + ": the file is not a YAML map of keys");
+  long long visited = 0;
+  rejectDuplicateKeys(root, "", path, visited);
   const KeyReader r(root, "", path);
   r.onlyKeys({"name", "description", "mesh", "material", "models", "integrators", "solvers",
               "time_step", "steps", "load_factors", "gravity", "damping", "newton", "pcg", "fixed",
@@ -312,11 +396,19 @@ SceneConfig parse(const YAML::Node& root, const std::string& path) {
 
   const KeyReader mat = r.child("material");
   mat.onlyKeys({"young_modulus", "poisson_ratio", "density"});
+  const double young_modulus = mat.number("young_modulus");
+  const double poisson_ratio = mat.number("poisson_ratio");
+  const double density = mat.number("density");
   try {
-    s.material = Material::create(mat.number("young_modulus"), mat.number("poisson_ratio"),
-                                  mat.number("density"));
+    s.material = Material::create(young_modulus, poisson_ratio, density);
   } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument("scene " + path + ": " + e.what());
+    // Material names the parameter "material.<key> = ...".
+    const std::string what = e.what();
+    const std::string prefix = "material.";
+    const std::size_t end = what.find(' ');
+    if (what.rfind(prefix, 0) == 0 && end != std::string::npos)
+      mat.fail(what.substr(prefix.size(), end - prefix.size()), what);
+    mat.fail("young_modulus", what);
   }
 
   s.models = r.choices("models", {"mass_spring", "corotational", "svk", "ems", "neo_hookean"});
@@ -328,6 +420,8 @@ SceneConfig parse(const YAML::Node& root, const std::string& path) {
   checkRange(r, "time_step", s.time_step, 1e-7, 1.0, "s");
   s.steps = r.integer("steps", 1, 1000000);
   if (r.has("load_factors")) s.load_factors = r.numbers("load_factors");
+  for (double f : s.load_factors)
+    checkRange(r, "load_factors", f, -kMaxLoadFactor, kMaxLoadFactor, "");
   if (r.has("gravity")) s.gravity = r.vector3("gravity");
   checkRange(r, "gravity", s.gravity.norm(), 0.0, 1e4, "m/s^2");
   if (r.has("damping")) {
@@ -355,8 +449,7 @@ SceneConfig parse(const YAML::Node& root, const std::string& path) {
   }
   const auto readList = [&](const std::string& key, auto&& readItem) {
     if (!r.has(key)) return;
-    YAML::Node list = r.required(key);
-    if (!list.IsSequence()) r.fail(key, "expected a list");
+    const YAML::Node list = r.list(key, "a list", true);
     for (std::size_t i = 0; i < list.size(); ++i) {
       if (!list[i].IsMap()) r.fail(key, "item " + std::to_string(i) + " is not a map");
       readItem(KeyReader(list[i], key + "[" + std::to_string(i) + "]", path));
@@ -370,6 +463,8 @@ SceneConfig parse(const YAML::Node& root, const std::string& path) {
     item.onlyKeys({"region", "components", "displacement"});
     s.prescribed.push_back(
         {readRegion(item, "region"), readComponents(item), item.vector3("displacement")});
+    checkRange(item, "displacement", s.prescribed.back().displacement.norm(), 0.0, kMaxDisplacement,
+               "m (magnitude)");
   });
   s.measure = readMeasure(r);
   readList("tools", [&](const KeyReader& item) {
@@ -382,15 +477,62 @@ SceneConfig parse(const YAML::Node& root, const std::string& path) {
   if (r.has("tissue_pose")) s.tissue_pose = readPose(r, "tissue_pose");
   if (s.measure.type == "uniaxial_svk_force" && (s.prescribed.empty() || s.load_factors.empty()))
     r.fail("measure", "uniaxial_svk_force needs 'prescribed' and 'load_factors'");
+  if (!s.measure.reference_formula.empty() && s.gravity[s.measure.component] == 0.0)
+    r.fail("gravity", "measure.reference_formula '" + s.measure.reference_formula +
+                          "' needs a non-zero gravity component along measure.component");
   return s;
 }
 
 }  // namespace
 
+MeshSizeEstimate estimateMeshSize(const MeshSpec& spec, const Eigen::Vector3i& resolution,
+                                  ElementType type) {
+  MeshSizeEstimate e;
+  const Eigen::Vector3d cells = resolution.cast<double>();
+  if (spec.generator == "box" || spec.generator == "beam") {
+    e.nodes = (cells.array() + 1.0).prod();
+    e.elements = 6.0 * cells.prod();
+  } else if (spec.generator == "organ_blob") {
+    e.nodes = std::pow(cells[0] + 1.0, 3);
+    e.elements = 6.0 * std::pow(cells[0], 3);
+  } else if (spec.generator == "hex_beam") {
+    const double rings = cells[1];
+    e.nodes = (3.0 * rings * (rings + 1.0) + 1.0) * (cells[0] + 1.0);
+    e.elements = 18.0 * rings * rings * cells[0];
+  } else {
+    return e;  // a mesh file: bounded by the file size
+  }
+  const int t = type == ElementType::Tet4 ? 0 : 1;
+  if (type == ElementType::Tet10) e.nodes *= 8.0;  // corners plus one node per edge
+  e.bytes = kBytesPerNode[t] * e.nodes + kBytesPerElement[t] * e.elements;
+  return e;
+}
+
+std::string meshBudgetProblem(const MeshSpec& spec, const Eigen::Vector3i& resolution,
+                              ElementType type) {
+  const MeshSizeEstimate e = estimateMeshSize(spec, resolution, type);
+  if (e.bytes <= kSceneMemoryBudgetBytes) return "";
+  std::ostringstream s;
+  s.precision(3);
+  s << "resolution [" << resolution[0] << ", " << resolution[1] << ", " << resolution[2]
+    << "] with " << toString(type) << " needs about " << e.bytes / 1e9 << " GB (" << e.nodes
+    << " nodes, " << e.elements << " elements), above the budget of "
+    << kSceneMemoryBudgetBytes / 1e9 << " GB";
+  return s.str();
+}
+
 SceneConfig parseSceneConfig(const std::string& yaml_text, const std::string& path) {
+  if (yaml_text.size() > kMaxSceneBytes)
+    throw std::invalid_argument("scene " + path + ": the file has " +
+                                std::to_string(yaml_text.size()) +
+                                " bytes, more than the limit of " + std::to_string(kMaxSceneBytes));
   YAML::Node root;
   try {
     root = YAML::Load(yaml_text);
+  } catch (const YAML::DeepRecursion& e) {
+    throw std::invalid_argument("scene " + path + ": malformed YAML at line " +
+                                std::to_string(e.mark.line + 1) + ": nested more than " +
+                                std::to_string(e.depth() - 1) + " levels deep");
   } catch (const YAML::Exception& e) {
     throw std::invalid_argument("scene " + path + ": malformed YAML at line " +
                                 std::to_string(e.mark.line + 1) + ": " + e.msg);

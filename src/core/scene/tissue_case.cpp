@@ -247,8 +247,22 @@ std::vector<CaseSpec> expandSweep(const SceneConfig& scene) {
 }
 
 TetMesh buildSceneMesh(const MeshSpec& spec, const Eigen::Vector3i& res, ElementType type) {
+  const std::string problem = meshBudgetProblem(spec, res, type);
+  if (!problem.empty())
+    throw std::invalid_argument("buildSceneMesh: key 'mesh.resolutions': " + problem);
   if (spec.generator == "file") {
-    TetMesh mesh = readGmsh(spec.file, spec.metres_per_unit);
+    const std::string key = "buildSceneMesh: key 'mesh.file': ";
+    TetMesh mesh;
+    try {
+      mesh = readGmsh(spec.file, spec.metres_per_unit);  // messages start with the path
+    } catch (const std::runtime_error& e) {
+      throw std::invalid_argument(key + e.what());
+    }
+    try {
+      requireValidMesh(mesh);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(key + spec.file + ": " + e.what());
+    }
     if (type == ElementType::Tet10 && mesh.type == ElementType::Tet4) return promoteToTet10(mesh);
     return mesh;
   }
@@ -327,8 +341,13 @@ CaseResult runTissueCase(const SceneConfig& scene, const CaseSpec& spec) {
     const RunOutcome ref_run = runLoading(scene, ref_setup, *ref);
     result.measured = (run.x - x0).norm();
     result.reference = (ref_run.x - x0).norm();
-    result.error_rel = (run.x - ref_run.x).norm() / std::max(result.reference, 1e-300);
+    result.error_rel = (run.x - ref_run.x).norm() / result.reference;
   }
+  // A relative error against a zero or non-finite reference (e.g. a self_reference scene with
+  // no load) is meaningless; uniaxial_svk_force normalises by a non-zero force instead.
+  const bool relative_to_reference = m.type != "uniaxial_svk_force";
+  if (relative_to_reference && !(std::isfinite(result.reference) && result.reference != 0.0))
+    result.error_rel = std::numeric_limits<double>::quiet_NaN();
   if (!run.x.allFinite() || result.status == StepStatus::SolverFailed ||
       result.status == StepStatus::NonFinite || result.status == StepStatus::BlowUp)
     result.error_rel = std::numeric_limits<double>::quiet_NaN();

@@ -57,6 +57,7 @@ TissueSimulation::TissueSimulation(const SceneConfig& scene) : scene_(scene) {
     contact_settings_ = contact;
   }
   reset();
+  warnings_ = meshWarnings(original_mesh_, base_dirichlet_.dofs);
 }
 
 void TissueSimulation::installModel(std::unique_ptr<TissueModel> model) {

@@ -1,7 +1,9 @@
 #include "surgical_sim/core/mesh/gmsh_reader.h"
 
+#include <fstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <Eigen/Core>
@@ -104,6 +106,93 @@ INSTANTIATE_TEST_SUITE_P(
                                     "mixes 4-node (type 4) and 10-node"},
                       MalformedFile{"no_tets.msh", 13, "no tetrahedra"},
                       MalformedFile{"pyramid.obj", 1, "not a Gmsh mesh file"}));
+
+/// Writes `text` to a file `name` in the test temporary directory; returns its path.
+std::string writeTemp(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+/// readGmsh(path) must throw std::runtime_error starting with "path:" and containing `what`.
+void expectRejected(const std::string& path, const std::string& what) {
+  try {
+    readGmsh(path, 1.0);
+    FAIL() << "expected std::runtime_error for " << path;
+  } catch (const std::runtime_error& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(message.rfind(path + ":", 0), 0u) << message;
+    EXPECT_NE(message.find(what), std::string::npos) << message;
+  }
+}
+
+const char* const kFormat22 = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n";
+
+TEST(GmshReader, UnknownSectionWithoutEndNamesTheSection) {
+  // "$Nodes" with one flipped bit: the reader skips the unknown section to the end of the file.
+  const std::string path =
+      writeTemp("flipped_nodes.msh", std::string(kFormat22) +
+                                         "$Nmdes\n2\n1 0 0 0\n2 1 0 0\n$EndNodes\n"
+                                         "$Elements\n1\n1 4 0 1 2 1 2\n$EndElements\n");
+  expectRejected(path, "section $Nmdes (line 4) has no $EndNmdes");
+}
+
+TEST(GmshReader, CountsBeyondTheFileSizeAreRejectedBeforeReading) {
+  expectRejected(
+      writeTemp("huge_nodes.msh", std::string(kFormat22) + "$Nodes\n5000000\n1 0 0 0\n$EndNodes\n"),
+      "node count = 5000000 cannot fit in the");
+  expectRejected(writeTemp("absurd_nodes.msh",
+                           std::string(kFormat22) + "$Nodes\n9000000000000\n1 0 0 0\n$EndNodes\n"),
+                 "node count = 9000000000000 exceeds the limit of 100000000");
+  expectRejected(
+      writeTemp("negative_elements.msh", std::string(kFormat22) + "$Elements\n-3\n$EndElements\n"),
+      "element count = -3 must be >= 0");
+  expectRejected(writeTemp("huge_blocks.msh",
+                           "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4000000 1 4\n0 1 0 "
+                           "4000000\n1\n2\n$EndNodes\n"),
+                 "number of nodes = 4000000 cannot fit in the");
+}
+
+TEST(GmshReader, DuplicateElementTagIsRejected) {
+  expectRejected(
+      writeTemp("duplicate_element.msh",
+                std::string(kFormat22) + "$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 1 1\n"
+                                         "$EndNodes\n$Elements\n2\n7 4 0 1 2 3 4\n7 4 0 2 3 4 5\n"
+                                         "$EndElements\n"),
+      "element tag 7 is defined twice");
+}
+
+TEST(GmshReader, NonFiniteCoordinateIsRejected) {
+  expectRejected(
+      writeTemp("nan_node.msh", std::string(kFormat22) + "$Nodes\n1\n1 nan 0 0\n$EndNodes\n"),
+      "bad number 'nan' for node x");
+  expectRejected(
+      writeTemp("inf_node.msh", std::string(kFormat22) + "$Nodes\n1\n1 0 1e999 0\n$EndNodes\n"),
+      "bad number '1e999' for node y");
+}
+
+TEST(GmshReader, TruncationAtEverySectionLineIsRejected) {
+  // Every prefix of a shipped file that ends just before or just after a '$' line (except the
+  // whole file) lacks $EndElements, so it must be rejected naming the file.
+  for (const std::string name : {"two_tets_v22.msh", "two_tets_v41.msh", "tet10_v22.msh"}) {
+    std::ifstream in(dataPath(name));
+    std::vector<std::string> lines;
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    std::string prefix;
+    for (std::size_t l = 0; l + 1 < lines.size(); ++l) {
+      const bool section_line = lines[l][0] == '$';
+      if (section_line && l > 0) {
+        SCOPED_TRACE(name + " before line " + std::to_string(l + 1));
+        expectRejected(writeTemp("cut_" + name, prefix), "");
+      }
+      prefix += lines[l] + "\n";
+      if (section_line) {
+        SCOPED_TRACE(name + " after line " + std::to_string(l + 1));
+        expectRejected(writeTemp("cut_" + name, prefix), "");
+      }
+    }
+  }
+}
 
 TEST(GmshReader, MissingFileThrowsNamingIt) {
   const std::string path = dataPath("does_not_exist.msh");

@@ -199,5 +199,60 @@ TEST(RequireValidMesh, ListsOnlyTheFirstErrors) {
   }
 }
 
+/// Node-major DOFs (all three axes) of the nodes with z <= z_max [m].
+std::vector<int> dofsAtOrBelow(const TetMesh& mesh, double z_max) {
+  std::vector<int> dofs;
+  for (int i = 0; i < mesh.numNodes(); ++i)
+    if (mesh.nodes(2, i) <= z_max)
+      for (int a = 0; a < 3; ++a) dofs.push_back(3 * i + a);
+  return dofs;
+}
+
+bool anyContains(const std::vector<std::string>& warnings, const std::string& text) {
+  return std::any_of(warnings.begin(), warnings.end(),
+                     [&](const std::string& w) { return w.find(text) != std::string::npos; });
+}
+
+TEST(MeshWarnings, SaneHeldMeshHasNone) {
+  const TetMesh box = makeBox(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.1, 0.05, 0.03),
+                              Eigen::Vector3i(4, 2, 2), ElementType::Tet4);
+  EXPECT_TRUE(meshWarnings(box, dofsAtOrBelow(box, 0.0)).empty());
+}
+
+TEST(MeshWarnings, AbsurdScalesAreWarned) {
+  // 200 m: a millimetre mesh read as metres; 0.1 mm: a metre mesh read as millimetres.
+  const TetMesh huge = makeBox(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(200.0),
+                               Eigen::Vector3i::Ones(), ElementType::Tet4);
+  const std::vector<std::string> big = meshWarnings(huge, dofsAtOrBelow(huge, 0.0));
+  ASSERT_EQ(big.size(), 1u);
+  EXPECT_NE(big[0].find("diagonal is 346 m, above 100 m"), std::string::npos) << big[0];
+  const TetMesh tiny = makeBox(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(1e-4),
+                               Eigen::Vector3i::Ones(), ElementType::Tet4);
+  const std::vector<std::string> small = meshWarnings(tiny, dofsAtOrBelow(tiny, 0.0));
+  ASSERT_EQ(small.size(), 1u);
+  EXPECT_NE(small[0].find("below 0.001 m"), std::string::npos) << small[0];
+}
+
+TEST(MeshWarnings, PieceWithoutFixedNodeIsWarned) {
+  // Two separate unit-cell boxes (8 nodes, 6 tets each), the second 1 m above the first.
+  const TetMesh lower = makeBox(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(0.1),
+                                Eigen::Vector3i::Ones(), ElementType::Tet4);
+  TetMesh two;
+  two.nodes.resize(3, 2 * lower.numNodes());
+  two.nodes << lower.nodes, lower.nodes.colwise() + Eigen::Vector3d(0.0, 0.0, 1.0);
+  two.elements.resize(4, 2 * lower.numElements());
+  two.elements << lower.elements, lower.elements.array() + lower.numNodes();
+  ASSERT_NO_THROW(requireValidMesh(two));
+
+  const std::vector<std::string> one_free = meshWarnings(two, dofsAtOrBelow(two, 0.0));
+  ASSERT_EQ(one_free.size(), 1u);
+  EXPECT_NE(one_free[0].find("piece with 8 nodes and 6 elements (lowest node 8)"),
+            std::string::npos)
+      << one_free[0];
+  EXPECT_TRUE(anyContains(one_free, "has no fixed node"));
+  EXPECT_EQ(meshWarnings(two, {}).size(), 2u);
+  EXPECT_TRUE(meshWarnings(two, dofsAtOrBelow(two, 1.0)).empty());
+}
+
 }  // namespace
 }  // namespace surgical_sim::core

@@ -3,8 +3,10 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "surgical_sim/core/scene/scene_config.h"
+#include "surgical_sim/core/scene/tissue_simulation.h"
 
 namespace surgical_sim::core {
 namespace {
@@ -61,6 +63,11 @@ TEST(SceneConfig, ParsesValidSceneWithUnitsAndOpenRegions) {
 
 TEST(SceneConfig, MalformedYamlNamesTheLine) {
   expectRejected("name: x\nmesh: [unclosed\n", {"test.yaml", "malformed YAML", "line"});
+}
+
+TEST(SceneConfig, DeepNestingNamesTheLine) {
+  expectRejected("name: x\nmesh: " + std::string(5000, '[') + std::string(5000, ']') + "\n",
+                 {"test.yaml", "malformed YAML at line 2", "levels deep"});
 }
 
 TEST(SceneConfig, MissingKeyIsNamed) {
@@ -138,6 +145,155 @@ TEST(SceneConfig, EveryShippedSceneLoads) {
     ++count;
   }
   EXPECT_GE(count, 5);
+}
+
+TEST(SceneConfig, DuplicateKeysAreRejectedNamingTheKey) {
+  expectRejected(replaced(kValidScene, "time_step: 0.01\n", "time_step: 0.01\ntime_step: 0.02\n"),
+                 {"test.yaml", "key 'time_step': duplicate key (line"});
+  expectRejected(replaced(kValidScene, "  density: 1000.0\n", "  density: 1000.0\n  density: 1\n"),
+                 {"key 'material.density': duplicate key"});
+  expectRejected(replaced(kValidScene, "{max: [.inf, .inf, 1.0e-9]}",
+                          "{max: [.inf, .inf, 1.0e-9], max: [1, 1, 1]}"),
+                 {"key 'fixed[0].region.max': duplicate key"});
+  expectRejected(replaced(kValidScene, "steps: 1\n", "steps: 1\n[a, b]: 2\n"),
+                 {"key '(top level)'", "is not a plain string"});
+}
+
+TEST(SceneConfig, MalformedIntegersNameTheirKey) {
+  expectRejected(replaced(kValidScene, "[[1, 1, 1]]", "[[1.5, 1, 1]]"),
+                 {"key 'mesh.resolutions'", "expected an integer in [1, 4096], got 1.5"});
+  expectRejected(replaced(kValidScene, "[[1, 1, 1]]", "[[99999999999999999999, 1, 1]]"),
+                 {"key 'mesh.resolutions'", "expected an integer"});
+  expectRejected(replaced(kValidScene, "[[1, 1, 1]]", "[[x, 1, 1]]"),
+                 {"key 'mesh.resolutions'", "expected a number, got 'x'"});
+  expectRejected(replaced(kValidScene, "[[1, 1, 1]]", "[[[1], 1, 1]]"),
+                 {"key 'mesh.resolutions'", "expected a number"});
+  expectRejected(replaced(kValidScene, "steps: 1", "steps: 1e300"),
+                 {"key 'steps'", "expected an integer"});
+}
+
+TEST(SceneConfig, MeshBeyondTheMemoryBudgetIsRejectedBeforeBuilding) {
+  // 4096^3 cells pass the per-axis range check but would need terabytes.
+  expectRejected(replaced(kValidScene, "[[1, 1, 1]]", "[[4096, 4096, 4096]]"),
+                 {"key 'mesh.resolutions'", "resolution [4096, 4096, 4096] with tet4 needs about",
+                  "above the budget of 8 GB"});
+  expectRejected(replaced(kValidScene, "  resolutions: [[1, 1, 1]]\n",
+                          "  resolutions: [[1, 1, 1], [40, 40, 40]]\n"
+                          "  element_types: [tet4, tet10]\n"),
+                 {"key 'mesh.resolutions'", "[40, 40, 40] with tet10"});
+  MeshSpec organ;
+  organ.generator = "organ_blob";
+  const MeshSizeEstimate e = estimateMeshSize(organ, {8, 0, 0}, ElementType::Tet4);
+  EXPECT_EQ(e.nodes, 729.0);  // palpation scene: 9^3 nodes, 6 * 8^3 tets
+  EXPECT_EQ(e.elements, 3072.0);
+  EXPECT_TRUE(meshBudgetProblem(organ, {24, 0, 0}, ElementType::Tet4).empty());
+}
+
+TEST(SceneConfig, OverlongListsAreRejected) {
+  std::string factors = "load_factors: [0.1";
+  for (int i = 0; i < 10000; ++i) factors += ", 0.1";
+  expectRejected(replaced(kValidScene, "steps: 1\n", "steps: 1\n" + factors + "]\n"),
+                 {"key 'load_factors'", "10001 entries, more than the limit of 10000"});
+}
+
+TEST(SceneConfig, MeshUnitIsCheckedForGeneratedMeshes) {
+  expectRejected(replaced(kValidScene, "  generator: box\n", "  generator: box\n  unit: parsec\n"),
+                 {"key 'mesh.unit'", "parsec"});
+  expectRejected(replaced(kValidScene, "  generator: box\n", "  generator: box\n  unit: mm\n"),
+                 {"key 'mesh.unit'", "applies to mesh files only"});
+  EXPECT_NO_THROW(parseSceneConfig(
+      replaced(kValidScene, "  generator: box\n", "  generator: box\n  unit: m\n"), "test.yaml"));
+}
+
+TEST(SceneConfig, TissuePoseIsBounded) {
+  const std::string scene = std::string(kValidScene) + "tissue_pose: {position: P, rpy: R}\n";
+  const auto pose = [&](const std::string& p, const std::string& r) {
+    return replaced(replaced(scene, "P", p), "R", r);
+  };
+  expectRejected(pose("[1.0e20, 0, 0]", "[0, 0, 0]"),
+                 {"key 'tissue_pose.position'", "out of range"});
+  expectRejected(pose("[0, 0, 0]", "[0, 1.0e20, 0]"), {"key 'tissue_pose.rpy'", "out of range"});
+  expectRejected(pose("[0, 0, 0]", "[0, .nan, 0]"), {"key 'tissue_pose.rpy'"});
+  const SceneConfig s = parseSceneConfig(pose("[0, 0, 60]", "[0, 0, 3.14159265358979]"), "t.yaml");
+  EXPECT_TRUE(s.tissue_pose.translation().isApprox(Eigen::Vector3d(0, 0, 60)));
+  EXPECT_TRUE(s.tissue_pose.linear().isUnitary(1e-12));
+}
+
+TEST(SceneConfig, ReferenceFormulaNeedsGravityAndReferenceIsNonZero) {
+  const std::string tip = replaced(kValidScene, "  type: self_reference",
+                                   "  type: tip_displacement\n  region: {}\n  component: z\n"
+                                   "  reference_formula: euler_bernoulli_timoshenko");
+  expectRejected(tip, {"key 'gravity'", "needs a non-zero gravity"});
+  EXPECT_NO_THROW(
+      parseSceneConfig(replaced(tip, "steps: 1\n", "steps: 1\ngravity: [0, 0, -9.81]\n"), "t"));
+  expectRejected(replaced(tip, "reference_formula: euler_bernoulli_timoshenko", "reference: 0.0"),
+                 {"key 'measure.reference'", "must be non-zero"});
+}
+
+TEST(SceneConfig, LoadPathAndReferencesAreBounded) {
+  expectRejected(replaced(kValidScene, "steps: 1\n", "steps: 1\nload_factors: [0.1, 1e20]\n"),
+                 {"key 'load_factors'", "1e+20 is out of range [-1000, 1000]"});
+  const std::string tip = replaced(kValidScene, "  type: self_reference",
+                                   "  type: tip_displacement\n  region: {}\n  component: z\n"
+                                   "  reference: 99999999999999999999");
+  expectRejected(tip, {"key 'measure.reference'", "out of range"});
+  expectRejected(replaced(kValidScene, "fixed:\n",
+                          "prescribed:\n  - region: {}\n    displacement: [0, 0, 1e6]\nfixed:\n"),
+                 {"key 'prescribed[0].displacement'", "out of range"});
+  // A subnormal underflows to (almost) zero and is accepted as a number.
+  EXPECT_NO_THROW(parseSceneConfig(
+      replaced(kValidScene, "steps: 1\n", "steps: 1\ngravity: [0, 1e-320, -9.81]\n"), "t"));
+}
+
+TEST(SceneConfig, MaterialErrorsNameTheKey) {
+  expectRejected(replaced(kValidScene, "poisson_ratio: 0.3", "poisson_ratio: 0.7"),
+                 {"key 'material.poisson_ratio'", "out of range"});
+  expectRejected(replaced(kValidScene, "density: 1000.0", "density: 1e9"),
+                 {"key 'material.density'"});
+  try {
+    parseSceneConfig(replaced(kValidScene, "density: 1000.0", "density: soft"), "test.yaml");
+    FAIL() << "accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "scene test.yaml: key 'material.density': expected a number, got 'soft'");
+  }
+}
+
+TEST(SceneConfig, EmptyStringsAndTopicNamesAreRejected) {
+  const std::string tools = std::string(kValidScene) +
+                            "tools:\n  - name: tool\n    pose_topic: TOPIC\n    radius: 0.002\n"
+                            "    shaft_length: 0.05\n    contact: constraint\n";
+  expectRejected(replaced(tools, "TOPIC", "''"),
+                 {"key 'tools[0].pose_topic'", "must not be empty"});
+  expectRejected(replaced(tools, "TOPIC", "'tool pose'"),
+                 {"key 'tools[0].pose_topic'", "not a valid ROS topic name"});
+  expectRejected(replaced(replaced(tools, "TOPIC", "tool/pose"), "contact: constraint",
+                          "contact: constraint\n    wrench_topic: ''"),
+                 {"key 'tools[0].wrench_topic'", "must not be empty"});
+  expectRejected(replaced(kValidScene, "name: unit", "name: ''"),
+                 {"key 'name'", "must not be empty"});
+  const SceneConfig s = parseSceneConfig(replaced(tools, "TOPIC", "/arm_1/tip_pose"), "t.yaml");
+  EXPECT_EQ(s.tools.at(0).pose_topic, "/arm_1/tip_pose");
+}
+
+TEST(SceneConfig, ConstructedSimulationReportsMeshWarnings) {
+  // Sane: a 5 cm cube held at its base.
+  EXPECT_TRUE(TissueSimulation(parseSceneConfig(kValidScene, "t.yaml")).warnings().empty());
+  // No fixed region: the whole cube floats; 500 m cube: absurd scale.
+  const std::string floating =
+      replaced(kValidScene, "  - region: {max: [.inf, .inf, 1.0e-9]}\n    components: [z]\n", "");
+  const std::vector<std::string> w =
+      TissueSimulation(parseSceneConfig(replaced(floating, "fixed:\n", ""), "t.yaml")).warnings();
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("has no fixed node"), std::string::npos) << w[0];
+  const std::vector<std::string> big =
+      TissueSimulation(
+          parseSceneConfig(replaced(replaced(kValidScene, "[0.05, 0.05, 0.05]", "[500, 500, 500]"),
+                                    "max: [.inf, .inf, 1.0e-9]", "max: [.inf, .inf, 1.0e-6]"),
+                           "t.yaml"))
+          .warnings();
+  ASSERT_EQ(big.size(), 1u);
+  EXPECT_NE(big[0].find("above 100 m"), std::string::npos) << big[0];
 }
 
 }  // namespace

@@ -21,8 +21,12 @@ namespace surgical_sim::core {
 /// @return mesh with nodes in metres.
 /// @throws std::invalid_argument if metres_per_unit is not finite and > 0.
 /// @throws std::runtime_error "path:line: what" for an unreadable file, a binary file, an
-///         unsupported version, a truncated section, a bad number, an element referencing an
-///         unknown node tag, a file mixing Tet4 and Tet10 elements, or a file without tetrahedra.
+///         unsupported version, a truncated section, an unknown section without its $End line,
+///         a bad or non-finite number, a negative count or one above 10^8 or above what the rest
+///         of the file can hold (checked before reading the entries), a node or element tag
+///         defined twice, an element referencing an unknown node tag, a file mixing Tet4 and
+///         Tet10 elements, or a file without tetrahedra; "path: what" if a coordinate overflows
+///         when scaled to metres.
 TetMesh readGmsh(const std::string& path, double metres_per_unit);
 
 }  // namespace surgical_sim::core

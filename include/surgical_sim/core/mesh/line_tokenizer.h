@@ -25,6 +25,8 @@ class LineTokenizer {
   int lineNumber() const { return line_number_; }
   /// Path of the file, as given to the constructor.
   const std::string& path() const { return path_; }
+  /// Bytes of the file after the current line [bytes] (0 at end of file).
+  long long bytesRemaining();
 
   /// Throws std::runtime_error "path:line: what" for the current line.
   [[noreturn]] void fail(const std::string& what) const;
@@ -44,6 +46,7 @@ class LineTokenizer {
  private:
   std::string path_;
   std::ifstream in_;
+  long long size_ = 0;  ///< file size [bytes]
   std::vector<std::string> tokens_;
   int line_number_ = 0;
 };

@@ -44,6 +44,26 @@ double meshVolume(const TetMesh& mesh);
 /// run only when all indices are in range. Runs in O(m log m + n) time.
 std::vector<MeshIssue> checkMesh(const TetMesh& mesh);
 
+/// Bounding-box diagonals outside [kMinPlausibleMeshDiagonal, kMaxPlausibleMeshDiagonal] get a
+/// scale warning from meshWarnings(): a soft-tissue mesh in metres is millimetres to metres
+/// across, so such a mesh was most likely read with the wrong length unit.
+constexpr double kMinPlausibleMeshDiagonal = 1e-3;   ///< [m]
+constexpr double kMaxPlausibleMeshDiagonal = 100.0;  ///< [m]
+
+/// Warnings (not errors) about a mesh that passes requireValidMesh() but is probably not what
+/// the scene intended, one message per problem:
+///  - the bounding-box diagonal is outside [kMinPlausibleMeshDiagonal,
+///    kMaxPlausibleMeshDiagonal] (message names the diagonal in m and the likely unit mistake);
+///  - a connected piece of the mesh (elements sharing nodes) has no node with a fixed DOF, so it
+///    floats freely: in a dynamic scene it falls or drifts as a rigid body, in a quasi-static one
+///    its stiffness is singular (message names the piece's node and element counts and one of
+///    its nodes). At most 5 pieces are listed, then a count of the rest.
+/// @param mesh mesh in metres with node indices in range.
+/// @param fixed_dofs node-major DOF indices (3 node + axis) held fixed; out-of-range entries
+///        are ignored.
+/// @return warnings, empty for a sane mesh with every piece held.
+std::vector<std::string> meshWarnings(const TetMesh& mesh, const std::vector<int>& fixed_dofs);
+
 /// Runs checkMesh() and throws if it finds an error (warnings pass).
 /// @throws std::invalid_argument "invalid mesh: N errors: <first 5 messages>".
 void requireValidMesh(const TetMesh& mesh);

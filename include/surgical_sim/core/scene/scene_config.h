@@ -123,8 +123,36 @@ struct SceneConfig {
   Eigen::Isometry3d tissue_pose = Eigen::Isometry3d::Identity();
 };
 
+/// Working-memory budget of one case of a scene [bytes]: a generated mesh whose estimate
+/// (estimateMeshSize()) exceeds it is rejected before it is built.
+constexpr double kSceneMemoryBudgetBytes = 8e9;
+
+/// Rough upper estimate of the size of a generated scene mesh and of the working memory of a
+/// case on it.
+struct MeshSizeEstimate {
+  double nodes = 0.0;     ///< mesh nodes (tet10: corners plus edge nodes)
+  double elements = 0.0;  ///< tetrahedra
+  double bytes = 0.0;     ///< mesh, model, stiffness and system matrices and sparse
+                          ///< factorisation: 40 kB (tet4) or 50 kB (tet10) per node plus 0.5 kB
+                          ///< (tet4) or 3 kB (tet10) per element [bytes]
+};
+
+/// Estimate for the generator of `spec` at `resolution` (see MeshSpec::resolutions) and element
+/// type, computed without building anything (doubles: no overflow). A "file" mesh has no
+/// estimate (all zero): its size is bounded by the file's.
+MeshSizeEstimate estimateMeshSize(const MeshSpec& spec, const Eigen::Vector3i& resolution,
+                                  ElementType type);
+
+/// "" if the estimate is within kSceneMemoryBudgetBytes, else a message naming the resolution,
+/// the element type, the estimate [GB] and the budget.
+std::string meshBudgetProblem(const MeshSpec& spec, const Eigen::Vector3i& resolution,
+                              ElementType type);
+
 /// Reads and validates a scene file. @throws std::invalid_argument whose message starts with
-/// "scene <path>: key '<dotted.key>': " and says what is wrong (missing, wrong type, out of range).
+/// "scene <path>: key '<dotted.key>': " and says what is wrong (missing, duplicate, wrong type,
+/// malformed or out-of-range value, empty string or topic name, list longer than 10,000 entries,
+/// mesh resolution above the memory budget); without a key for a file that cannot be opened,
+/// is larger than 4 MiB, is not YAML (names the line) or is not a map.
 SceneConfig loadSceneConfig(const std::string& path);
 
 /// Same from YAML text (path used in messages and to resolve relative mesh files).

@@ -32,7 +32,8 @@ struct CaseResult {
   int steps = 0;                       ///< integrator steps taken
   double measured = 0.0;               ///< measured quantity (tip displacement [m] or force [N])
   double reference = 0.0;              ///< its reference value
-  double error_rel = 0.0;              ///< relative error [-] (NaN when the case failed)
+  double error_rel = 0.0;              ///< relative error [-]; NaN when the case failed or the
+                                       ///< reference is zero or non-finite
   StepStatus status = StepStatus::Ok;  ///< first non-Ok status, or Ok
   /// uniaxial_svk_force only: stretch l [-], measured and exact force [N] at each load factor.
   std::vector<double> path_stretch, path_force, path_exact;
@@ -43,7 +44,10 @@ struct CaseResult {
 std::vector<CaseSpec> expandSweep(const SceneConfig& scene);
 
 /// Builds the mesh of one resolution / element type of the scene (metres).
-/// @throws std::invalid_argument or std::runtime_error on bad generator arguments / files.
+/// @throws std::invalid_argument on bad generator arguments; naming 'mesh.file' and the file
+///         for a mesh file that cannot be read or fails requireValidMesh(); naming
+///         'mesh.resolutions' before allocating anything when the mesh exceeds the memory budget
+///         (meshBudgetProblem()).
 TetMesh buildSceneMesh(const MeshSpec& spec, const Eigen::Vector3i& resolution, ElementType type);
 
 /// Node-major DOF indices of every node in `region` for the set components.

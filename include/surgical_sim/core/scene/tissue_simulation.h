@@ -90,6 +90,9 @@ class TissueSimulation {
   const std::vector<int>& contactNodes() const { return contact_nodes_; }
   /// Structures this scene built, e.g. {"model", "integrator", "contact", "damping"}.
   std::vector<std::string> components() const;
+  /// Warnings about the scene's mesh and its fixed DOFs found at construction (meshWarnings():
+  /// absurd scale, pieces without a fixed node); empty for a sane scene.
+  const std::vector<std::string>& warnings() const { return warnings_; }
 
  private:
   /// Makes `model` the simulated model: body force, boundary conditions (scene regions).
@@ -121,6 +124,7 @@ class TissueSimulation {
   Eigen::VectorXd x_previous_;  ///< positions at the start of the last step [m]
   Eigen::VectorXd v_previous_;  ///< velocities at the start of the last step [m/s]
   std::vector<bool> cut_faces_;
+  std::vector<std::string> warnings_;
 };
 
 }  // namespace surgical_sim::core

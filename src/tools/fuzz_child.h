@@ -1,0 +1,118 @@
+#pragma once
+// Runs one fuzz trial in a forked child process (header only, shared by mesh_fuzz and
+// scene_fuzz): a crash (signal), a hang (wall-time limit) or an allocation beyond the
+// address-space limit cannot take the campaign down, and is reported as such.
+
+#include <poll.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <exception>
+#include <functional>
+#include <string>
+
+namespace surgical_sim::tools {
+
+/// How a child trial ended.
+struct ChildResult {
+  enum class End { Finished, Signalled, TimedOut, ForkFailed };
+  End end = End::ForkFailed;
+  std::string output;  ///< what the trial returned (Finished only)
+  int signal = 0;      ///< terminating signal (Signalled only)
+  double seconds = 0.0;
+};
+
+/// Runs `trial` in a child with at most `timeout_s` [s] of wall time and `memory_limit` [bytes]
+/// of address space; the child sends the trial's return value back through a pipe. An exception
+/// escaping `trial` is returned as "uncaught exception: <what>".
+inline ChildResult runInChild(const std::function<std::string()>& trial, double timeout_s,
+                              rlim_t memory_limit) {
+  ChildResult result;
+  int fds[2];
+  if (pipe(fds) != 0) return result;
+  std::fflush(nullptr);
+  const auto start = std::chrono::steady_clock::now();
+  const pid_t pid = fork();
+  if (pid < 0) {
+    close(fds[0]);
+    close(fds[1]);
+    return result;
+  }
+  if (pid == 0) {
+    close(fds[0]);
+    const rlimit limit{memory_limit, memory_limit};
+    setrlimit(RLIMIT_AS, &limit);
+    std::string out;
+    try {
+      out = trial();
+    } catch (const std::exception& e) {
+      out = std::string("uncaught exception: ") + e.what();
+    } catch (...) {
+      out = "uncaught exception of unknown type";
+    }
+    for (std::size_t sent = 0; sent < out.size();) {
+      const ssize_t n = write(fds[1], out.data() + sent, out.size() - sent);
+      if (n <= 0) break;
+      sent += static_cast<std::size_t>(n);
+    }
+    _exit(0);
+  }
+  close(fds[1]);
+  const auto elapsed = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  bool timed_out = false;
+  char buffer[4096];
+  for (;;) {
+    const double left = timeout_s - elapsed();
+    if (left <= 0.0) {
+      timed_out = true;
+      break;
+    }
+    pollfd p{fds[0], POLLIN, 0};
+    const int ready = poll(&p, 1, static_cast<int>(left * 1000.0) + 1);
+    if (ready <= 0) continue;  // timeout (checked above) or an interrupted poll
+    const ssize_t n = read(fds[0], buffer, sizeof(buffer));
+    if (n <= 0) break;
+    result.output.append(buffer, static_cast<std::size_t>(n));
+  }
+  close(fds[0]);
+  if (timed_out) kill(pid, SIGKILL);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  result.seconds = elapsed();
+  if (timed_out) {
+    result.end = ChildResult::End::TimedOut;
+  } else if (WIFSIGNALED(status)) {
+    result.end = ChildResult::End::Signalled;
+    result.signal = WTERMSIG(status);
+  } else {
+    result.end = ChildResult::End::Finished;
+  }
+  return result;
+}
+
+/// `text` as one CSV field: quoted, inner quotes doubled, bytes outside printable ASCII (line
+/// breaks, bytes of corrupted files) written as \xNN.
+inline std::string csvField(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (c == '"') {
+      out += "\"\"";
+    } else if (byte < 0x20 || byte > 0x7e) {
+      char hex[5];
+      std::snprintf(hex, sizeof(hex), "\\x%02x", byte);
+      out += hex;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+}  // namespace surgical_sim::tools

@@ -1,0 +1,129 @@
+// Mesh corruptor (issue 14 fuzz campaign). Usage:
+//   mesh_fuzz --seed S --count N --out DIR [--sources DIR]
+// Derives N (>= 200) corrupted files from the shipped meshes (<sources>/config/meshes/*.msh and
+// <sources>/test/data/*.msh, *.obj, *.stl; default sources: this package), writes them into
+// DIR/mutants and loads each in a child process (60 s, 4 GB address space). Prints the count of
+// each outcome (loaded, rejected_with_message, warned_repair, crash, hang) and writes
+// DIR/mesh_fuzz.csv, one row per file: index, source, mutation, outcome, message.
+// Exit code 1 if any file crashed or hung.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "fuzz_child.h"
+#include "surgical_sim/core/mesh/mesh_fuzz.h"
+
+namespace ss = surgical_sim::core;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kUsage =
+    "usage: mesh_fuzz --seed S --count N --out DIR [--sources DIR]\n"
+    "  corrupts the shipped meshes N >= 200 times, loads each mutant in a child process and\n"
+    "  writes DIR/mesh_fuzz.csv (index,source,mutation,outcome,message)\n";
+constexpr double kTimeoutSeconds = 60.0;
+constexpr rlim_t kMemoryLimit = rlim_t{4} << 30;
+
+int usage(const std::string& error) {
+  std::cerr << "mesh_fuzz: " << error << "\n" << kUsage;
+  return 2;
+}
+
+std::vector<std::string> shippedMeshes(const fs::path& root) {
+  std::vector<std::string> files;
+  for (const fs::path& dir : {root / "config/meshes", root / "test/data"}) {
+    if (!fs::is_directory(dir)) continue;
+    for (const auto& entry : fs::directory_iterator(dir)) {
+      const std::string ext = entry.path().extension().string();
+      if (ext == ".msh" || ext == ".obj" || ext == ".stl") files.push_back(entry.path().string());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  long long seed = -1;
+  long long count = 0;
+  std::string out;
+  std::string sources = fs::path(SURGICAL_SIM_SCRIPTS_DIR).parent_path().string();
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") {
+      std::cout << kUsage;
+      return 0;
+    }
+    if (i + 1 >= argc) return usage("missing value after " + arg);
+    const std::string value = argv[++i];
+    try {
+      if (arg == "--seed") {
+        seed = std::stoll(value);
+      } else if (arg == "--count") {
+        count = std::stoll(value);
+      } else if (arg == "--out") {
+        out = value;
+      } else if (arg == "--sources") {
+        sources = value;
+      } else {
+        return usage("unknown option " + arg);
+      }
+    } catch (const std::exception&) {
+      return usage("bad number '" + value + "' for " + arg);
+    }
+  }
+  if (seed < 0 || seed > 0xFFFFFFFFLL) return usage("--seed must be in [0, 2^32)");
+  if (count < 200 || count > 1000000) return usage("--count must be in [200, 1000000]");
+  if (out.empty()) return usage("--out is required");
+  const std::vector<std::string> files = shippedMeshes(sources);
+  if (files.empty()) return usage("no mesh files under " + sources);
+  const std::string mutants = out + "/mutants";
+  fs::create_directories(mutants);
+  std::ofstream csv(out + "/mesh_fuzz.csv");
+  if (!csv) return usage("cannot write " + out + "/mesh_fuzz.csv");
+  csv << "index,source,mutation,outcome,message\n";
+
+  std::map<std::string, int> counts;
+  for (const char* o : {"loaded", "rejected_with_message", "warned_repair", "crash", "hang"})
+    counts[o] = 0;
+  for (int i = 0; i < count; ++i) {
+    const ss::MeshFuzzRow row = ss::writeMeshMutant(files, i, static_cast<unsigned>(seed), mutants);
+    const surgical_sim::tools::ChildResult child = surgical_sim::tools::runInChild(
+        [&] {
+          const ss::MeshLoadResult r = ss::loadMeshForFuzz(row.file);
+          return std::string(ss::toString(r.outcome)) + "\t" + r.message;
+        },
+        kTimeoutSeconds, kMemoryLimit);
+    std::string outcome = "crash";
+    std::string message;
+    using End = surgical_sim::tools::ChildResult::End;
+    if (child.end == End::TimedOut) {
+      outcome = "hang";
+      message = "no result after " + std::to_string(kTimeoutSeconds) + " s";
+    } else if (child.end == End::Signalled) {
+      message = "killed by signal " + std::to_string(child.signal);
+    } else if (child.end == End::ForkFailed) {
+      message = "fork failed";
+    } else {
+      const std::size_t tab = child.output.find('\t');
+      outcome = tab == std::string::npos ? "crash" : child.output.substr(0, tab);
+      message = tab == std::string::npos ? child.output : child.output.substr(tab + 1);
+    }
+    ++counts[outcome];
+    csv << i << "," << surgical_sim::tools::csvField(fs::relative(row.source, sources).string())
+        << "," << surgical_sim::tools::csvField(row.mutation) << "," << outcome << ","
+        << surgical_sim::tools::csvField(message) << "\n";
+  }
+  std::cout << "mesh_fuzz: seed " << seed << ", " << count << " mutants of " << files.size()
+            << " files\n";
+  for (const auto& [outcome, n] : counts) std::printf("  %-22s %6d\n", outcome.c_str(), n);
+  std::cout << "CSV: " << out << "/mesh_fuzz.csv\n";
+  return counts["crash"] + counts["hang"] > 0 ? 1 : 0;
+}

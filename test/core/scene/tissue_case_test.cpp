@@ -1,0 +1,105 @@
+#include "surgical_sim/core/scene/tissue_case.h"
+
+#include <cmath>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "surgical_sim/core/scene/scene_config.h"
+
+namespace surgical_sim::core {
+namespace {
+
+TEST(TissueCase, RelativeErrorAgainstAZeroReferenceIsNaN) {
+  // No gravity, no prescribed motion: the self reference does not move, so a relative error
+  // against it is meaningless (it printed as 5e282 with status ok).
+  const SceneConfig scene = parseSceneConfig(R"(
+name: unloaded
+mesh: {generator: box, size: [0.05, 0.05, 0.05], resolutions: [[1, 1, 1]]}
+material: {young_modulus: 20.0e3, poisson_ratio: 0.3, density: 1000.0}
+models: corotational
+integrators: implicit_euler_linearized
+solvers: cholmod
+time_step: 0.01
+steps: 2
+fixed:
+  - region: {max: [.inf, .inf, 1.0e-9]}
+measure: {type: self_reference}
+)",
+                                             "unloaded.yaml");
+  const std::vector<CaseSpec> cases = expandSweep(scene);
+  ASSERT_EQ(cases.size(), 1u);
+  const CaseResult r = runTissueCase(scene, cases.front());
+  EXPECT_EQ(r.reference, 0.0);
+  EXPECT_TRUE(std::isnan(r.error_rel)) << r.error_rel;
+  EXPECT_NE(caseCsvRow("unloaded", r).find(",nan,"), std::string::npos)
+      << caseCsvRow("unloaded", r);
+}
+
+TEST(TissueCase, LoadedSelfReferenceHasFiniteError) {
+  const SceneConfig scene = parseSceneConfig(R"(
+name: sagging
+mesh: {generator: box, size: [0.05, 0.05, 0.05], resolutions: [[1, 1, 1]]}
+material: {young_modulus: 20.0e3, poisson_ratio: 0.3, density: 1000.0}
+models: corotational
+integrators: implicit_euler_linearized
+solvers: cholmod
+time_step: 0.01
+steps: 2
+gravity: [0, 0, -9.81]
+fixed:
+  - region: {max: [.inf, .inf, 1.0e-9]}
+measure: {type: self_reference}
+)",
+                                             "sagging.yaml");
+  const CaseResult r = runTissueCase(scene, expandSweep(scene).front());
+  EXPECT_GT(r.reference, 0.0);
+  EXPECT_TRUE(std::isfinite(r.error_rel));
+  EXPECT_LT(r.error_rel, 1.0);
+}
+
+TEST(TissueCase, MeshBeyondTheBudgetIsRejectedBeforeBuilding) {
+  MeshSpec spec;
+  spec.generator = "box";
+  spec.size = Eigen::Vector3d::Constant(0.1);
+  try {
+    buildSceneMesh(spec, Eigen::Vector3i::Constant(4096), ElementType::Tet10);
+    FAIL() << "a 4096^3 tet10 box was built";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("key 'mesh.resolutions'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(TissueCase, BadMeshFileIsNamedWithTheKey) {
+  // Two tets sharing a face, the second one inverted (its last two nodes swapped).
+  const std::string path = ::testing::TempDir() + "/inverted_two_tets.msh";
+  std::ofstream(path) << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n5\n1 0 0 0\n"
+                         "2 10 0 0\n3 0 10 0\n4 0 0 10\n5 10 10 10\n$EndNodes\n$Elements\n2\n"
+                         "1 4 0 1 2 3 4\n2 4 0 2 3 5 4\n$EndElements\n";
+  MeshSpec spec;
+  spec.generator = "file";
+  spec.file = path;
+  spec.metres_per_unit = 1e-3;
+  try {
+    buildSceneMesh(spec, Eigen::Vector3i::Zero(), ElementType::Tet4);
+    FAIL() << "an inverted mesh was built";
+  } catch (const std::invalid_argument& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("key 'mesh.file': " + path + ": invalid mesh"), std::string::npos)
+        << message;
+    EXPECT_NE(message.find("inverted"), std::string::npos) << message;
+  }
+  spec.file = ::testing::TempDir() + "/no_such_mesh.msh";
+  try {
+    buildSceneMesh(spec, Eigen::Vector3i::Zero(), ElementType::Tet4);
+    FAIL() << "a missing mesh was built";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("key 'mesh.file': " + spec.file + ": cannot open"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace surgical_sim::core
