@@ -1,6 +1,6 @@
 #include "surgical_sim/ros/conversions.h"
 
-#include <cmath>
+#include "surgical_sim/core/common/tool_pose_check.h"
 
 namespace surgical_sim::ros_layer {
 
@@ -45,12 +45,10 @@ geometry_msgs::Pose toPoseMsg(const Eigen::Isometry3d& pose) {
 }
 
 bool isUsablePose(const geometry_msgs::Pose& pose, double max_distance) {
-  const Eigen::Vector3d p = toEigen(pose.position);
-  const Eigen::Vector4d q(pose.orientation.w, pose.orientation.x, pose.orientation.y,
-                          pose.orientation.z);
-  if (!p.allFinite() || !q.allFinite()) return false;
-  const double qn = q.norm();
-  return qn >= 0.5 && qn <= 2.0 && p.norm() <= max_distance;
+  return core::isUsableToolPose(toEigen(pose.position),
+                                Eigen::Vector4d(pose.orientation.w, pose.orientation.x,
+                                                pose.orientation.y, pose.orientation.z),
+                                max_distance);
 }
 
 }  // namespace surgical_sim::ros_layer

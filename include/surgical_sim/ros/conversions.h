@@ -17,9 +17,8 @@ geometry_msgs::Point toPointMsg(const Eigen::Vector3d& p);
 geometry_msgs::Vector3 toVector3Msg(const Eigen::Vector3d& v);
 geometry_msgs::Pose toPoseMsg(const Eigen::Isometry3d& pose);
 
-/// True when every field is finite, the quaternion's norm is within [0.5, 2] (so normalising it
-/// is meaningful) and the position is within `max_distance` [m] of the origin (absurd poses are
-/// rejected at the node boundary).
+/// core::isUsableToolPose() of the message's position and quaternion: finite, quaternion norm
+/// within [0.5, 2], position within `max_distance` [m] of the origin.
 bool isUsablePose(const geometry_msgs::Pose& pose, double max_distance);
 
 }  // namespace surgical_sim::ros_layer
