@@ -461,6 +461,16 @@ def abuse_requests(rng):
     }
 
 
+def classify(resp):
+    """"accepted" or "rejected" from a response's success / accepted flag or its status
+    (set_target: invalid_target, unknown_frame and invalid_request are refusals)."""
+    for flag in ("success", "accepted"):
+        if hasattr(resp, flag):
+            return "accepted" if getattr(resp, flag) else "rejected"
+    status = getattr(resp, "status", "")
+    return "rejected" if status.startswith("invalid") or status == "unknown_frame" else "accepted"
+
+
 def describe(resp):
     for field in ("status", "message"):
         if hasattr(resp, field) and getattr(resp, field):
@@ -496,8 +506,7 @@ def part_services(args):
                 pending[key] = t0
                 try:
                     resp = proxy(req)
-                    ok = getattr(resp, "success", getattr(resp, "accepted", True))
-                    outcome = ("accepted" if ok else "rejected", describe(resp))
+                    outcome = (classify(resp), describe(resp))
                 except (rospy.ServiceException, rospy.ROSException) as e:
                     outcome = ("error", str(e)[:80])
                 pending.pop(key, None)
@@ -505,7 +514,7 @@ def part_services(args):
                     calls.append({"service": name, "t": round(t0 - end + args.seconds, 3),
                                   "latency_ms": round(1e3 * (time.time() - t0), 3),
                                   "outcome": outcome[0], "detail": outcome[1],
-                                  "request": str(req).replace("\n", " ")[:120]})
+                                  "request": " ".join(str(req).split())[:160]})
 
         threads = [threading.Thread(target=hammer, args=(n, t, m), daemon=True)
                    for n, (t, m) in services.items() for _ in range(2)]
