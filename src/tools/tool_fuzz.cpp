@@ -113,6 +113,19 @@ void printRow(std::ostream& out, const std::string& label, const ToolFuzzOutcome
   out << "\n";
 }
 
+/// The total as one line of outcome=count pairs (the format scripts/robustness collects).
+void printCounts(std::ostream& out, const ToolFuzzOutcome& o,
+                 const std::vector<std::string>& statuses) {
+  out << "tools     sequences=" << o.sequences << "  steps=" << o.steps
+      << "  non_finite=" << o.non_finite_steps << "  contact_steps=" << o.contact_steps
+      << "  max_force_N=" << o.max_force << "  over_bound=" << o.over_bound_steps
+      << "  limited_but_ok=" << o.limited_but_ok_steps << "  rejected_poses=" << o.rejected_poses
+      << "  bad_poses_accepted=" << o.bad_poses_accepted << "  teleports=" << o.teleports
+      << "  grasp_toggles=" << o.grasp_toggles;
+  for (const std::string& s : statuses) out << "  status_" << s << "=" << count(o, s);
+  out << "  ms_per_step=" << (o.steps ? 1e3 * o.wall_seconds / o.steps : 0.0) << "\n";
+}
+
 void printHeader(std::ostream& out) {
   out << std::left << std::setw(9) << "sequence" << std::right << std::setw(7) << "steps"
       << std::setw(11) << "nonfinite" << std::setw(9) << "contact" << std::setw(12) << "max_f[N]"
@@ -195,6 +208,7 @@ int main(int argc, char** argv) {
     for (std::size_t i = 0; i < rows.size(); ++i)
       printRow(std::cout, std::to_string(i), rows[i], statuses);
     printRow(std::cout, "total", total, statuses);
+    printCounts(std::cout, total, statuses);
     if (csv.is_open()) writeCsv(csv, rows, args.seed, statuses, bound.str());
     const bool clean = total.non_finite_steps == 0 && total.over_bound_steps == 0 &&
                        total.limited_but_ok_steps == 0 && total.bad_poses_accepted == 0;
