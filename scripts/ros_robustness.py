@@ -5,11 +5,13 @@ writes CSVs into --out and prints one line of counts per outcome. Needs the work
 (source .ws/devel/setup.bash); scripts/robustness and scripts/soak do that.
 
   ros_robustness.py realtime [--sequences N] [--seconds S] [--rate HZ] [--seed S] [--out DIR]
+                             [--max-force N]
   ros_robustness.py services [--seconds S] [--seed S] [--out DIR]
   ros_robustness.py soak [--duration S] [--seed S] [--out DIR]
 
 Outcomes: non_finite = a NaN/Inf in tissue/stats (energy, residual, step_time) or tissue/wrench;
-over_bound = |tissue force| above the tool's max_force (scene key, when present);
+over_bound = |tissue force| above the tool's bound (--max-force, else the scene's
+tools[].max_force when present);
 limited_but_ok = force at or above max_force with status "ok"; crashes = a node process that
 died (roslaunch "process has died") or vanished; hung = a service call still unanswered
 --timeout seconds after the part ended. Exit status 0 when no crash, non-finite value,
@@ -318,7 +320,10 @@ class TissueRecorder:
         return row, statuses
 
 
-def tool_bound(tools):
+def tool_bound(tools, override):
+    """Force bound [N]: --max-force, else the smallest tools[].max_force of the scene, else None."""
+    if override:
+        return override
     bounds = [t["max_force"] for t in tools if "max_force" in t]
     return min(bounds) if bounds else None
 
@@ -376,7 +381,7 @@ def part_realtime(args):
         from std_srvs.srv import Empty
         rospy.init_node("ros_robustness", anonymous=True, disable_signals=True)
         box, tools = scene_info(args.scene)
-        recorder = TissueRecorder(tool_bound(tools))
+        recorder = TissueRecorder(tool_bound(tools, args.max_force))
         pub = rospy.Publisher(tools[0].get("pose_topic", "tool/pose"), PoseStamped, queue_size=100)
         grasp_topic = tools[0].get("grasp_topic")
         grasp_pub = rospy.Publisher(grasp_topic, Bool, queue_size=10) if grasp_topic else None
@@ -573,7 +578,7 @@ def part_soak(args):
         from geometry_msgs.msg import PoseStamped
         rospy.init_node("ros_robustness", anonymous=True, disable_signals=True)
         box, tools = scene_info(args.scene)
-        recorder = TissueRecorder(tool_bound(tools))
+        recorder = TissueRecorder(tool_bound(tools, args.max_force))
         pub = rospy.Publisher(tools[0].get("pose_topic", "tool/pose"), PoseStamped, queue_size=100)
         rng = random.Random(args.seed)
         samples, start = [], time.time()
@@ -645,6 +650,8 @@ def main():
     parser.add_argument("--out", default=os.path.join(PKG, "report", "robustness"))
     parser.add_argument("--scene", default=PALPATION)
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--max-force", type=float, default=None,
+                        help="realtime, soak: force bound [N] (default: the scene's max_force)")
     parser.add_argument("--sequences", type=int, default=5, help="realtime: sequences")
     parser.add_argument("--seconds", type=float, default=10.0,
                         help="realtime: seconds per sequence; services: abuse duration")
