@@ -145,11 +145,11 @@ void writeCsv(std::ostream& csv, const std::vector<ToolFuzzOutcome>& rows, unsig
   csv << "\n" << std::setprecision(9);
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const ToolFuzzOutcome& o = rows[i];
-    csv << i << "," << seed + i << "," << o.steps << "," << o.non_finite_steps << "," << o.max_force
-        << "," << bound << "," << o.over_bound_steps << "," << o.limited_but_ok_steps << ","
-        << o.accepted_poses << "," << o.rejected_poses << "," << o.bad_poses_accepted << ","
-        << o.teleports << "," << o.grasp_toggles << "," << o.max_abs_energy << ","
-        << o.max_energy_rise << "," << 1e3 * o.wall_seconds / o.steps;
+    csv << i << "," << seed + i << "," << o.steps << "," << o.non_finite_steps << ","
+        << o.contact_steps << "," << o.max_force << "," << bound << "," << o.over_bound_steps << ","
+        << o.limited_but_ok_steps << "," << o.accepted_poses << "," << o.rejected_poses << ","
+        << o.bad_poses_accepted << "," << o.teleports << "," << o.grasp_toggles << ","
+        << o.max_abs_energy << "," << o.max_energy_rise << "," << 1e3 * o.wall_seconds / o.steps;
     for (const std::string& s : statuses) csv << "," << count(o, s);
     csv << "\n";
   }
