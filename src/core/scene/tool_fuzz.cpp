@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 #include <type_traits>
+#include <utility>
 
 #include "surgical_sim/core/common/status.h"
 #include "surgical_sim/core/common/stopwatch.h"
