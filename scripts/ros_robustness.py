@@ -525,8 +525,9 @@ def part_services(args):
                    for n, (t, m) in services.items() for _ in range(2)]
         for t in threads:
             t.start()
+        deadline = end + args.timeout
         for t in threads:
-            t.join(timeout=max(0.0, end - time.time()) + args.timeout)
+            t.join(timeout=max(0.0, deadline - time.time()))
         hung = [k[0] for k in pending]
         write_csv(os.path.join(args.out, "service_abuse.csv"), calls)
         summary = []
