@@ -2,8 +2,6 @@
 
 #include <ros/console.h>
 
-#include <cmath>
-
 namespace surgical_sim::ros_layer {
 
 Eigen::Vector3d toEigen(const geometry_msgs::Point& p) { return {p.x, p.y, p.z}; }
@@ -47,13 +45,10 @@ geometry_msgs::Pose toPoseMsg(const Eigen::Isometry3d& pose) {
 }
 
 PoseProblem poseProblem(const geometry_msgs::Pose& pose, double max_distance) {
-  const Eigen::Vector3d p = toEigen(pose.position);
-  const Eigen::Vector4d q(pose.orientation.w, pose.orientation.x, pose.orientation.y,
-                          pose.orientation.z);
-  if (!p.allFinite()) return PoseProblem::NonFinitePosition;
-  const double qn = q.norm();
-  if (!(qn >= 0.5 && qn <= 2.0)) return PoseProblem::BadQuaternion;
-  return p.norm() <= max_distance ? PoseProblem::None : PoseProblem::TooFar;
+  return core::toolPoseProblem(toEigen(pose.position),
+                               Eigen::Vector4d(pose.orientation.w, pose.orientation.x,
+                                               pose.orientation.y, pose.orientation.z),
+                               max_distance);
 }
 
 bool acceptPose(const geometry_msgs::Pose& pose, double max_distance, const char* node) {

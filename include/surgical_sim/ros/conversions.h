@@ -6,6 +6,8 @@
 
 #include <Eigen/Geometry>
 
+#include "surgical_sim/core/common/tool_pose_check.h"
+
 namespace surgical_sim::ros_layer {
 
 /// geometry_msgs <-> Eigen, SI units, no frame change (the caller resolves frames with tf2).
@@ -18,15 +20,9 @@ geometry_msgs::Vector3 toVector3Msg(const Eigen::Vector3d& v);
 geometry_msgs::Pose toPoseMsg(const Eigen::Isometry3d& pose);
 
 /// Why a tool pose is rejected at the node boundary (None: usable).
-enum class PoseProblem {
-  None,
-  NonFinitePosition,  ///< a position coordinate is NaN or Inf
-  BadQuaternion,      ///< a quaternion component is not finite, or its norm is outside [0.5, 2]
-                      ///< (normalising it would not be meaningful)
-  TooFar,             ///< the position is farther than max_distance [m] from the origin
-};
+using PoseProblem = core::ToolPoseProblem;
 
-/// Classifies `pose`; the checks run in the order of PoseProblem.
+/// core::toolPoseProblem() of the message's position and quaternion.
 PoseProblem poseProblem(const geometry_msgs::Pose& pose, double max_distance);
 
 /// True if `pose` is usable; otherwise logs a throttled warning (1 s) on logger `node` whose text

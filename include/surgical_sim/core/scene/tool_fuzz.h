@@ -1,0 +1,75 @@
+#pragma once
+
+#include <map>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "surgical_sim/core/scene/scene_config.h"
+#include "surgical_sim/core/scene/tissue_simulation.h"
+
+namespace surgical_sim::core {
+
+/// Hostile tool motion for the S1 robustness campaign (runToolFuzzSequence). Poses are tool-tip
+/// poses X_ST in the tissue frame S.
+struct ToolFuzzSettings {
+  int steps = 1000;  ///< simulation steps per sequence, >= 1
+  /// Motion targets lie within this distance of the tissue's rest bounding box [m], > 0.
+  double reach = 0.1;
+  double max_speed = 2.0;          ///< largest tool-tip speed of a motion segment [m/s], > 0
+  double teleport_distance = 1.0;  ///< length of a teleport jump (and back) [m], >= 0
+  /// Probability per step and tool of also sending a malformed pose (NaN, Inf, zero or tiny
+  /// quaternion, far away) that isUsableToolPose() must reject [-], [0, 1].
+  double bad_pose_rate = 0.02;
+  /// Probability per step and tool of toggling the jaws, for tools with a grasp [-], [0, 1].
+  double grasp_toggle_rate = 0.01;
+  /// The pose check's distance bound, as the nodes' ~max_tool_distance [m], > 0.
+  double max_tool_distance = 5.0;
+  /// Per tool: bound on |force of the tissue on the tool| [N]; a missing entry or nullopt means
+  /// no bound (the force is only reported). See sceneForceBounds().
+  std::vector<std::optional<double>> force_bounds;
+};
+
+/// Counts of one sequence (or, merged, of many).
+struct ToolFuzzOutcome {
+  int sequences = 0;
+  int steps = 0;
+  /// Steps after which the state, the energy or a tool force was NaN/Inf.
+  int non_finite_steps = 0;
+  int contact_steps = 0;   ///< steps after which at least one tool was in contact
+  double max_force = 0.0;  ///< max over steps and tools of |force of the tissue on the tool| [N]
+  std::map<std::string, int> status_steps;  ///< steps per status name (toString(StepStatus))
+  int over_bound_steps = 0;                 ///< steps where a tool's force exceeded its bound
+  /// Steps where a tool's force reached its bound (within 1e-6 relative) while the step's status
+  /// was "ok": a limited contact that did not say so.
+  int limited_but_ok_steps = 0;
+  int accepted_poses = 0;        ///< poses that passed the check and were set
+  int rejected_poses = 0;        ///< malformed poses the check rejected (never set)
+  int bad_poses_accepted = 0;    ///< malformed poses the check let through (a check bug)
+  int grasp_toggles = 0;         ///< jaw open/close commands sent
+  int teleports = 0;             ///< teleport jumps (each followed by a jump back)
+  double max_abs_energy = 0.0;   ///< max |StepReport::energy| [J]
+  double max_energy_rise = 0.0;  ///< max increase of StepReport::energy over one step [J]
+  double wall_seconds = 0.0;     ///< wall time of the steps [s]
+
+  /// Adds another outcome's counts (maxima are maxima).
+  void merge(const ToolFuzzOutcome& other);
+};
+
+/// Per tool of the scene: its force bound [N] when the scene defines one (a `max_force` field of
+/// ToolSpec, when the build has it), else nullopt.
+std::vector<std::optional<double>> sceneForceBounds(const SceneConfig& scene);
+
+/// Resets `sim` and runs one sequence of settings.steps steps. Each tool follows random motion
+/// segments drawn from `rng`, at speeds up to settings.max_speed (biased low) with random
+/// orientations: toward targets within settings.reach of the tissue's rest bounding box, into
+/// the body, through the body to below its lowest point (through any fixed underside), holds,
+/// and teleports settings.teleport_distance away and back; jaws toggle for tools with a grasp.
+/// Every pose goes through isUsableToolPose(); only accepted poses reach setToolPose(). Never
+/// throws from the step path.
+/// @throws std::invalid_argument naming the setting when a setting is out of range.
+ToolFuzzOutcome runToolFuzzSequence(TissueSimulation& sim, const ToolFuzzSettings& settings,
+                                    std::mt19937& rng);
+
+}  // namespace surgical_sim::core

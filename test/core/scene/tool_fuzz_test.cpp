@@ -1,0 +1,111 @@
+#include "surgical_sim/core/scene/tool_fuzz.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+#include <string>
+
+#include "surgical_sim/core/scene/scene_config.h"
+#include "surgical_sim/core/scene/tissue_simulation.h"
+
+namespace surgical_sim::core {
+namespace {
+
+/// The grasp scene (palpation organ, one tool with jaws) on a coarse organ.
+SceneConfig smallGraspScene() {
+  SceneConfig scene =
+      loadSceneConfig(std::string(SURGICAL_SIM_SOURCE_DIR) + "/test/data/grasp_scene.yaml");
+  scene.mesh.resolutions = {Eigen::Vector3i(5, 0, 0)};
+  return scene;
+}
+
+ToolFuzzSettings shortSettings(const SceneConfig& scene) {
+  ToolFuzzSettings settings;
+  settings.steps = 200;
+  settings.bad_pose_rate = 0.05;
+  settings.grasp_toggle_rate = 0.02;
+  settings.force_bounds = sceneForceBounds(scene);
+  return settings;
+}
+
+TEST(ToolFuzz, HostileMotionStaysFiniteBoundedAndTruthful) {
+  const SceneConfig scene = smallGraspScene();
+  TissueSimulation sim(scene);
+  const ToolFuzzSettings settings = shortSettings(scene);
+  ToolFuzzOutcome total;
+  for (unsigned seed = 1; seed <= 3; ++seed) {
+    std::mt19937 rng(seed);
+    total.merge(runToolFuzzSequence(sim, settings, rng));
+  }
+  EXPECT_EQ(total.sequences, 3);
+  EXPECT_EQ(total.steps, 600);
+  int counted = 0;
+  for (const auto& [status, n] : total.status_steps) counted += n;
+  EXPECT_EQ(counted, total.steps);
+  EXPECT_EQ(total.non_finite_steps, 0);
+  // The motion reached the tissue, jumped and grasped; every malformed pose was rejected.
+  EXPECT_GT(total.contact_steps, 0);
+  EXPECT_GT(total.max_force, 0.0);
+  EXPECT_GT(total.teleports, 0);
+  EXPECT_GT(total.grasp_toggles, 0);
+  EXPECT_GT(total.rejected_poses, 0);
+  EXPECT_EQ(total.bad_poses_accepted, 0);
+  EXPECT_EQ(total.accepted_poses, total.steps);
+  EXPECT_TRUE(std::isfinite(total.max_abs_energy));
+  for (const auto& bound : settings.force_bounds) {
+    if (!bound) continue;
+    EXPECT_LE(total.max_force, *bound * (1.0 + 1e-6));
+    EXPECT_EQ(total.over_bound_steps, 0);
+    EXPECT_EQ(total.limited_but_ok_steps, 0);
+  }
+}
+
+TEST(ToolFuzz, SameSeedReplaysTheSameSequence) {
+  const SceneConfig scene = smallGraspScene();
+  TissueSimulation sim(scene);
+  ToolFuzzSettings settings = shortSettings(scene);
+  settings.steps = 60;
+  std::mt19937 first_rng(7), second_rng(7);
+  const ToolFuzzOutcome first = runToolFuzzSequence(sim, settings, first_rng);
+  const ToolFuzzOutcome second = runToolFuzzSequence(sim, settings, second_rng);
+  EXPECT_EQ(first.max_force, second.max_force);
+  EXPECT_EQ(first.max_abs_energy, second.max_abs_energy);
+  EXPECT_EQ(first.status_steps, second.status_steps);
+  EXPECT_EQ(first.rejected_poses, second.rejected_poses);
+  EXPECT_EQ(first.teleports, second.teleports);
+}
+
+TEST(ToolFuzz, CountsForcesAboveABoundAndLimitedStepsReportedOk) {
+  const SceneConfig scene = smallGraspScene();
+  TissueSimulation sim(scene);
+  ToolFuzzSettings settings = shortSettings(scene);
+  settings.force_bounds = {1e-9};  // far below any contact force
+  std::mt19937 rng(1);
+  const ToolFuzzOutcome out = runToolFuzzSequence(sim, settings, rng);
+  ASSERT_GT(out.max_force, 1e-9);
+  EXPECT_GT(out.over_bound_steps, 0);
+  EXPECT_GT(out.limited_but_ok_steps, 0);
+  EXPECT_LE(out.limited_but_ok_steps, out.status_steps.at("ok"));
+}
+
+TEST(ToolFuzz, RejectsOutOfRangeSettingsNamingThem) {
+  const SceneConfig scene = smallGraspScene();
+  TissueSimulation sim(scene);
+  std::mt19937 rng(1);
+  ToolFuzzSettings settings;
+  settings.steps = 0;
+  EXPECT_THROW(runToolFuzzSequence(sim, settings, rng), std::invalid_argument);
+  settings.steps = 1;
+  settings.bad_pose_rate = 1.5;
+  try {
+    runToolFuzzSequence(sim, settings, rng);
+    FAIL() << "bad_pose_rate 1.5 accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("bad_pose_rate"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace surgical_sim::core
