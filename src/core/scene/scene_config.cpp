@@ -380,6 +380,47 @@ Eigen::Isometry3d readPose(const KeyReader& parent, const std::string& key) {
   return X;
 }
 
+/// Dotted path of the block-style key that encloses line `line` (0-based) of a YAML text, from
+/// the indentation of the "key:" lines up to it (list items add "[]"); "" above the first key.
+/// Used to name the key of a syntax error, where no parsed node exists.
+std::string keyPathAtLine(const std::string& text, int line) {
+  struct Level {
+    std::size_t indent;
+    std::string key;
+  };
+  std::vector<Level> stack;
+  std::istringstream lines(text);
+  std::string l;
+  for (int i = 0; i <= line && std::getline(lines, l); ++i) {
+    std::size_t at = l.find_first_not_of(' ');
+    if (at == std::string::npos || l[at] == '#') continue;
+    const std::size_t indent = at;
+    std::string prefix;
+    if (l.compare(at, 2, "- ") == 0) {
+      at = l.find_first_not_of(' ', at + 2);
+      if (at == std::string::npos) continue;
+      prefix = "[].";
+    }
+    std::size_t end = at;
+    while (end < l.size() && (std::isalnum(static_cast<unsigned char>(l[end])) || l[end] == '_'))
+      ++end;
+    if (end == at || end >= l.size() || l[end] != ':') continue;
+    while (!stack.empty() && stack.back().indent >= indent) stack.pop_back();
+    if (!prefix.empty() && !stack.empty()) stack.back().key += "[]";
+    stack.push_back({at, l.substr(at, end - at)});
+  }
+  std::string path;
+  for (const Level& level : stack) path += (path.empty() ? "" : ".") + level.key;
+  return path;
+}
+
+/// "malformed YAML at line N (in key 'a.b')" for a syntax error at 0-based line `line`.
+std::string syntaxErrorPlace(const std::string& text, int line) {
+  const std::string key = keyPathAtLine(text, line);
+  return "malformed YAML at line " + std::to_string(line + 1) +
+         (key.empty() ? std::string() : " (in key '" + key + "')");
+}
+
 SceneConfig parse(const YAML::Node& root, const std::string& path) {
   if (!root.IsMap())
     throw std::invalid_argument("scene " + path + ": the file is not a YAML map of keys");
@@ -530,12 +571,12 @@ SceneConfig parseSceneConfig(const std::string& yaml_text, const std::string& pa
   try {
     root = YAML::Load(yaml_text);
   } catch (const YAML::DeepRecursion& e) {
-    throw std::invalid_argument("scene " + path + ": malformed YAML at line " +
-                                std::to_string(e.mark.line + 1) + ": nested more than " +
-                                std::to_string(e.depth() - 1) + " levels deep");
+    throw std::invalid_argument("scene " + path + ": " + syntaxErrorPlace(yaml_text, e.mark.line) +
+                                ": nested more than " + std::to_string(e.depth() - 1) +
+                                " levels deep");
   } catch (const YAML::Exception& e) {
-    throw std::invalid_argument("scene " + path + ": malformed YAML at line " +
-                                std::to_string(e.mark.line + 1) + ": " + e.msg);
+    throw std::invalid_argument("scene " + path + ": " + syntaxErrorPlace(yaml_text, e.mark.line) +
+                                ": " + e.msg);
   }
   try {
     return parse(root, path);

@@ -65,6 +65,15 @@ TEST(SceneConfig, MalformedYamlNamesTheLine) {
   expectRejected("name: x\nmesh: [unclosed\n", {"test.yaml", "malformed YAML", "line"});
 }
 
+TEST(SceneConfig, MalformedYamlNamesTheEnclosingKey) {
+  expectRejected("name: x\nmesh:\n  generator: box\n  size: [1, 2\n",
+                 {"test.yaml", "malformed YAML at line", "(in key 'mesh.size')"});
+  expectRejected("name: x\ntools:\n  - name: a\n    radius: [0.1: 2]: 3\n",
+                 {"test.yaml", "(in key 'tools[].radius')"});
+  expectRejected("name: x\nmesh: " + std::string(5000, '[') + std::string(5000, ']') + "\n",
+                 {"(in key 'mesh')", "levels deep"});
+}
+
 TEST(SceneConfig, DeepNestingNamesTheLine) {
   expectRejected("name: x\nmesh: " + std::string(5000, '[') + std::string(5000, ']') + "\n",
                  {"test.yaml", "malformed YAML at line 2", "levels deep"});
