@@ -1,7 +1,7 @@
 #pragma once
-// Runs one fuzz trial in a forked child process (header only, shared by mesh_fuzz and
-// scene_fuzz): a crash (signal), a hang (wall-time limit) or an allocation beyond the
-// address-space limit cannot take the campaign down, and is reported as such.
+// The command line of a fuzz tool, and one fuzz trial in a forked child process (header only,
+// shared by mesh_fuzz and scene_fuzz): a crash (signal), a hang (wall-time limit) or an allocation
+// beyond the address-space limit cannot take the campaign down, and is reported as such.
 
 #include <poll.h>
 #include <signal.h>
@@ -13,6 +13,8 @@
 #include <cstdio>
 #include <exception>
 #include <functional>
+#include <map>
+#include <set>
 #include <string>
 
 namespace surgical_sim::tools {
@@ -113,6 +115,44 @@ inline std::string csvField(const std::string& text) {
     }
   }
   return out + "\"";
+}
+
+/// Command line of a fuzz campaign tool: --help / -h, --seed S, --count N and string options.
+struct FuzzArgs {
+  bool help = false;
+  long long seed = -1;
+  long long count = 0;
+  std::map<std::string, std::string> text;  ///< the string options given, by name ("--csv")
+};
+
+/// Parses "--name value" pairs into `out`: seed in [0, 2^32), count in [min_count, 1e6], string
+/// options from `text_options`. Returns "" or what is wrong (missing value, unknown option, bad
+/// number, out of range); stops at --help.
+inline std::string parseFuzzArgs(int argc, char** argv, long long min_count,
+                                 const std::set<std::string>& text_options, FuzzArgs& out) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") {
+      out.help = true;
+      return "";
+    }
+    if (i + 1 >= argc) return "missing value after " + arg;
+    const std::string value = argv[++i];
+    if (text_options.count(arg)) {
+      out.text[arg] = value;
+      continue;
+    }
+    if (arg != "--seed" && arg != "--count") return "unknown option " + arg;
+    try {
+      (arg == "--seed" ? out.seed : out.count) = std::stoll(value);
+    } catch (const std::exception&) {
+      return "bad number '" + value + "' for " + arg;
+    }
+  }
+  if (out.seed < 0 || out.seed > 0xFFFFFFFFLL) return "--seed must be in [0, 2^32)";
+  if (out.count < min_count || out.count > 1000000)
+    return "--count must be in [" + std::to_string(min_count) + ", 1000000]";
+  return "";
 }
 
 }  // namespace surgical_sim::tools

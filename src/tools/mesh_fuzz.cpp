@@ -51,37 +51,21 @@ std::vector<std::string> shippedMeshes(const fs::path& root) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  long long seed = -1;
-  long long count = 0;
-  std::string out;
-  std::string sources = fs::path(SURGICAL_SIM_SCRIPTS_DIR).parent_path().string();
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      std::cout << kUsage;
-      return 0;
-    }
-    if (i + 1 >= argc) return usage("missing value after " + arg);
-    const std::string value = argv[++i];
-    try {
-      if (arg == "--seed") {
-        seed = std::stoll(value);
-      } else if (arg == "--count") {
-        count = std::stoll(value);
-      } else if (arg == "--out") {
-        out = value;
-      } else if (arg == "--sources") {
-        sources = value;
-      } else {
-        return usage("unknown option " + arg);
-      }
-    } catch (const std::exception&) {
-      return usage("bad number '" + value + "' for " + arg);
-    }
+  surgical_sim::tools::FuzzArgs args;
+  const std::string problem =
+      surgical_sim::tools::parseFuzzArgs(argc, argv, 200, {"--out", "--sources"}, args);
+  if (args.help) {
+    std::cout << kUsage;
+    return 0;
   }
-  if (seed < 0 || seed > 0xFFFFFFFFLL) return usage("--seed must be in [0, 2^32)");
-  if (count < 200 || count > 1000000) return usage("--count must be in [200, 1000000]");
-  if (out.empty()) return usage("--out is required");
+  if (!problem.empty()) return usage(problem);
+  if (!args.text.count("--out")) return usage("--out is required");
+  const long long seed = args.seed;
+  const long long count = args.count;
+  const std::string out = args.text["--out"];
+  const std::string sources = args.text.count("--sources")
+                                  ? args.text["--sources"]
+                                  : fs::path(SURGICAL_SIM_SCRIPTS_DIR).parent_path().string();
   const std::vector<std::string> files = shippedMeshes(sources);
   if (files.empty()) return usage("no mesh files under " + sources);
   const std::string mutants = out + "/mutants";

@@ -43,38 +43,22 @@ int usage(const std::string& error) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  long long seed = -1;
-  long long count = 0;
-  std::string csv_path;
-  std::string scenes_dir =
-      (fs::path(SURGICAL_SIM_SCRIPTS_DIR).parent_path() / "config/scenes").string();
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      std::cout << kUsage;
-      return 0;
-    }
-    if (i + 1 >= argc) return usage("missing value after " + arg);
-    const std::string value = argv[++i];
-    try {
-      if (arg == "--seed") {
-        seed = std::stoll(value);
-      } else if (arg == "--count") {
-        count = std::stoll(value);
-      } else if (arg == "--csv") {
-        csv_path = value;
-      } else if (arg == "--scenes") {
-        scenes_dir = value;
-      } else {
-        return usage("unknown option " + arg);
-      }
-    } catch (const std::exception&) {
-      return usage("bad number '" + value + "' for " + arg);
-    }
+  surgical_sim::tools::FuzzArgs args;
+  const std::string problem =
+      surgical_sim::tools::parseFuzzArgs(argc, argv, 1000, {"--csv", "--scenes"}, args);
+  if (args.help) {
+    std::cout << kUsage;
+    return 0;
   }
-  if (seed < 0 || seed > 0xFFFFFFFFLL) return usage("--seed must be in [0, 2^32)");
-  if (count < 1000 || count > 1000000) return usage("--count must be in [1000, 1000000]");
-  if (csv_path.empty()) return usage("--csv is required");
+  if (!problem.empty()) return usage(problem);
+  if (!args.text.count("--csv")) return usage("--csv is required");
+  const long long seed = args.seed;
+  const long long count = args.count;
+  const std::string csv_path = args.text["--csv"];
+  const std::string scenes_dir =
+      args.text.count("--scenes")
+          ? args.text["--scenes"]
+          : (fs::path(SURGICAL_SIM_SCRIPTS_DIR).parent_path() / "config/scenes").string();
   std::vector<std::string> scenes;
   if (fs::is_directory(scenes_dir))
     for (const auto& entry : fs::directory_iterator(scenes_dir))

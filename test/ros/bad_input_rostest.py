@@ -12,7 +12,7 @@ from geometry_msgs.msg import PoseStamped
 from rosgraph_msgs.msg import Log
 from std_srvs.srv import SetBool
 
-from node_probe import run_node, wait_for_subscribers
+from node_probe import pose_stamped, run_node, wait_for_subscribers
 
 
 class BadInputTest(unittest.TestCase):
@@ -47,12 +47,7 @@ class BadInputTest(unittest.TestCase):
         self.assertTrue(self.pause(False).success, "tissue_simulator stopped answering")
 
     def pose(self, x, y, z, frame="world", qw=1.0):
-        msg = PoseStamped()
-        msg.header.stamp = rospy.Time.now()
-        msg.header.frame_id = frame
-        msg.pose.position.x, msg.pose.position.y, msg.pose.position.z = x, y, z
-        msg.pose.orientation.w = qw
-        return msg
+        return pose_stamped(x, y, z, frame, qw)
 
     def test_nan_pose_is_rejected_and_node_survives(self):
         self.pub.publish(self.pose(float("nan"), 0.0, 0.05))

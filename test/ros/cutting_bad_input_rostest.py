@@ -14,16 +14,8 @@ from std_msgs.msg import Bool
 from surgical_sim.msg import BladeSweep
 from surgical_sim.srv import SetBlade
 
+from node_probe import pose_stamped as pose
 from node_probe import run_node, sigint_and_wait, start_node, wait_for_subscribers
-
-
-def pose(x, y, z, frame="world", qw=1.0):
-    msg = PoseStamped()
-    msg.header.stamp = rospy.Time.now()
-    msg.header.frame_id = frame
-    msg.pose.position.x, msg.pose.position.y, msg.pose.position.z = x, y, z
-    msg.pose.orientation.w = qw
-    return msg
 
 
 class CuttingBadInputTest(unittest.TestCase):

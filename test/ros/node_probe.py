@@ -6,6 +6,7 @@ import time
 import uuid
 
 import rospy
+from geometry_msgs.msg import PoseStamped
 
 
 def wait_for_subscribers(*publishers, timeout=30.0):
@@ -59,3 +60,13 @@ def sigint_and_wait(proc, timeout=10.0):
         proc.wait()
         return None
     return time.monotonic() - start
+
+
+def pose_stamped(x, y, z, frame="world", qw=1.0):
+    """geometry_msgs/PoseStamped at (x, y, z) [m] in `frame`, quaternion (qw, 0, 0, 0), stamped now."""
+    msg = PoseStamped()
+    msg.header.stamp = rospy.Time.now()
+    msg.header.frame_id = frame
+    msg.pose.position.x, msg.pose.position.y, msg.pose.position.z = x, y, z
+    msg.pose.orientation.w = qw
+    return msg

@@ -11,11 +11,10 @@
 namespace surgical_sim::core {
 namespace {
 
-TEST(TissueCase, RelativeErrorAgainstAZeroReferenceIsNaN) {
-  // No gravity, no prescribed motion: the self reference does not move, so a relative error
-  // against it is meaningless (it printed as 5e282 with status ok).
-  const SceneConfig scene = parseSceneConfig(R"(
-name: unloaded
+/// A 1-cell box clamped at z = 0, measured against its own tight reference, with `loads` (extra
+/// YAML lines, e.g. gravity) appended.
+SceneConfig selfReferencedBox(const std::string& name, const std::string& loads) {
+  return parseSceneConfig("name: " + name + R"(
 mesh: {generator: box, size: [0.05, 0.05, 0.05], resolutions: [[1, 1, 1]]}
 material: {young_modulus: 20.0e3, poisson_ratio: 0.3, density: 1000.0}
 models: corotational
@@ -26,8 +25,14 @@ steps: 2
 fixed:
   - region: {max: [.inf, .inf, 1.0e-9]}
 measure: {type: self_reference}
-)",
-                                             "unloaded.yaml");
+)" + loads,
+                          name + ".yaml");
+}
+
+TEST(TissueCase, RelativeErrorAgainstAZeroReferenceIsNaN) {
+  // No gravity, no prescribed motion: the self reference does not move, so a relative error
+  // against it is meaningless (it printed as 5e282 with status ok).
+  const SceneConfig scene = selfReferencedBox("unloaded", "");
   const std::vector<CaseSpec> cases = expandSweep(scene);
   ASSERT_EQ(cases.size(), 1u);
   const CaseResult r = runTissueCase(scene, cases.front());
@@ -38,21 +43,7 @@ measure: {type: self_reference}
 }
 
 TEST(TissueCase, LoadedSelfReferenceHasFiniteError) {
-  const SceneConfig scene = parseSceneConfig(R"(
-name: sagging
-mesh: {generator: box, size: [0.05, 0.05, 0.05], resolutions: [[1, 1, 1]]}
-material: {young_modulus: 20.0e3, poisson_ratio: 0.3, density: 1000.0}
-models: corotational
-integrators: implicit_euler_linearized
-solvers: cholmod
-time_step: 0.01
-steps: 2
-gravity: [0, 0, -9.81]
-fixed:
-  - region: {max: [.inf, .inf, 1.0e-9]}
-measure: {type: self_reference}
-)",
-                                             "sagging.yaml");
+  const SceneConfig scene = selfReferencedBox("sagging", "gravity: [0, 0, -9.81]\n");
   const CaseResult r = runTissueCase(scene, expandSweep(scene).front());
   EXPECT_GT(r.reference, 0.0);
   EXPECT_TRUE(std::isfinite(r.error_rel));
