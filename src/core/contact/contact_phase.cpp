@@ -31,7 +31,8 @@ std::vector<ToolCoupling> toolCouplings(const ContactPhaseSettings& settings) {
   for (const ToolSettings& tool : settings.tools) {
     const bool proxy = tool.response == ContactResponse::Proxy;
     if (proxy) requirePositive("tool.proxy_stiffness", tool.proxy_stiffness, "N/m");
-    couplings.push_back({proxy ? tool.proxy_stiffness : tool.coupling_stiffness, tool.max_force});
+    couplings.push_back({proxy ? tool.proxy_stiffness : tool.coupling_stiffness, tool.max_force,
+                         proxy ? 0.0 : tool.coupling_damping});
   }
   return couplings;
 }

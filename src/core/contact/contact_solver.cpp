@@ -41,6 +41,7 @@ void validateContactSolverSettings(const ContactSolverSettings& settings) {
 void validateToolCoupling(const ToolCoupling& coupling) {
   requirePositive("tool.coupling_stiffness", coupling.stiffness, "N/m");
   requirePositive("tool.max_force", coupling.max_force, "N");
+  requireNonNegative("tool.coupling_damping", coupling.damping, "N s/m");
 }
 
 ContactSolver::ContactSolver(const ContactSolverSettings& settings, int max_contacts,
@@ -49,6 +50,8 @@ ContactSolver::ContactSolver(const ContactSolverSettings& settings, int max_cont
       max_contacts_(checkedMaxContacts(max_contacts)),
       couplings_(checkedCouplings(tools)),
       force_scale_(tools.size(), 1.0),
+      compliance_(tools.size(), 0.0),
+      body_offset_(tools.size(), Eigen::Vector3d::Zero()),
       active_set_(max_contacts_) {
   validateContactSolverSettings(settings);
   W_.setZero(max_contacts, max_contacts);
@@ -87,6 +90,37 @@ void ContactSolver::addColumn(const ContactPoint& contact, double scale, Eigen::
 StepStatus ContactSolver::solve(Integrator& integrator, const std::vector<ContactPoint>& contacts,
                                 const Eigen::VectorXd& applied_force, double dt,
                                 bool update_velocity, SimulationState& state) {
+  updateCompliances(dt);
+  const StepStatus status =
+      solveContacts(integrator, contacts, applied_force, dt, update_velocity, state);
+  updateBodyOffsets(dt);
+  return status;
+}
+
+void ContactSolver::updateCompliances(double dt) {
+  for (size_t t = 0; t < couplings_.size(); ++t)
+    compliance_[t] = 1.0 / (couplings_[t].stiffness + couplings_[t].damping / dt);
+}
+
+void ContactSolver::updateBodyOffsets(double dt) {
+  for (size_t t = 0; t < couplings_.size(); ++t) {
+    Eigen::Vector3d push = (couplings_[t].damping / dt) * body_offset_[t];
+    for (Eigen::Index i = 0; i < count_; ++i)
+      if (tools_[static_cast<size_t>(i)] == static_cast<int>(t))
+        push -= lambda_[i] * contact_normals_.col(i);
+    body_offset_[t] = compliance_[t] * push;
+  }
+}
+
+const Eigen::Vector3d& ContactSolver::bodyOffset(int tool) const {
+  return body_offset_[static_cast<size_t>(
+      std::clamp(tool, 0, static_cast<int>(couplings_.size()) - 1))];
+}
+
+StepStatus ContactSolver::solveContacts(Integrator& integrator,
+                                        const std::vector<ContactPoint>& contacts,
+                                        const Eigen::VectorXd& applied_force, double dt,
+                                        bool update_velocity, SimulationState& state) {
   const Eigen::Index size = state.x.size();
   if (tissue_force_.size() != size) resize(size);
   count_ = 0;
@@ -112,7 +146,11 @@ StepStatus ContactSolver::solve(Integrator& integrator, const std::vector<Contac
   double q_scale = 0.0;
   for (Eigen::Index i = 0; i < m; ++i) {
     const ContactPoint& contact = contacts[static_cast<size_t>(i)];
-    q_[i] = contact.gap - rowDot(contact, carried_);
+    const auto tool = static_cast<size_t>(contact.tool);
+    // The damper's memory: the body lags at its previous offset d_t,prev (step 2 above).
+    q_[i] =
+        contact.gap - rowDot(contact, carried_) -
+        compliance_[tool] * (couplings_[tool].damping / dt) * contact.n_S.dot(body_offset_[tool]);
     q_scale = std::max(q_scale, std::abs(q_[i]));
     tools_[static_cast<size_t>(i)] = contact.tool;
     contact_normals_.col(i) = contact.n_S;
@@ -137,10 +175,10 @@ StepStatus ContactSolver::solve(Integrator& integrator, const std::vector<Contac
   }
   auto W = W_.topLeftCorner(m, m);
   W = 0.5 * (W + W.transpose()).eval();
-  // Tool-body coupling: contacts of one tool share its displacement -(1/k_t) sum lambda_j n_j.
+  // Tool-body coupling: contacts of one tool share its displacement -c_t sum lambda_j n_j.
   for (Eigen::Index i = 0; i < m; ++i) {
     const int tool = tools_[static_cast<size_t>(i)];
-    const double compliance = 1.0 / couplings_[static_cast<size_t>(tool)].stiffness;
+    const double compliance = compliance_[static_cast<size_t>(tool)];
     for (Eigen::Index j = 0; j < m; ++j) {
       if (tools_[static_cast<size_t>(j)] != tool) continue;
       W(i, j) += compliance * contact_normals_.col(i).dot(contact_normals_.col(j));

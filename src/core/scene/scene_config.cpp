@@ -334,7 +334,7 @@ MeasureSpec readMeasure(const KeyReader& scene) {
 ToolSpec readTool(const KeyReader& r) {
   r.onlyKeys({"name", "pose_topic", "grasp_topic", "wrench_topic", "contact_model_topic", "radius",
               "shaft_length", "contact", "proxy_stiffness", "grasp_radius", "coupling_stiffness",
-              "max_force", "grip_joint", "grip_topic", "grip_closed_angle"});
+              "coupling_damping", "max_force", "grip_joint", "grip_topic", "grip_closed_angle"});
   ToolSpec t;
   t.name = r.text("name");
   if (r.has("pose_topic")) t.pose_topic = r.topic("pose_topic");
@@ -354,6 +354,8 @@ ToolSpec readTool(const KeyReader& r) {
   checkRange(r, "grasp_radius", t.grasp_radius, 0.0, 0.05, "m");
   t.coupling_stiffness = r.number("coupling_stiffness", t.coupling_stiffness);
   checkRange(r, "coupling_stiffness", t.coupling_stiffness, 1.0, 1e7, "N/m");
+  t.coupling_damping = r.number("coupling_damping", t.coupling_damping);
+  checkRange(r, "coupling_damping", t.coupling_damping, 0.0, 1e5, "N s/m");
   t.max_force = r.number("max_force", t.max_force);
   checkRange(r, "max_force", t.max_force, 1e-3, 1e4, "N");
   if (r.has("grip_joint")) t.grip_joint = r.text("grip_joint");

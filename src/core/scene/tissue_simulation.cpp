@@ -51,6 +51,7 @@ TissueSimulation::TissueSimulation(const SceneConfig& scene) : scene_(scene) {
       tool.proxy_stiffness = t.proxy_stiffness;
       tool.grasp_radius = t.grasp_radius > 0.0 ? t.grasp_radius : 1e-9;
       tool.coupling_stiffness = t.coupling_stiffness;
+      tool.coupling_damping = t.coupling_damping;
       tool.max_force = t.max_force;
       contact.tools.push_back(tool);
     }

@@ -6,7 +6,6 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
-#include <type_traits>
 #include <utility>
 
 #include "surgical_sim/core/common/status.h"
@@ -16,22 +15,6 @@
 
 namespace surgical_sim::core {
 namespace {
-
-/// True when ToolSpec-like type T has a `max_force` member [N].
-template <class T, class = void>
-struct HasMaxForce : std::false_type {};
-template <class T>
-struct HasMaxForce<T, std::void_t<decltype(std::declval<const T&>().max_force)>> : std::true_type {
-};
-
-template <class Spec>
-std::optional<double> forceBound(const Spec& spec) {
-  if constexpr (HasMaxForce<Spec>::value) {
-    const double bound = static_cast<double>(spec.max_force);
-    if (std::isfinite(bound) && bound > 0.0) return bound;
-  }
-  return std::nullopt;
-}
 
 /// Axis-aligned box [m].
 struct Box {
@@ -208,7 +191,7 @@ void ToolFuzzOutcome::merge(const ToolFuzzOutcome& o) {
 
 std::vector<std::optional<double>> sceneForceBounds(const SceneConfig& scene) {
   std::vector<std::optional<double>> bounds;
-  for (const ToolSpec& tool : scene.tools) bounds.push_back(forceBound(tool));
+  for (const ToolSpec& tool : scene.tools) bounds.push_back(tool.max_force);
   return bounds;
 }
 

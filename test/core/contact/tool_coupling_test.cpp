@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -90,6 +91,44 @@ TEST(ToolCoupling, ContactOnAFixedNodePushesTheToolBackThroughTheCoupling) {
   EXPECT_TRUE(s.solver.limited(0));
   s.solver.linearize(0, Eigen::Vector3d::Zero(), lin);
   EXPECT_LT(lin.K_S.norm(), 1e-9 * kCoupling);
+}
+
+TEST(ToolCoupling, DamperResistsTheFirstStepThenTheSpringAloneHolds) {
+  // Fixed node, gap -d, spring k and damper b (b/dt = k): the body is massless, so
+  // (k + b/dt) d_t = (b/dt) d_t,prev - lambda n.
+  const double b = 100.0, dt = 0.01, d = 1e-3, rate = b / dt;  // rate = k_c = 1e4 N/m
+  FixedCompliance integrator(Eigen::MatrixXd::Zero(24, 24));
+  ContactSolver solver(Solve::settings(), 16, {{kCoupling, 1e3, b}});
+  SimulationState state;
+  state.x = state.v = Eigen::VectorXd::Zero(24);
+  const Eigen::VectorXd none = Eigen::VectorXd::Zero(24);
+  const Eigen::Vector3d n(0.0, 0.0, -1.0);
+  const auto step = [&](const std::vector<ContactPoint>& contacts) {
+    EXPECT_EQ(solver.solve(integrator, contacts, none, dt, true, state), StepStatus::Ok);
+    return contacts.empty() ? 0.0 : solver.multipliers()[0];
+  };
+  // First touch: spring and damper both resist, lambda = (k + b/dt) d; the body retracts by d.
+  EXPECT_NEAR(step({contactOnNode(0, n, -d)}), (kCoupling + rate) * d, 1e-8);
+  EXPECT_LT((solver.bodyOffset(0) + d * n).norm(), 1e-12 + 1e-9 * d);
+  // Held at the same depth: the body no longer moves, the damper carries nothing: lambda = k d.
+  EXPECT_NEAR(step({contactOnNode(0, n, -d)}), kCoupling * d, 1e-8);
+  EXPECT_LT((solver.bodyOffset(0) + d * n).norm(), 1e-12 + 1e-9 * d);
+  // Released for one step: the body relaxes halfway back, d_t = (b/dt) / (k + b/dt) d_t,prev.
+  step({});
+  EXPECT_LT((solver.bodyOffset(0) + 0.5 * d * n).norm(), 1e-9 * d);
+  // Touching again, the body still lags by d/2: the effective gap is -d + c (b/dt) d/2 = -3d/4.
+  EXPECT_NEAR(step({contactOnNode(0, n, -d)}), 0.75 * (kCoupling + rate) * d, 1e-8);
+}
+
+TEST(ToolCoupling, NegativeOrNonFiniteDampingIsRejectedNamingIt) {
+  for (const double b : {-1.0, std::nan("")}) {
+    try {
+      ContactSolver solver(Solve::settings(), 4, {{kCoupling, kMaxForce, b}});
+      FAIL() << "accepted damping " << b;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("tool.coupling_damping"), std::string::npos);
+    }
+  }
 }
 
 TEST(ToolCoupling, OppositeNormalsOnCompliantNodesMatchTheCoupledPair) {

@@ -1,4 +1,5 @@
-// Scene keys tools[].coupling_stiffness and tools[].max_force: defaults, plumbing, validation.
+// Scene keys tools[].coupling_stiffness, coupling_damping and max_force: defaults, plumbing,
+// validation.
 #include <gtest/gtest.h>
 
 #include <stdexcept>
@@ -37,9 +38,12 @@ TEST(ToolCouplingKeys, DefaultsAndExplicitValues) {
   ASSERT_EQ(defaults.tools.size(), 1u);
   EXPECT_EQ(defaults.tools[0].coupling_stiffness, 1e4);
   EXPECT_EQ(defaults.tools[0].max_force, 20.0);
-  const SceneConfig set =
-      parseSceneConfig(sceneWithTool(", coupling_stiffness: 2.5e3, max_force: 3.0"), "keys.yaml");
+  EXPECT_EQ(defaults.tools[0].coupling_damping, 0.0);
+  const SceneConfig set = parseSceneConfig(
+      sceneWithTool(", coupling_stiffness: 2.5e3, coupling_damping: 40.0, max_force: 3.0"),
+      "keys.yaml");
   EXPECT_EQ(set.tools[0].coupling_stiffness, 2.5e3);
+  EXPECT_EQ(set.tools[0].coupling_damping, 40.0);
   EXPECT_EQ(set.tools[0].max_force, 3.0);
 }
 
@@ -47,6 +51,10 @@ TEST(ToolCouplingKeys, OutOfRangeValuesAreRejectedNamingTheKey) {
   for (const char* bad : {"0.0", "-1.0", "1.0e8", ".nan"}) {
     const std::string message = rejection(std::string(", coupling_stiffness: ") + bad);
     EXPECT_NE(message.find("key 'tools[0].coupling_stiffness'"), std::string::npos) << message;
+  }
+  for (const char* bad : {"-1.0", "1.0e6", ".nan"}) {
+    const std::string message = rejection(std::string(", coupling_damping: ") + bad);
+    EXPECT_NE(message.find("key 'tools[0].coupling_damping'"), std::string::npos) << message;
   }
   for (const char* bad : {"0.0", "-5.0", "1.0e5", ".inf"}) {
     const std::string message = rejection(std::string(", max_force: ") + bad);

@@ -36,6 +36,8 @@ struct ToolSettings {
   double grasp_radius = std::numeric_limits<double>::quiet_NaN();     ///< [m], > 0
   /// Constraint only: tool body to commanded pose spring k_c [N/m], > 0 (ToolCoupling).
   double coupling_stiffness = std::numeric_limits<double>::quiet_NaN();
+  /// Constraint only: damper in parallel with the coupling spring [N s/m], >= 0 (ToolCoupling).
+  double coupling_damping = 0.0;
   /// Cap on the tool's contact force (constraint multipliers, proxy spring) and on its grasp
   /// force (the grasp slips above it) [N], > 0.
   double max_force = std::numeric_limits<double>::quiet_NaN();

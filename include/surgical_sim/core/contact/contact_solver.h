@@ -35,9 +35,13 @@ struct ToolCoupling {
   /// F_max [N], finite and > 0: cap on the sum of the tool's contact multipliers, which bounds
   /// |f_tool|.
   double max_force = std::numeric_limits<double>::quiet_NaN();
+  /// b_c [N s/m], finite and >= 0: damper in parallel with the spring, acting on the rate of the
+  /// body's offset from the commanded pose (0: a pure spring).
+  double damping = 0.0;
 };
 
-/// @throws std::invalid_argument naming "tool.coupling_stiffness" or "tool.max_force"
+/// @throws std::invalid_argument naming "tool.coupling_stiffness", "tool.max_force" or
+///         "tool.coupling_damping"
 void validateToolCoupling(const ToolCoupling& coupling);
 
 /// Unilateral contact constraints solved through the compliance of the implicit step, in the
@@ -46,11 +50,15 @@ void validateToolCoupling(const ToolCoupling& coupling);
 ///     (applied_force, may be zero) already in its external force;
 ///  2. H has one row per contact, n^T times the barycentric weights on the triangle's 3 nodes;
 ///     S = Integrator::applyStepCompliance (one call per contact column); the gaps are measured
-///     with the tool at its commanded pose, and the tool body of tool t (ToolCoupling) is pushed
-///     back by -(1/k_t) sum_{j of t} lambda_j n_j, so the Delassus operator is
-///     W = H S H^T + C [m/N], C_ij = n_i . n_j / k_t for contacts i, j of the same tool t
-///     (W_ii >= 1/k_t: a contact on fixed nodes is well-posed);
-///  3. the LCP 0 <= lambda _|_ q + W lambda >= 0 with q = g_free - H S F_a is solved by
+///     with the tool at its commanded pose, and the massless tool body of tool t (ToolCoupling)
+///     sits at the offset d_t from it where the spring-damper balances the contact force
+///     (backward Euler): (k_t + b_t/dt) d_t = (b_t/dt) d_t,prev - sum_{j of t} lambda_j n_j.
+///     With c_t = 1 / (k_t + b_t/dt) the Delassus operator is
+///     W = H S H^T + C [m/N], C_ij = c_t n_i . n_j for contacts i, j of the same tool t
+///     (W_ii >= c_t: a contact on fixed nodes is well-posed), and the damper's memory shifts
+///     the gaps by -c_t (b_t/dt) n_i . d_t,prev;
+///  3. the LCP 0 <= lambda _|_ q + W lambda >= 0 with q = g_free - H S F_a (+ the shift) is solved
+///  by
 ///     projected Gauss-Seidel, whose active set is then refined to the exact solution by
 ///     principal pivoting (refineLcpActiveSet; lambda [N]: the new contact force replaces F_a);
 ///     a tool whose multipliers sum above its max_force gets them scaled to sum to max_force
@@ -115,12 +123,22 @@ class ContactSolver {
   const PgsReport& report() const { return report_; }
   /// Whether tool `tool`'s multipliers were capped at its max_force in the last solve.
   bool limited(int tool) const;
+  /// Offset d_t of tool `tool`'s body from its commanded pose after the last solve [m], in S.
+  const Eigen::Vector3d& bodyOffset(int tool) const;
 
  private:
   void resize(Eigen::Index size);
   /// Scales each tool's multipliers whose sum exceeds its max_force down to it (force_scale_);
   /// returns whether any tool was capped.
   bool capToolForces();
+  /// solve() between the coupling updates.
+  StepStatus solveContacts(Integrator& integrator, const std::vector<ContactPoint>& contacts,
+                           const Eigen::VectorXd& applied_force, double dt, bool update_velocity,
+                           SimulationState& state);
+  /// Per tool c_t = 1 / (k_t + b_t/dt) [m/N] for the step dt [s].
+  void updateCompliances(double dt);
+  /// d_t = c_t ((b_t/dt) d_t,prev - sum_{i of t} lambda_i n_i) from the last solve's multipliers.
+  void updateBodyOffsets(double dt);
   /// h_i^T v for contact i.
   double rowDot(const ContactPoint& contact, const Eigen::VectorXd& v) const;
   /// v += scale h_i.
@@ -131,6 +149,8 @@ class ContactSolver {
   std::vector<ToolCoupling> couplings_;
   /// Per tool: applied / LCP multipliers of the last solve (1 when not capped) [-].
   std::vector<double> force_scale_;
+  std::vector<double> compliance_;            ///< per tool c_t of the current step [m/N]
+  std::vector<Eigen::Vector3d> body_offset_;  ///< per tool d_t [m], S
   Eigen::Index count_ = 0;
   Eigen::MatrixXd W_;                   ///< max x max, top-left count x count used
   Eigen::MatrixXd factor_;              ///< max x max, W_AA factorization work space

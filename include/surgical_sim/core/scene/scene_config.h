@@ -85,6 +85,9 @@ struct ToolSpec {
   /// [N/m], [1, 1e7]. Default 1e4: about 30x the tissue under a 5 mm tool (50-300 N/m), so a
   /// palpation force changes by a few percent while a push against fixed tissue stays bounded.
   double coupling_stiffness = 1e4;
+  /// Constraint tools: damper in parallel with the coupling spring [N s/m], [0, 1e5]. Default 0
+  /// (a pure spring); b > 0 makes the tool body lag its commanded pose like a spring-damper.
+  double coupling_damping = 0.0;
   /// Cap on the tool's contact force and grasp force (the jaws slip above it) [N], [1e-3, 1e4].
   /// Default 20 N: above what a laparoscopic instrument applies to soft tissue in palpation.
   double max_force = 20.0;

@@ -57,8 +57,7 @@ struct ToolFuzzOutcome {
   void merge(const ToolFuzzOutcome& other);
 };
 
-/// Per tool of the scene: its force bound [N] when the scene defines one (a `max_force` field of
-/// ToolSpec, when the build has it), else nullopt.
+/// Per tool of the scene: its force bound ToolSpec::max_force [N].
 std::vector<std::optional<double>> sceneForceBounds(const SceneConfig& scene);
 
 /// Resets `sim` and runs one sequence of settings.steps steps. Each tool follows random motion
