@@ -126,10 +126,11 @@ struct FuzzArgs {
 };
 
 /// Parses "--name value" pairs into `out`: seed in [0, 2^32), count in [min_count, 1e6], string
-/// options from `text_options`. Returns "" or what is wrong (missing value, unknown option, bad
-/// number, out of range); stops at --help.
+/// options from `text_options`, of which `required` must be given. Returns "" or what is wrong
+/// (missing value or option, unknown option, bad number, out of range); stops at --help.
 inline std::string parseFuzzArgs(int argc, char** argv, long long min_count,
-                                 const std::set<std::string>& text_options, FuzzArgs& out) {
+                                 const std::set<std::string>& text_options,
+                                 const std::string& required, FuzzArgs& out) {
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--help" || arg == "-h") {
@@ -152,6 +153,7 @@ inline std::string parseFuzzArgs(int argc, char** argv, long long min_count,
   if (out.seed < 0 || out.seed > 0xFFFFFFFFLL) return "--seed must be in [0, 2^32)";
   if (out.count < min_count || out.count > 1000000)
     return "--count must be in [" + std::to_string(min_count) + ", 1000000]";
+  if (!out.text.count(required)) return required + " is required";
   return "";
 }
 

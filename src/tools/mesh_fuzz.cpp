@@ -53,15 +53,12 @@ std::vector<std::string> shippedMeshes(const fs::path& root) {
 int main(int argc, char** argv) {
   surgical_sim::tools::FuzzArgs args;
   const std::string problem =
-      surgical_sim::tools::parseFuzzArgs(argc, argv, 200, {"--out", "--sources"}, args);
+      surgical_sim::tools::parseFuzzArgs(argc, argv, 200, {"--out", "--sources"}, "--out", args);
   if (args.help) {
     std::cout << kUsage;
     return 0;
   }
   if (!problem.empty()) return usage(problem);
-  if (!args.text.count("--out")) return usage("--out is required");
-  const long long seed = args.seed;
-  const long long count = args.count;
   const std::string out = args.text["--out"];
   const std::string sources = args.text.count("--sources")
                                   ? args.text["--sources"]
@@ -77,8 +74,9 @@ int main(int argc, char** argv) {
   std::map<std::string, int> counts;
   for (const char* o : {"loaded", "rejected_with_message", "warned_repair", "crash", "hang"})
     counts[o] = 0;
-  for (int i = 0; i < count; ++i) {
-    const ss::MeshFuzzRow row = ss::writeMeshMutant(files, i, static_cast<unsigned>(seed), mutants);
+  for (int i = 0; i < static_cast<int>(args.count); ++i) {
+    const ss::MeshFuzzRow row =
+        ss::writeMeshMutant(files, i, static_cast<unsigned>(args.seed), mutants);
     const surgical_sim::tools::ChildResult child = surgical_sim::tools::runInChild(
         [&] {
           const ss::MeshLoadResult r = ss::loadMeshForFuzz(row.file);
@@ -105,8 +103,8 @@ int main(int argc, char** argv) {
         << "," << surgical_sim::tools::csvField(row.mutation) << "," << outcome << ","
         << surgical_sim::tools::csvField(message) << "\n";
   }
-  std::cout << "mesh_fuzz: seed " << seed << ", " << count << " mutants of " << files.size()
-            << " files\n";
+  std::cout << "mesh_fuzz: seed " << args.seed << ", " << args.count << " mutants of "
+            << files.size() << " files\n";
   for (const auto& [outcome, n] : counts) std::printf("  %-22s %6d\n", outcome.c_str(), n);
   std::cout << "CSV: " << out << "/mesh_fuzz.csv\n";
   return counts["crash"] + counts["hang"] > 0 ? 1 : 0;

@@ -45,15 +45,12 @@ int usage(const std::string& error) {
 int main(int argc, char** argv) {
   surgical_sim::tools::FuzzArgs args;
   const std::string problem =
-      surgical_sim::tools::parseFuzzArgs(argc, argv, 1000, {"--csv", "--scenes"}, args);
+      surgical_sim::tools::parseFuzzArgs(argc, argv, 1000, {"--csv", "--scenes"}, "--csv", args);
   if (args.help) {
     std::cout << kUsage;
     return 0;
   }
   if (!problem.empty()) return usage(problem);
-  if (!args.text.count("--csv")) return usage("--csv is required");
-  const long long seed = args.seed;
-  const long long count = args.count;
   const std::string csv_path = args.text["--csv"];
   const std::string scenes_dir =
       args.text.count("--scenes")
@@ -79,9 +76,9 @@ int main(int argc, char** argv) {
     counts[o] = 0;
   int constructed = 0;
   double slowest = 0.0;
-  for (int i = 0; i < count; ++i) {
+  for (int i = 0; i < static_cast<int>(args.count); ++i) {
     const std::size_t s = static_cast<std::size_t>(i) % scenes.size();
-    std::mt19937 rng(static_cast<unsigned>(seed) + static_cast<unsigned>(i));
+    std::mt19937 rng(static_cast<unsigned>(args.seed) + static_cast<unsigned>(i));
     const ss::SceneMutant mutant = ss::mutateScene(texts[s], rng);
     const surgical_sim::tools::ChildResult child = surgical_sim::tools::runInChild(
         [&] {
@@ -121,8 +118,9 @@ int main(int argc, char** argv) {
         << csvField(mutant.mutation) << "," << outcome << "," << built << "," << child.seconds
         << "," << csvField(message) << "\n";
   }
-  std::cout << "scene_fuzz: seed " << seed << ", " << count << " mutants of " << scenes.size()
-            << " scenes (" << constructed << " constructed, slowest " << slowest << " s)\n";
+  std::cout << "scene_fuzz: seed " << args.seed << ", " << args.count << " mutants of "
+            << scenes.size() << " scenes (" << constructed << " constructed, slowest " << slowest
+            << " s)\n";
   for (const auto& [outcome, n] : counts) std::printf("  %-22s %6d\n", outcome.c_str(), n);
   std::cout << "CSV: " << csv_path << "\n";
   return counts["crash"] + counts["hang"] > 0 ? 1 : 0;
