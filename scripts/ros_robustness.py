@@ -2,7 +2,7 @@
 """ROS-side robustness campaign (issue 14): real-time tool fuzz, service abuse and soak.
 Each part starts its own master (roscore on a free port) and the nodes it needs with roslaunch,
 writes CSVs into --out and prints one line of counts per outcome. Needs the workspace sourced
-(source .ws/devel/setup.bash); scripts/robustness and scripts/soak do that.
+(source <workspace>/devel/setup.bash); scripts/robustness and scripts/soak do that.
 
   ros_robustness.py realtime [--sequences N] [--seconds S] [--rate HZ] [--seed S] [--out DIR]
                              [--max-force N]
