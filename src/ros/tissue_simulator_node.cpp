@@ -29,7 +29,7 @@ TissueSimulatorNode::TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& p
   max_tool_distance_ = numberParam(pnh, "max_tool_distance", 5.0, {0.0, 1000.0, true}, "m");
   surface_period_ = 1.0 / numberParam(pnh, "surface_rate", 30.0, {0.0, 1000.0, true}, "Hz");
 
-  sim_ = std::make_unique<core::TissueSimulation>(core::loadSceneConfig(scene_path));
+  sim_ = std::make_unique<core::TissueSimulation>(core::loadRuntimeScene(scene_path));
   for (const std::string& warning : sim_->warnings())
     ROS_WARN_NAMED("tissue_simulator", "scene %s: %s", scene_path.c_str(), warning.c_str());
   X_WS_ = sim_->scene().tissue_pose;
@@ -47,18 +47,15 @@ TissueSimulatorNode::TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& p
   for (int i = 0; i < sim_->numTools(); ++i) {
     const core::ToolSpec& spec = sim_->scene().tools[static_cast<std::size_t>(i)];
     ToolIo& io = tools_[static_cast<std::size_t>(i)];
-    requireTopic(i, "pose_topic", spec.pose_topic);
-    requireTopic(i, "wrench_topic", spec.wrench_topic);
-    requireTopic(i, "contact_model_topic", spec.contact_model_topic);
-    if (!spec.grip_joint.empty()) requireTopic(i, "grip_topic", spec.grip_topic);
     io.pose_sub = nh.subscribe<geometry_msgs::PoseStamped>(
         spec.pose_topic, 1000, [this, i](const auto& msg) { onPose(msg, i); });
-    if (!spec.grasp_topic.empty())
-      io.grasp_sub = nh.subscribe<std_msgs::Bool>(spec.grasp_topic, 100,
+    if (spec.grasp && !spec.grasp->topic.empty())
+      io.grasp_sub = nh.subscribe<std_msgs::Bool>(spec.grasp->topic, 100,
                                                   [this, i](const auto& msg) { onGrasp(msg, i); });
-    if (!spec.grip_joint.empty())
+    if (spec.grasp && !spec.grasp->joint.empty())
       io.grip_sub = nh.subscribe<sensor_msgs::JointState>(
-          spec.grip_topic, 100, [this, i](const auto& msg) { onGrip(msg, i); });
+          spec.grasp->joint_topic, 100, [this, i](const auto& msg) { onGrip(msg, i); });
+    if (!spec.contact) continue;  // a tool without contact publishes nothing
     io.wrench_pub = nh.advertise<geometry_msgs::WrenchStamped>(spec.wrench_topic, 1000);
     io.contact_pub = nh.advertise<surgical_sim::ContactModel>(spec.contact_model_topic, 1000);
   }
@@ -84,13 +81,6 @@ TissueSimulatorNode::TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& p
                  sim_->numTools());
   for (const auto& c : sim_->components()) ROS_INFO_NAMED("tissue_simulator", "  %s", c.c_str());
   control_spinner_.start();
-}
-
-void TissueSimulatorNode::requireTopic(int tool, const char* key, const std::string& topic) const {
-  if (topic.empty())
-    throw std::invalid_argument("tools[" + std::to_string(tool) + "]." + key + " of tool '" +
-                                sim_->scene().tools[static_cast<std::size_t>(tool)].name +
-                                "' is empty: the node needs a topic name");
 }
 
 void TissueSimulatorNode::interrupt(const char* reason) {
@@ -152,17 +142,18 @@ void TissueSimulatorNode::onGrasp(const std_msgs::Bool::ConstPtr& msg, int tool)
 
 void TissueSimulatorNode::onGrip(const sensor_msgs::JointState::ConstPtr& msg, int tool) {
   const core::ToolSpec& spec = sim_->scene().tools[static_cast<std::size_t>(tool)];
-  const auto it = std::find(msg->name.begin(), msg->name.end(), spec.grip_joint);
+  const core::GraspSpec& grasp = *spec.grasp;
+  const auto it = std::find(msg->name.begin(), msg->name.end(), grasp.joint);
   if (it == msg->name.end()) return;  // a JointState of other joints
   const auto k = static_cast<std::size_t>(it - msg->name.begin());
   if (k >= msg->position.size() || !std::isfinite(msg->position[k])) {
     ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator",
                             "tool %s: %s has no finite position for grip joint %s; jaws unchanged",
-                            spec.name.c_str(), spec.grip_topic.c_str(), spec.grip_joint.c_str());
+                            spec.name.c_str(), grasp.joint_topic.c_str(), grasp.joint.c_str());
     return;
   }
   std::lock_guard<std::mutex> lock(sim_mutex_);
-  sim_->setGrasp(tool, msg->position[k] <= spec.grip_closed_angle);
+  sim_->setGrasp(tool, msg->position[k] <= grasp.closed_angle);
 }
 
 void TissueSimulatorNode::onBladeSweep(const surgical_sim::BladeSweep::ConstPtr& msg) {
@@ -234,11 +225,12 @@ bool TissueSimulatorNode::stepAndPublish(const ros::Time& stamp, bool publish_su
 }
 
 void TissueSimulatorNode::publishTool(int tool, const ros::Time& stamp) {
+  const core::ToolSpec& spec = sim_->scene().tools[static_cast<std::size_t>(tool)];
+  if (!spec.contact) return;
   const core::ContactLinearization c = sim_->toolContact(tool);
   const Eigen::Matrix3d R_WS = X_WS_.linear();
   const Eigen::Vector3d f_W = R_WS * c.f0_S;
   const Eigen::Matrix3d K_W = R_WS * c.K_S * R_WS.transpose();
-  const core::ToolSpec& spec = sim_->scene().tools[static_cast<std::size_t>(tool)];
   ToolIo& io = tools_[static_cast<std::size_t>(tool)];
 
   geometry_msgs::WrenchStamped wrench;
@@ -312,8 +304,8 @@ void TissueSimulatorNode::publishToolMarkers(const ros::Time& stamp) {
   if (tool_marker_pub_.getNumSubscribers() == 0) return;
   for (int i = 0; i < sim_->numTools(); ++i) {
     const ToolIo& io = tools_[static_cast<std::size_t>(i)];
-    if (!io.has_pose) continue;
     const core::ToolSpec& spec = sim_->scene().tools[static_cast<std::size_t>(i)];
+    if (!io.has_pose || !spec.contact) continue;
     visualization_msgs::Marker m;
     m.header.stamp = stamp;
     m.header.frame_id = tissue_frame_;

@@ -56,18 +56,7 @@ double p99(std::vector<double> v) {
   return v[k];
 }
 
-/// The scene restricted to one case of its sweep.
-SceneConfig caseScene(const SceneConfig& scene, const CaseSpec& spec) {
-  SceneConfig one = scene;
-  one.mesh.resolutions = {spec.resolution};
-  one.mesh.element_types = {spec.element_type};
-  one.models = {spec.model};
-  one.integrators = {spec.integrator};
-  one.solvers = {spec.solver};
-  return one;
-}
-
-Row runCase(const SceneConfig& scene, const CaseSpec& spec) {
+Row runCase(const BenchmarkScene& scene, const CaseSpec& spec) {
   TissueSimulation sim(caseScene(scene, spec));
   Row row;
   row.spec = spec;
@@ -116,12 +105,12 @@ Row runCase(const SceneConfig& scene, const CaseSpec& spec) {
 
 std::string csvRow(const std::string& scene_name, const Row& r) {
   std::ostringstream os;
-  os << scene_name << "_" << r.spec.resolution.x() << "," << r.spec.model << ","
-     << r.spec.integrator << "," << r.spec.solver << "," << r.nodes << "," << r.dofs << ","
-     << r.contact_steps << "," << r.contacts << "," << r.ms_mean << "," << r.ms_p99 << ","
-     << r.collision_ms << "," << r.integrate_ms << "," << r.contact_ms << "," << r.latency_mean_ms
-     << "," << r.latency_p99_ms << "," << r.force.z() << "," << r.error_rel << ","
-     << toString(r.status);
+  os << scene_name << "_" << r.spec.resolution.x() << "," << modelName(r.spec.model) << ","
+     << integratorName(r.spec.integrator) << "," << solverName(r.spec.solver) << "," << r.nodes
+     << "," << r.dofs << "," << r.contact_steps << "," << r.contacts << "," << r.ms_mean << ","
+     << r.ms_p99 << "," << r.collision_ms << "," << r.integrate_ms << "," << r.contact_ms << ","
+     << r.latency_mean_ms << "," << r.latency_p99_ms << "," << r.force.z() << "," << r.error_rel
+     << "," << toString(r.status);
   return os.str();
 }
 
@@ -138,12 +127,13 @@ int main(int argc, char** argv) {
   if (!error.empty()) return usage(error);
 
   std::vector<Row> rows;
-  SceneConfig scene;
+  BenchmarkScene scene;
   try {
-    scene = loadSceneConfig(args.scene);
+    scene = loadBenchmarkScene(args.scene);
     if (scene.tools.empty()) return usage("scene " + args.scene + " has no tools");
     for (const CaseSpec& spec : expandSweep(scene)) {
-      std::cerr << "contact_bench: " << spec.resolution.x() << " cells, " << spec.solver << "\n";
+      std::cerr << "contact_bench: " << spec.resolution.x() << " cells, " << solverName(spec.solver)
+                << "\n";
       rows.push_back(runCase(scene, spec));
     }
   } catch (const std::exception& e) {

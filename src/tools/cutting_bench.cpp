@@ -114,11 +114,12 @@ void stepTimes(const std::string& dir) {
   FILE* csv = openCsv(dir, "cutting_step.csv",
                       "solver,elements,step,cutting,topology_changed,step_ms,cut_ms,integrate_ms,"
                       "linear_iterations,pieces");
-  for (const char* solver : {"cholmod", "pcg_cholesky_background"}) {
-    ss::SceneConfig scene = ss::loadSceneConfig(std::string(SURGICAL_SIM_SCRIPTS_DIR) +
-                                                "/../config/scenes/palpation.yaml");
-    scene.mesh.resolutions = {Eigen::Vector3i(12, 0, 0)};
-    scene.solvers = {solver};
+  for (const ss::SolverKind solver :
+       {ss::SolverKind::Cholmod, ss::SolverKind::PcgCholeskyBackground}) {
+    ss::RuntimeScene scene = ss::loadRuntimeScene(std::string(SURGICAL_SIM_SCRIPTS_DIR) +
+                                                  "/../config/scenes/palpation.yaml");
+    scene.resolution = Eigen::Vector3i(12, 0, 0);
+    scene.solver = solver;
     ss::TissueSimulation sim(scene);
     std::vector<double> cutting_steps, plain_steps, cut_parts;
     for (int step = 0; step < 120; ++step) {
@@ -130,10 +131,10 @@ void stepTimes(const std::string& dir) {
       const ss::SimulationStepStats s = sim.step();
       (cutting ? cutting_steps : plain_steps).push_back(1e3 * s.step_seconds);
       if (s.topology_changed) cut_parts.push_back(1e3 * s.cut_seconds);
-      std::fprintf(csv, "%s,%d,%d,%d,%d,%.4f,%.4f,%.4f,%d,%d\n", solver, sim.mesh().numElements(),
-                   step, cutting ? 1 : 0, s.topology_changed ? 1 : 0, 1e3 * s.step_seconds,
-                   1e3 * s.cut_seconds, 1e3 * s.integrate_seconds, s.report.linear_iterations,
-                   sim.numComponents());
+      std::fprintf(csv, "%s,%d,%d,%d,%d,%.4f,%.4f,%.4f,%d,%d\n", ss::solverName(solver),
+                   sim.mesh().numElements(), step, cutting ? 1 : 0, s.topology_changed ? 1 : 0,
+                   1e3 * s.step_seconds, 1e3 * s.cut_seconds, 1e3 * s.integrate_seconds,
+                   s.report.linear_iterations, sim.numComponents());
     }
     // Steady state without cutting: after the tissue settled (steps 10-39).
     const std::vector<double> settled(plain_steps.begin() + 10, plain_steps.begin() + 40);
@@ -141,7 +142,7 @@ void stepTimes(const std::string& dir) {
         "step    %6d elements, %-23s: %.2f ms/step without cutting, %.2f ms/step while cutting "
         "(max %.2f ms; topology update, model and contact rebuild %.2f ms per change), %d pieces "
         "at the end\n",
-        sim.mesh().numElements(), solver, mean(settled, 0, settled.size()),
+        sim.mesh().numElements(), ss::solverName(solver), mean(settled, 0, settled.size()),
         mean(cutting_steps, 0, cutting_steps.size()),
         *std::max_element(cutting_steps.begin(), cutting_steps.end()),
         mean(cut_parts, 0, cut_parts.size()), sim.numComponents());
@@ -210,7 +211,7 @@ void t3c(const std::string& dir) {
   const Eigen::Vector3d load(0, 0, -9.81);
   ss::TetMesh ref = ss::makeHexagonalBeam(a, L, 40, 4, ss::ElementType::Tet4);
   const double w_ref_uncut =
-      ss::beamTipDeflection(*ss::makeTissueModel("corotational", ref, material), load);
+      ss::beamTipDeflection(*ss::makeTissueModel(ss::ModelKind::Corotational, ref, material), load);
   std::vector<int> duplicate(static_cast<std::size_t>(ref.numNodes()), -1);
   for (int e = 0; e < ref.numElements(); ++e) {
     double cx = 0;
@@ -229,7 +230,7 @@ void t3c(const std::string& dir) {
     }
   }
   const double w_ref =
-      ss::beamTipDeflection(*ss::makeTissueModel("corotational", ref, material), load);
+      ss::beamTipDeflection(*ss::makeTissueModel(ss::ModelKind::Corotational, ref, material), load);
   const double A = 1.5 * std::sqrt(3.0) * a * a, I = 5.0 * std::sqrt(3.0) / 16.0 * a * a * a * a;
   const double w_closed = 1000.0 * 9.81 * A * std::pow(L, 4) / (8.0 * material.young_modulus * I);
   FILE* csv = openCsv(dir, "cutting_t3c.csv",
@@ -238,8 +239,8 @@ void t3c(const std::string& dir) {
   for (auto [along, rings] : {std::pair{11, 1}, std::pair{21, 2}, std::pair{31, 3}}) {
     const ss::TetMesh beam = ss::makeHexagonalBeam(a, L, along, rings, ss::ElementType::Tet4);
     ss::TetCutter cutter(beam, material.density);
-    const double w_uncut =
-        ss::beamTipDeflection(*ss::makeCutTissueModel("corotational", cutter, material), load);
+    const double w_uncut = ss::beamTipDeflection(
+        *ss::makeCutTissueModel(ss::ModelKind::Corotational, cutter, material), load);
     const Eigen::VectorXd x = restVector(beam);
     ss::BladeSweep sweep;
     sweep.start.resize(3, 2);
@@ -247,8 +248,8 @@ void t3c(const std::string& dir) {
     sweep.start << 0.5 * L, 0.5 * L, -2 * a, 2 * a, 2 * a, 2 * a;
     sweep.end << 0.5 * L, 0.5 * L, -2 * a, 2 * a, 1e-6 * a, 1e-6 * a;
     const ss::CutUpdate u = cutter.cut(sweep, x, x);
-    const double w_cut =
-        ss::beamTipDeflection(*ss::makeCutTissueModel("corotational", cutter, material), load);
+    const double w_cut = ss::beamTipDeflection(
+        *ss::makeCutTissueModel(ss::ModelKind::Corotational, cutter, material), load);
     std::fprintf(csv, "%d,%d,%d,%.6e,%.6e,%.6e,%.4f,%.6e,%.6e,%.4f\n", beam.numElements(), along,
                  rings, w_uncut, w_cut, w_ref, (w_cut - w_ref) / w_ref, w_ref_uncut, w_closed,
                  1e3 * (u.detect_seconds + u.update_seconds));

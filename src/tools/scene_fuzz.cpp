@@ -1,6 +1,6 @@
 // Scene mutator (issue 14 fuzz campaign). Usage:
 //   scene_fuzz --seed S --count N --csv FILE [--scenes DIR]
-// Mutates the shipped scenes (DIR/*.yaml, default config/scenes of this package) N (>= 1000)
+// Mutates the shipped scenes (DIR/*.yaml, default config/scenes and config/bench) N (>= 1000)
 // times, taking them in turn, and runs each mutant in a child process (20 s, 4 GB address
 // space): parseSceneConfig(), then a TissueSimulation for mutants that parse and whose first
 // case is estimated at most 256 MB (larger ones are accepted without construction, keeping the
@@ -52,20 +52,24 @@ int main(int argc, char** argv) {
   }
   if (!problem.empty()) return usage(problem);
   const std::string csv_path = args.text["--csv"];
-  const std::string scenes_dir =
+  const fs::path config = fs::path(SURGICAL_SIM_SCRIPTS_DIR).parent_path() / "config";
+  const std::vector<std::string> scene_dirs =
       args.text.count("--scenes")
-          ? args.text["--scenes"]
-          : (fs::path(SURGICAL_SIM_SCRIPTS_DIR).parent_path() / "config/scenes").string();
+          ? std::vector<std::string>{args.text["--scenes"]}
+          : std::vector<std::string>{(config / "scenes").string(), (config / "bench").string()};
   std::vector<std::string> scenes;
-  if (fs::is_directory(scenes_dir))
-    for (const auto& entry : fs::directory_iterator(scenes_dir))
-      if (entry.path().extension() == ".yaml") scenes.push_back(entry.path().string());
+  for (const std::string& dir : scene_dirs)
+    if (fs::is_directory(dir))
+      for (const auto& entry : fs::directory_iterator(dir))
+        if (entry.path().extension() == ".yaml") scenes.push_back(entry.path().string());
   std::sort(scenes.begin(), scenes.end());
-  if (scenes.empty()) return usage("no *.yaml scenes in " + scenes_dir);
+  if (scenes.empty()) return usage("no *.yaml scenes in " + scene_dirs.front());
   std::vector<std::string> texts;
+  std::vector<ss::SceneKind> kinds;
   for (const std::string& scene : scenes) {
     std::ifstream in(scene);
     texts.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    kinds.push_back(ss::sceneKindOf(texts.back(), scene));
   }
   std::ofstream csv(csv_path);
   if (!csv) return usage("cannot write " + csv_path);
@@ -83,7 +87,7 @@ int main(int argc, char** argv) {
     const surgical_sim::tools::ChildResult child = surgical_sim::tools::runInChild(
         [&] {
           const ss::SceneTrialResult r =
-              ss::trySceneMutant(mutant.text, scenes[s], kConstructBudgetBytes);
+              ss::trySceneMutant(mutant.text, scenes[s], kinds[s], kConstructBudgetBytes);
           return std::string(ss::toString(r.outcome)) + "\t" + (r.constructed ? "1" : "0") + "\t" +
                  r.message;
         },

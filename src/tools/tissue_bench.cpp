@@ -25,9 +25,9 @@ int main(int argc, char** argv) {
   const std::string error = surgical_sim::tools::parseSceneBenchArgs(argc, argv, args);
   if (!error.empty()) return usage(error.c_str());
 
-  SceneConfig scene;
+  BenchmarkScene scene;
   try {
-    scene = loadSceneConfig(args.scene);
+    scene = loadBenchmarkScene(args.scene);
   } catch (const std::exception& e) {
     std::cerr << "tissue_bench: " << e.what() << "\n";
     return 1;
@@ -45,8 +45,9 @@ int main(int argc, char** argv) {
       if (csv) csv << row << "\n" << std::flush;
     } catch (const std::exception& e) {
       ++failures;
-      std::cerr << "tissue_bench: case " << spec.model << "/" << spec.integrator << "/"
-                << spec.solver << " failed to set up: " << e.what() << "\n";
+      std::cerr << "tissue_bench: case " << modelName(spec.model) << "/"
+                << integratorName(spec.integrator) << "/" << solverName(spec.solver)
+                << " failed to set up: " << e.what() << "\n";
     }
   }
   if (!args.plot.empty()) {

@@ -172,7 +172,7 @@ int main(int argc, char** argv) {
   std::ofstream csv;
   if (!surgical_sim::tools::openCsv("tool_fuzz", args.csv, csv)) return 1;
   try {
-    const surgical_sim::core::SceneConfig scene = surgical_sim::core::loadSceneConfig(args.scene);
+    const surgical_sim::core::RuntimeScene scene = surgical_sim::core::loadRuntimeScene(args.scene);
     if (scene.tools.empty()) {
       std::cerr << "tool_fuzz: scene " << args.scene << " has no tools\n";
       return 1;

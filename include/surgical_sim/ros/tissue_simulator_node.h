@@ -46,8 +46,8 @@ namespace surgical_sim::ros_layer {
 /// tissue/step (or lockstep burst) and interrupt it between two steps; tissue/step then answers
 /// success = false, "interrupted by <pause|reset> after N steps" with steps_done = N. On
 /// shutdown (SIGINT) a running request stops the same way.
-/// Scene errors (and a tool with an empty topic) throw std::invalid_argument from the constructor
-/// (main exits naming the key).
+/// Scene errors throw std::invalid_argument from the constructor (main exits naming the key); a
+/// benchmark file (sweep lists, measure) is rejected naming its first benchmark key.
 class TissueSimulatorNode {
  public:
   TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& pnh);
@@ -80,8 +80,6 @@ class TissueSimulatorNode {
   /// Pose X_SF of frame F in the tissue frame S; false (with a throttled warning naming `what`
   /// was rejected) if unknown.
   bool frameInTissue(const std::string& frame, const char* what, Eigen::Isometry3d& X_SF);
-  /// @throws std::invalid_argument naming tools[tool].<key> if `topic` is empty.
-  void requireTopic(int tool, const char* key, const std::string& topic) const;
   /// Makes running step loops stop before their next step; `reason` is a static string.
   void interrupt(const char* reason);
   /// Why a loop that started when interrupts_ was `since` must stop ("pause", "reset",

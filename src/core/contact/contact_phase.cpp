@@ -58,15 +58,16 @@ ContactPhase::ContactPhase(const SurfaceMesh& surface, const Eigen::VectorXd& re
       solver_(settings.solver, checkedToolCount(settings) * settings.detector.max_contacts,
               toolCouplings(settings)) {
   for (const ToolSettings& tool : settings.tools) {
-    Tool entry{ToolCapsule(tool.radius, tool.shaft_length),
-               tool.response,
-               std::nullopt,
-               GraspConstraint(tool.grasp_radius),
-               false,
-               false,
-               false,
-               tool.max_force,
-               ContactLinearization()};
+    Tool entry{
+        ToolCapsule(tool.radius, tool.shaft_length),
+        tool.response,
+        std::nullopt,
+        tool.grasp_radius ? std::optional<GraspConstraint>(*tool.grasp_radius) : std::nullopt,
+        false,
+        false,
+        false,
+        tool.max_force,
+        ContactLinearization()};
     if (tool.response == ContactResponse::Proxy) {
       entry.proxy.emplace(tool.proxy_stiffness, tool.max_force);
     }
@@ -104,18 +105,20 @@ void ContactPhase::prepareStep(const Eigen::VectorXd& x, const Eigen::VectorXd& 
   markDirichletDofs(base_dirichlet.dofs, fixed_mask_);
   dirichlet.dofs.assign(base_dirichlet.dofs.begin(), base_dirichlet.dofs.end());
   for (Tool& tool : tools_) {
-    tool.grasp.update(tool.grasp_requested && tool.posed && !tool.slipped, tool.capsule.pose(),
-                      surface_nodes_, x, fixed_mask_);
-    tool.grasp.appendDofs(dirichlet.dofs);
+    if (!tool.grasp) continue;
+    tool.grasp->update(tool.grasp_requested && tool.posed && !tool.slipped, tool.capsule.pose(),
+                       surface_nodes_, x, fixed_mask_);
+    tool.grasp->appendDofs(dirichlet.dofs);
   }
   const auto total = static_cast<Eigen::Index>(dirichlet.dofs.size());
   if (dirichlet.positions.size() != total) dirichlet.positions.resize(total);
   Eigen::Index offset = base_dirichlet.positions.size();
   dirichlet.positions.head(offset) = base_dirichlet.positions;
   for (const Tool& tool : tools_) {
-    tool.grasp.writeTargets(tool.capsule.pose(),
-                            dirichlet.positions.segment(offset, tool.grasp.numDofs()));
-    offset += tool.grasp.numDofs();
+    if (!tool.grasp) continue;
+    tool.grasp->writeTargets(tool.capsule.pose(),
+                             dirichlet.positions.segment(offset, tool.grasp->numDofs()));
+    offset += tool.grasp->numDofs();
   }
   external_force = base_force;
   if (solver_.tissueForce().size() == base_force.size()) {
@@ -134,7 +137,7 @@ void ContactPhase::prepareStep(const Eigen::VectorXd& x, const Eigen::VectorXd& 
 bool ContactPhase::slipOverloadedGrasps(const TissueModel& model, const Eigen::VectorXd& x,
                                         bool step_failed) {
   const bool grasping =
-      std::any_of(tools_.begin(), tools_.end(), [](const Tool& t) { return t.grasp.active(); });
+      std::any_of(tools_.begin(), tools_.end(), [](const Tool& t) { return t.grasping(); });
   if (!grasping) return false;
   if (!step_failed) {
     internal_force_.setZero();
@@ -142,9 +145,9 @@ bool ContactPhase::slipOverloadedGrasps(const TissueModel& model, const Eigen::V
   }
   bool slipped = false;
   for (Tool& tool : tools_) {
-    if (!tool.grasp.active()) continue;
-    if (!step_failed && tool.grasp.toolForce(internal_force_).norm() <= tool.max_force) continue;
-    tool.grasp.update(false, tool.capsule.pose(), surface_nodes_, x, fixed_mask_);
+    if (!tool.grasping()) continue;
+    if (!step_failed && tool.grasp->toolForce(internal_force_).norm() <= tool.max_force) continue;
+    tool.grasp->update(false, tool.capsule.pose(), surface_nodes_, x, fixed_mask_);
     tool.slipped = true;
     slipped = true;
   }
@@ -164,7 +167,7 @@ StepStatus ContactPhase::finishStep(Integrator& integrator, const TissueModel& m
   contacts_.clear();
   for (size_t t = 0; t < tools_.size(); ++t) {
     if (tools_[t].posed && tools_[t].response == ContactResponse::Constraint &&
-        !tools_[t].grasp.active()) {
+        !tools_[t].grasping()) {
       detector_.detect(static_cast<int>(t), tools_[t].capsule, triangles_, state.x, bvh_,
                        contacts_);
     }
@@ -187,15 +190,15 @@ StepStatus ContactPhase::finishStep(Integrator& integrator, const TissueModel& m
     } else {
       solver_.linearize(static_cast<int>(t), tool.capsule.tip(), tool.linearization);
     }
-    grasping = grasping || tool.grasp.active();
+    grasping = grasping || tool.grasping();
   }
   if (grasping) {
     internal_force_.setZero();
     model.addInternalForce(state.x, internal_force_);
     for (Tool& tool : tools_) {
-      if (!tool.grasp.active()) continue;
+      if (!tool.grasping()) continue;
       tool.linearization.in_contact = true;
-      tool.linearization.f0_S += tool.grasp.toolForce(internal_force_);
+      tool.linearization.f0_S += tool.grasp->toolForce(internal_force_);
     }
   }
   timings_.contact_ms = watch.milliseconds();

@@ -28,8 +28,8 @@ double beamTipDeflection(const TissueModel& model, const Eigen::Vector3d& load) 
     problem.dirichlet.positions[static_cast<Eigen::Index>(i)] = rest[problem.dirichlet.dofs[i]];
   problem.damping.mass_coefficient = 1e3;  // [1/s]: heavily overdamped relaxation
   SimulationState state{rest, Eigen::VectorXd::Zero(rest.size()), 0.0};
-  const auto integrator =
-      makeIntegrator("implicit_euler_linearized", {}, makeLinearSolver("cholmod", {}));
+  const auto integrator = makeIntegrator(IntegratorKind::ImplicitEulerLinearized, {},
+                                         makeLinearSolver(SolverKind::Cholmod, {}));
   const Eigen::Vector3d direction = load.normalized();
   auto tipDeflection = [&] {
     double sum = 0.0;

@@ -80,14 +80,14 @@ CutFuzzReport runCutFuzz(const CutFuzzSettings& settings) {
   report.pinched_edges = checkSurfaceClosure(cutter.surface().triangles).pinched_edges;
 
   const auto model =
-      makeCutTissueModel("corotational", cutter, Material::create(5e3, 0.45, 1000.0));
+      makeCutTissueModel(ModelKind::Corotational, cutter, Material::create(5e3, 0.45, 1000.0));
   DynamicsProblem problem;
   problem.model = model.get();
   problem.external_force = model->bodyForce(Eigen::Vector3d(0, 0, -9.81));
   SimulationState state{model->restPositions(),
                         Eigen::VectorXd::Zero(model->restPositions().size()), 0.0};
-  const auto integrator =
-      makeIntegrator("implicit_euler_linearized", {}, makeLinearSolver("cholmod", {}));
+  const auto integrator = makeIntegrator(IntegratorKind::ImplicitEulerLinearized, {},
+                                         makeLinearSolver(SolverKind::Cholmod, {}));
   for (int i = 0; i < settings.simulate_steps; ++i) {
     const StepStatus s = integrator->step(problem, 0.01, state).status;
     if (s != StepStatus::Ok && s != StepStatus::NotConverged && report.failure.empty())

@@ -26,9 +26,9 @@ Eigen::VectorXd CutTissueModel::bodyForce(const Eigen::Vector3d& a) const {
   return f;
 }
 
-std::unique_ptr<TissueModel> makeCutTissueModel(const std::string& model_name,
-                                                const TetCutter& cutter, const Material& material) {
-  return std::make_unique<CutTissueModel>(makeTissueModel(model_name, cutter.mesh(), material),
+std::unique_ptr<TissueModel> makeCutTissueModel(ModelKind kind, const TetCutter& cutter,
+                                                const Material& material) {
+  return std::make_unique<CutTissueModel>(makeTissueModel(kind, cutter.mesh(), material),
                                           cutter.lumpedMass());
 }
 

@@ -63,8 +63,8 @@ FullFePlant::FullFePlant(const ContinuumRobotModel& model, const FullFePlantSett
       Material::create(d.material.young_modulus * settings_.vertebra_stiffness_ratio,
                        d.material.poisson_ratio, d.material.density);
   std::vector<std::unique_ptr<TissueModel>> parts;
-  parts.push_back(makeTissueModel("corotational", soft, d.material));
-  parts.push_back(makeTissueModel("corotational", stiff, stiff_material));
+  parts.push_back(makeTissueModel(ModelKind::Corotational, soft, d.material));
+  parts.push_back(makeTissueModel(ModelKind::Corotational, stiff, stiff_material));
   for (size_t a = 0; a < d.chambers.size(); ++a) {
     const auto& chamber = dynamic_cast<const PressureChamberActuator&>(*model_.actuators()[a]);
     auto pressure = std::make_unique<ChamberPressureModel>(
@@ -99,8 +99,8 @@ FullFePlant::FullFePlant(const ContinuumRobotModel& model, const FullFePlantSett
   gravity_force_ = d.gravity_enabled ? tissue_->bodyForce(Eigen::Vector3d(0.0, 0.0, -9.81))
                                      : Eigen::VectorXd::Zero(3 * mesh.numNodes());
   problem_.external_force = gravity_force_;
-  integrator_ =
-      makeIntegrator("quasi_static", settings_.newton, makeLinearSolver("cholmod", PcgSettings{}));
+  integrator_ = makeIntegrator(IntegratorKind::QuasiStatic, settings_.newton,
+                               makeLinearSolver(SolverKind::Cholmod, PcgSettings{}));
   poses_ = model_.restNodes();
   wrench_.resize(6 * (n + 1));
   reset();

@@ -15,7 +15,7 @@ Eigen::Matrix<double, 6, 6> condenseSection(const TetMesh& mesh, const Material&
                                             const Eigen::Vector3d& p_PD) {
   if (!(distal_face_x > proximal_face_x))
     throw std::invalid_argument("condenseSection: distal_face_x must be > proximal_face_x");
-  const auto model = makeTissueModel("corotational", mesh, material);
+  const auto model = makeTissueModel(ModelKind::Corotational, mesh, material);
   Eigen::SparseMatrix<double> K = model->stiffnessPattern();
   model->assembleStiffness(model->restPositions(), TangentMode::Exact, K);
 

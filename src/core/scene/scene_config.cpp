@@ -14,6 +14,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "surgical_sim/core/cutting/blade_sweep.h"
 #include "surgical_sim/core/mesh/length_unit.h"
 
 namespace surgical_sim::core {
@@ -163,7 +164,7 @@ class KeyReader {
   const YAML::Node& node() const { return node_; }
   const std::string& path() const { return path_; }
 
- private:
+  /// A scalar `n` (found under `key`) as a finite number; with allow_infinite, .inf / -.inf too.
   double toNumber(const YAML::Node& n, const std::string& key, bool allow_infinite = false) const {
     if (!n.IsScalar()) fail(key, "expected a number");
     const std::string s = n.as<std::string>();
@@ -180,6 +181,7 @@ class KeyReader {
     return v;
   }
 
+ private:
   static std::string join(const std::set<std::string>& items) {
     std::string out;
     for (const auto& s : items) out += (out.empty() ? "" : ", ") + s;
@@ -250,10 +252,12 @@ Eigen::Vector3i readComponents(const KeyReader& r) {
   return c;
 }
 
-MeshSpec readMesh(const KeyReader& scene) {
+/// The mesh geometry (no resolution); `extra` are the resolution keys of the scene kind.
+MeshSpec readMesh(const KeyReader& scene, const std::set<std::string>& extra) {
   const KeyReader r = scene.child("mesh");
-  r.onlyKeys({"generator", "size", "origin", "side", "length", "file", "unit", "resolutions",
-              "element_types"});
+  std::set<std::string> known = {"generator", "size", "origin", "side", "length", "file", "unit"};
+  known.insert(extra.begin(), extra.end());
+  r.onlyKeys(known);
   MeshSpec m;
   m.generator = r.choice("generator", {"box", "beam", "hex_beam", "organ_blob", "file"});
   if (m.generator == "file" || r.has("unit")) {
@@ -267,40 +271,69 @@ MeshSpec readMesh(const KeyReader& scene) {
     std::filesystem::path file = r.text("file");
     if (file.is_relative()) file = std::filesystem::path(r.path()).parent_path() / file;
     m.file = file.lexically_normal().string();
-    m.resolutions = {Eigen::Vector3i::Zero()};
-  } else {
-    if (m.metres_per_unit != 1.0)
-      r.fail("unit", "generated meshes are sized in metres; 'unit' applies to mesh files only");
-    if (m.generator == "hex_beam") {
-      m.hex_side = r.number("side");
-      m.hex_length = r.number("length");
-      checkRange(r, "side", m.hex_side, 1e-6, 1e3, "m");
-      checkRange(r, "length", m.hex_length, 1e-6, 1e3, "m");
-    } else {
-      m.size = r.vector3("size");
-      for (int i = 0; i < 3; ++i) checkRange(r, "size", m.size[i], 1e-6, 1e3, "m");
-      if (r.has("origin")) m.origin = r.vector3("origin");
-    }
-    const YAML::Node res = r.list("resolutions", "a non-empty list of [nx, ny, nz] cell counts");
-    for (const auto& item : res) {
-      if (!item.IsSequence() || item.size() != 3)
-        r.fail("resolutions", "each resolution is a list of 3 integers");
-      // box/beam use all three counts; hex_beam [along, rings, -]; organ_blob [per_axis, -, -].
-      const int used = m.generator == "hex_beam" ? 2 : m.generator == "organ_blob" ? 1 : 3;
-      Eigen::Vector3i cells;
-      for (int i = 0; i < 3; ++i) cells[i] = r.toInteger(item[i], "resolutions", i < used, 4096);
-      m.resolutions.push_back(cells);
-    }
+    return m;
   }
-  for (const auto& t : r.has("element_types") ? r.choices("element_types", {"tet4", "tet10"})
-                                              : std::vector<std::string>{"tet4"})
-    m.element_types.push_back(t == "tet4" ? ElementType::Tet4 : ElementType::Tet10);
-  for (const Eigen::Vector3i& res : m.resolutions)
-    for (ElementType type : m.element_types) {
-      const std::string problem = meshBudgetProblem(m, res, type);
-      if (!problem.empty()) r.fail("resolutions", problem);
-    }
+  if (m.metres_per_unit != 1.0)
+    r.fail("unit", "generated meshes are sized in metres; 'unit' applies to mesh files only");
+  if (m.generator == "hex_beam") {
+    m.hex_side = r.number("side");
+    m.hex_length = r.number("length");
+    checkRange(r, "side", m.hex_side, 1e-6, 1e3, "m");
+    checkRange(r, "length", m.hex_length, 1e-6, 1e3, "m");
+  } else {
+    m.size = r.vector3("size");
+    for (int i = 0; i < 3; ++i) checkRange(r, "size", m.size[i], 1e-6, 1e3, "m");
+    if (r.has("origin")) m.origin = r.vector3("origin");
+  }
   return m;
+}
+
+/// One resolution [nx, ny, nz] of a generated mesh, read from `item` (found under mesh.`key`).
+Eigen::Vector3i readResolution(const KeyReader& mesh, const std::string& key,
+                               const YAML::Node& item, const std::string& generator) {
+  if (!item.IsSequence() || item.size() != 3)
+    mesh.fail(key, "each resolution is a list of 3 integers");
+  // box/beam use all three counts; hex_beam [along, rings, -]; organ_blob [per_axis, -, -].
+  const int used = generator == "hex_beam" ? 2 : generator == "organ_blob" ? 1 : 3;
+  Eigen::Vector3i cells;
+  for (int i = 0; i < 3; ++i) cells[i] = mesh.toInteger(item[i], key, i < used, 4096);
+  return cells;
+}
+
+ElementType elementType(const std::string& name) {
+  return name == "tet4" ? ElementType::Tet4 : ElementType::Tet10;
+}
+
+/// Rejects a mesh that exceeds the memory budget, naming mesh.`key`.
+void checkBudget(const KeyReader& mesh, const std::string& key, const MeshSpec& m,
+                 const Eigen::Vector3i& resolution, ElementType type) {
+  const std::string problem = meshBudgetProblem(m, resolution, type);
+  if (!problem.empty()) mesh.fail(key, problem);
+}
+
+/// The names of an enum's table, as a set for KeyReader::choice().
+template <class Enum, std::size_t N>
+std::set<std::string> nameSet(const std::array<EnumName<Enum>, N>& table) {
+  std::set<std::string> names;
+  for (const auto& e : table) names.insert(e.name);
+  return names;
+}
+
+/// One choice from an enum's name table.
+template <class Enum, std::size_t N>
+Enum readEnum(const KeyReader& r, const std::string& key,
+              const std::array<EnumName<Enum>, N>& table) {
+  return *enumFromName(table, r.choice(key, nameSet(table)));
+}
+
+/// One name or a non-empty list of names from an enum's name table (a sweep).
+template <class Enum, std::size_t N>
+std::vector<Enum> readEnums(const KeyReader& r, const std::string& key,
+                            const std::array<EnumName<Enum>, N>& table) {
+  std::vector<Enum> out;
+  for (const std::string& name : r.choices(key, nameSet(table)))
+    out.push_back(*enumFromName(table, name));
+  return out;
 }
 
 MeasureSpec readMeasure(const KeyReader& scene) {
@@ -331,38 +364,83 @@ MeasureSpec readMeasure(const KeyReader& scene) {
   return m;
 }
 
+/// A name that becomes a ROS namespace, tf frame or joint prefix: [A-Za-z][A-Za-z0-9_]*.
+std::string readIdentifier(const KeyReader& r, const std::string& key) {
+  const std::string v = r.text(key);
+  bool valid = std::isalpha(static_cast<unsigned char>(v[0]));
+  for (const char c : v) valid = valid && (std::isalnum(static_cast<unsigned char>(c)) || c == '_');
+  if (!valid) r.fail(key, "'" + v + "' must start with a letter and hold only letters, digits, _");
+  return v;
+}
+
+/// The tool's jaws. Topics left empty here are filled by assignToolTopics().
+GraspSpec readGrasp(const KeyReader& tool) {
+  const KeyReader r = tool.child("grasp");
+  r.onlyKeys({"radius", "topic", "joint", "joint_topic", "closed_angle"});
+  GraspSpec g;
+  g.radius = r.number("radius");
+  checkRange(r, "radius", g.radius, 1e-5, 0.05, "m");
+  if (r.has("topic")) g.topic = r.topic("topic");
+  if (r.has("joint")) g.joint = r.text("joint");
+  if (r.has("joint_topic")) g.joint_topic = r.topic("joint_topic");
+  if (g.joint.empty() && !g.joint_topic.empty())
+    r.fail("joint_topic", "names the topic of a joint: give 'joint' too");
+  g.closed_angle = r.number("closed_angle", g.closed_angle);
+  checkRange(r, "closed_angle", g.closed_angle, -M_PI, M_PI, "rad");
+  return g;
+}
+
 ToolSpec readTool(const KeyReader& r) {
-  r.onlyKeys({"name", "pose_topic", "grasp_topic", "wrench_topic", "contact_model_topic", "radius",
-              "shaft_length", "contact", "proxy_stiffness", "grasp_radius", "coupling_stiffness",
-              "coupling_damping", "max_force", "grip_joint", "grip_topic", "grip_closed_angle"});
+  r.onlyKeys({"name", "pose_topic", "wrench_topic", "contact_model_topic", "radius", "shaft_length",
+              "contact", "proxy_stiffness", "coupling_stiffness", "coupling_damping", "max_force",
+              "grasp"});
   ToolSpec t;
-  t.name = r.text("name");
+  t.name = readIdentifier(r, "name");
   if (r.has("pose_topic")) t.pose_topic = r.topic("pose_topic");
-  if (r.has("grasp_topic")) t.grasp_topic = r.topic("grasp_topic");
   if (r.has("wrench_topic")) t.wrench_topic = r.topic("wrench_topic");
   if (r.has("contact_model_topic")) t.contact_model_topic = r.topic("contact_model_topic");
+  const std::string contact = r.choice("contact", {"constraint", "proxy", "none"});
+  if (contact == "none") {
+    for (const char* key :
+         {"radius", "shaft_length", "proxy_stiffness", "coupling_stiffness", "coupling_damping",
+          "max_force", "grasp", "wrench_topic", "contact_model_topic"})
+      if (r.has(key))
+        r.fail(key, "a tool with 'contact: none' touches nothing and has no " + std::string(key));
+    return t;
+  }
+  t.contact = contact == "proxy" ? ContactResponse::Proxy : ContactResponse::Constraint;
   t.radius = r.number("radius");
   checkRange(r, "radius", t.radius, 1e-5, 0.05, "m");
   t.shaft_length = r.number("shaft_length");
   checkRange(r, "shaft_length", t.shaft_length, 0.0, 1.0, "m");
-  t.contact = r.choice("contact", {"constraint", "proxy"});
-  if (t.contact == "proxy") {
+  if (t.contact == ContactResponse::Proxy) {
     t.proxy_stiffness = r.number("proxy_stiffness");
-    checkRange(r, "proxy_stiffness", t.proxy_stiffness, 1e-6, 1e6, "N/m");
+    checkRange(r, "proxy_stiffness", *t.proxy_stiffness, 1e-6, 1e6, "N/m");
+    for (const char* key : {"coupling_stiffness", "coupling_damping"})
+      if (r.has(key)) r.fail(key, "a proxy tool has no coupling (its proxy spring is it)");
+  } else {
+    if (r.has("proxy_stiffness"))
+      r.fail("proxy_stiffness", "only a tool with 'contact: proxy' has a proxy spring");
+    t.coupling_stiffness = r.number("coupling_stiffness", t.coupling_stiffness);
+    checkRange(r, "coupling_stiffness", t.coupling_stiffness, 1.0, 1e7, "N/m");
+    t.coupling_damping = r.number("coupling_damping", t.coupling_damping);
+    checkRange(r, "coupling_damping", t.coupling_damping, 0.0, 1e5, "N s/m");
   }
-  t.grasp_radius = r.number("grasp_radius", 0.0);
-  checkRange(r, "grasp_radius", t.grasp_radius, 0.0, 0.05, "m");
-  t.coupling_stiffness = r.number("coupling_stiffness", t.coupling_stiffness);
-  checkRange(r, "coupling_stiffness", t.coupling_stiffness, 1.0, 1e7, "N/m");
-  t.coupling_damping = r.number("coupling_damping", t.coupling_damping);
-  checkRange(r, "coupling_damping", t.coupling_damping, 0.0, 1e5, "N s/m");
   t.max_force = r.number("max_force", t.max_force);
   checkRange(r, "max_force", t.max_force, 1e-3, 1e4, "N");
-  if (r.has("grip_joint")) t.grip_joint = r.text("grip_joint");
-  if (r.has("grip_topic")) t.grip_topic = r.topic("grip_topic");
-  t.grip_closed_angle = r.number("grip_closed_angle", t.grip_closed_angle);
-  checkRange(r, "grip_closed_angle", t.grip_closed_angle, -M_PI, M_PI, "rad");
+  if (r.has("grasp")) t.grasp = readGrasp(r);
   return t;
+}
+
+/// Index of the tool named by `key`, or a failure naming the tools there are.
+int readToolReference(const KeyReader& r, const std::string& key,
+                      const std::vector<ToolSpec>& tools) {
+  const std::string name = r.text(key);
+  for (std::size_t i = 0; i < tools.size(); ++i)
+    if (tools[i].name == name) return static_cast<int>(i);
+  std::string names;
+  for (const ToolSpec& t : tools) names += (names.empty() ? "" : ", ") + t.name;
+  r.fail(key, "no tool is named '" + name + "' (tools: " + (names.empty() ? "none" : names) + ")");
 }
 
 Eigen::Isometry3d readPose(const KeyReader& parent, const std::string& key) {
@@ -423,19 +501,71 @@ std::string syntaxErrorPlace(const std::string& text, int line) {
          (key.empty() ? std::string() : " (in key '" + key + "')");
 }
 
-SceneConfig parse(const YAML::Node& root, const std::string& path) {
-  if (!root.IsMap())
-    throw std::invalid_argument("scene " + path + ": the file is not a YAML map of keys");
-  long long visited = 0;
-  rejectDuplicateKeys(root, "", path, visited);
-  const KeyReader r(root, "", path);
-  r.onlyKeys({"name", "description", "mesh", "material", "models", "integrators", "solvers",
-              "time_step", "steps", "load_factors", "gravity", "damping", "newton", "pcg", "fixed",
-              "prescribed", "measure", "tools", "tissue_pose"});
-  SceneConfig s;
-  s.path = path;
+/// A key of the other scene kind and what to use instead.
+struct ForeignKey {
+  const char* key;
+  const char* hint;
+};
+
+constexpr ForeignKey kBenchmarkKeys[] = {
+    {"models",
+     "use 'model: <name>': a runtime scene is one simulation; sweeps belong in "
+     "benchmark files, which tissue_bench runs"},
+    {"integrators",
+     "use 'integrator: <name>': a runtime scene is one simulation; sweeps belong "
+     "in benchmark files, which tissue_bench runs"},
+    {"solvers",
+     "use 'solver: <name>': a runtime scene is one simulation; sweeps belong in "
+     "benchmark files, which tissue_bench runs"},
+    {"steps", "a runtime scene runs until it is stopped; 'steps' belongs in benchmark files"},
+    {"load_factors", "a runtime scene has no load path; 'load_factors' belongs in benchmark files"},
+    {"prescribed",
+     "a runtime scene has no prescribed displacements; they belong in benchmark "
+     "files"},
+    {"measure",
+     "a runtime scene measures nothing; 'measure' belongs in benchmark files, which "
+     "tissue_bench runs"},
+};
+constexpr ForeignKey kRuntimeKeys[] = {
+    {"model", "a benchmark file sweeps: use 'models: [<name>, ...]'"},
+    {"integrator", "a benchmark file sweeps: use 'integrators: [<name>, ...]'"},
+    {"solver", "a benchmark file sweeps: use 'solvers: [<name>, ...]'"},
+    {"trocars", "instruments belong in runtime scenes (scene.launch), not in benchmark files"},
+    {"blades", "instruments belong in runtime scenes (scene.launch), not in benchmark files"},
+    {"robot", "instruments belong in runtime scenes (scene.launch), not in benchmark files"},
+};
+constexpr ForeignKey kBenchmarkMeshKeys[] = {
+    {"resolutions", "use 'resolution: [nx, ny, nz]'; resolution sweeps belong in benchmark files"},
+    {"element_types",
+     "use 'element_type: tet4|tet10'; element-type sweeps belong in benchmark "
+     "files"},
+};
+constexpr ForeignKey kRuntimeMeshKeys[] = {
+    {"resolution", "a benchmark file sweeps: use 'resolutions: [[nx, ny, nz], ...]'"},
+    {"element_type", "a benchmark file sweeps: use 'element_types: [tet4, ...]'"},
+};
+
+template <std::size_t N>
+void rejectForeignKeys(const KeyReader& r, const ForeignKey (&keys)[N]) {
+  for (const ForeignKey& k : keys)
+    if (r.node()[k.key].IsDefined()) r.fail(k.key, k.hint);
+}
+
+/// Calls read(item) for each map in the optional list `key`.
+template <class Read>
+void forEachItem(const KeyReader& r, const std::string& key, Read read) {
+  if (!r.has(key)) return;
+  const YAML::Node list = r.list(key, "a list", true);
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    if (!list[i].IsMap()) r.fail(key, "item " + std::to_string(i) + " is not a map");
+    read(KeyReader(list[i], key + "[" + std::to_string(i) + "]", r.path()));
+  }
+}
+
+/// The keys both scene kinds share (mesh geometry without its resolution keys `mesh_keys`).
+void readBase(const KeyReader& r, const std::set<std::string>& mesh_keys, SceneBase& s) {
   s.name = r.text("name");
-  s.mesh = readMesh(r);
+  s.mesh = readMesh(r, mesh_keys);
 
   const KeyReader mat = r.child("material");
   mat.onlyKeys({"young_modulus", "poisson_ratio", "density"});
@@ -454,17 +584,8 @@ SceneConfig parse(const YAML::Node& root, const std::string& path) {
     mat.fail("young_modulus", what);
   }
 
-  s.models = r.choices("models", {"mass_spring", "corotational", "svk", "ems", "neo_hookean"});
-  s.integrators = r.choices("integrators", {"symplectic_euler", "implicit_euler_linearized",
-                                            "implicit_euler_newton", "quasi_static"});
-  s.solvers = r.choices("solvers", {"cholmod", "pcg_jacobi", "pcg_block_jacobi", "pcg_ichol",
-                                    "pcg_cholesky_reuse", "pcg_cholesky_background"});
   s.time_step = r.number("time_step");
   checkRange(r, "time_step", s.time_step, 1e-7, 1.0, "s");
-  s.steps = r.integer("steps", 1, 1000000);
-  if (r.has("load_factors")) s.load_factors = r.numbers("load_factors");
-  for (double f : s.load_factors)
-    checkRange(r, "load_factors", f, -kMaxLoadFactor, kMaxLoadFactor, "");
   if (r.has("gravity")) s.gravity = r.vector3("gravity");
   checkRange(r, "gravity", s.gravity.norm(), 0.0, 1e4, "m/s^2");
   if (r.has("damping")) {
@@ -490,27 +611,11 @@ SceneConfig parse(const YAML::Node& root, const std::string& path) {
     checkRange(p, "tolerance", s.pcg_tolerance, 1e-15, 1.0, "");
     s.pcg_refresh_interval = p.integer("refresh_interval", 1, 100000, s.pcg_refresh_interval);
   }
-  const auto readList = [&](const std::string& key, auto&& readItem) {
-    if (!r.has(key)) return;
-    const YAML::Node list = r.list(key, "a list", true);
-    for (std::size_t i = 0; i < list.size(); ++i) {
-      if (!list[i].IsMap()) r.fail(key, "item " + std::to_string(i) + " is not a map");
-      readItem(KeyReader(list[i], key + "[" + std::to_string(i) + "]", path));
-    }
-  };
-  readList("fixed", [&](const KeyReader& item) {
+  forEachItem(r, "fixed", [&](const KeyReader& item) {
     item.onlyKeys({"region", "components"});
     s.fixed.push_back({readRegion(item, "region"), readComponents(item)});
   });
-  readList("prescribed", [&](const KeyReader& item) {
-    item.onlyKeys({"region", "components", "displacement"});
-    s.prescribed.push_back(
-        {readRegion(item, "region"), readComponents(item), item.vector3("displacement")});
-    checkRange(item, "displacement", s.prescribed.back().displacement.norm(), 0.0, kMaxDisplacement,
-               "m (magnitude)");
-  });
-  s.measure = readMeasure(r);
-  readList("tools", [&](const KeyReader& item) {
+  forEachItem(r, "tools", [&](const KeyReader& item) {
     s.tools.push_back(readTool(item));
     for (std::size_t i = 0; i + 1 < s.tools.size(); ++i)
       if (s.tools[i].name == s.tools.back().name)
@@ -518,12 +623,219 @@ SceneConfig parse(const YAML::Node& root, const std::string& path) {
   });
   if (s.tools.size() > 4) r.fail("tools", "at most 4 tools are supported");
   if (r.has("tissue_pose")) s.tissue_pose = readPose(r, "tissue_pose");
+}
+
+/// Fills the topics a scene left out (docs/scenes.md): a tool held by trocar T talks on T's
+/// namespace and takes its jaws from joint T_grip; a free tool uses tool/pose, tissue/wrench,
+/// tissue/contact_model and tool/grasp; a tool without contact publishes nothing. Rejects two
+/// tools on one topic.
+void assignToolTopics(const KeyReader& r, std::vector<ToolSpec>& tools,
+                      const std::vector<TrocarSpec>& trocars) {
+  for (std::size_t i = 0; i < tools.size(); ++i) {
+    ToolSpec& t = tools[i];
+    const TrocarSpec* holder = nullptr;
+    for (const TrocarSpec& trocar : trocars)
+      if (trocar.tool == static_cast<int>(i)) holder = &trocar;
+    const std::string ns = holder ? "/" + holder->name + "/" : "";
+    const auto fill = [](std::string& topic, const std::string& fallback) {
+      if (topic.empty()) topic = fallback;
+    };
+    fill(t.pose_topic, ns + "tool/pose");
+    if (t.contact) {
+      fill(t.wrench_topic, ns + "tissue/wrench");
+      fill(t.contact_model_topic, ns + "tissue/contact_model");
+    }
+    if (t.grasp) {
+      if (holder && t.grasp->topic.empty()) fill(t.grasp->joint, holder->name + "_grip");
+      if (t.grasp->joint.empty()) fill(t.grasp->topic, "tool/grasp");
+      if (!t.grasp->joint.empty()) fill(t.grasp->joint_topic, "joint_states");
+    }
+  }
+  const auto unique = [&](const char* key, auto topic_of) {
+    for (std::size_t i = 0; i < tools.size(); ++i)
+      for (std::size_t j = 0; j < i; ++j)
+        if (!topic_of(tools[i]).empty() && topic_of(tools[i]) == topic_of(tools[j]))
+          r.fail("tools[" + std::to_string(i) + "]." + key,
+                 "'" + topic_of(tools[i]) + "' is also the " + key + " of tool '" + tools[j].name +
+                     "': give each tool its own topics");
+  };
+  unique("pose_topic", [](const ToolSpec& t) { return t.pose_topic; });
+  unique("wrench_topic", [](const ToolSpec& t) { return t.wrench_topic; });
+  unique("contact_model_topic", [](const ToolSpec& t) { return t.contact_model_topic; });
+}
+
+TrocarSpec readTrocar(const KeyReader& r, const std::vector<ToolSpec>& tools) {
+  r.onlyKeys({"name", "tool", "fulcrum"});
+  TrocarSpec t;
+  t.name = readIdentifier(r, "name");
+  if (t.name == "world" || t.name == "tissue" || t.name == "robot")
+    r.fail("name", "'" + t.name + "' is the name of another frame or namespace");
+  t.tool = readToolReference(r, "tool", tools);
+  t.X_WF = readPose(r, "fulcrum");
+  return t;
+}
+
+BladeSpec readBlade(const KeyReader& r, const std::vector<ToolSpec>& tools) {
+  r.onlyKeys({"tool", "edge"});
+  BladeSpec b;
+  b.tool = readToolReference(r, "tool", tools);
+  const YAML::Node edge = r.list("edge", "a list of [x, y, z] points");
+  b.edge.resize(3, static_cast<Eigen::Index>(edge.size()));
+  for (std::size_t i = 0; i < edge.size(); ++i) {
+    if (!edge[i].IsSequence() || edge[i].size() != 3) r.fail("edge", "each point is [x, y, z]");
+    for (int k = 0; k < 3; ++k)
+      b.edge(k, static_cast<Eigen::Index>(i)) = r.toNumber(edge[i][k], "edge");
+  }
+  try {
+    validateBladePolyline("edge", b.edge);
+  } catch (const std::invalid_argument& e) {
+    r.fail("edge", e.what());
+  }
+  return b;
+}
+
+RuntimeScene parseRuntime(const YAML::Node& root, const std::string& path) {
+  const KeyReader r(root, "", path);
+  rejectForeignKeys(r, kBenchmarkKeys);
+  if (r.has("mesh") && r.node()["mesh"].IsMap())
+    rejectForeignKeys(r.child("mesh"), kBenchmarkMeshKeys);
+  r.onlyKeys({"name", "description", "mesh", "material", "model", "integrator", "solver",
+              "time_step", "gravity", "damping", "newton", "pcg", "fixed", "tools", "trocars",
+              "blades", "robot", "tissue_pose"});
+  RuntimeScene s;
+  s.path = path;
+  readBase(r, {"resolution", "element_type"}, s);
+  const KeyReader mesh = r.child("mesh");
+  if (s.mesh.generator != "file") {
+    s.resolution =
+        readResolution(mesh, "resolution", mesh.required("resolution"), s.mesh.generator);
+  } else if (mesh.has("resolution")) {
+    mesh.fail("resolution", "a mesh file has its own resolution");
+  }
+  if (mesh.has("element_type"))
+    s.element_type = elementType(mesh.choice("element_type", {"tet4", "tet10"}));
+  checkBudget(mesh, "resolution", s.mesh, s.resolution, s.element_type);
+  s.model = readEnum(r, "model", kModelNames);
+  if (linearTetOnly(s.model) && s.element_type == ElementType::Tet10)
+    r.fail("model", std::string(modelName(s.model)) + " is defined on tet4 meshes only");
+  s.integrator = readEnum(r, "integrator", kIntegratorNames);
+  s.solver = readEnum(r, "solver", kSolverNames);
+
+  std::vector<bool> held(s.tools.size(), false);
+  forEachItem(r, "trocars", [&](const KeyReader& item) {
+    s.trocars.push_back(readTrocar(item, s.tools));
+    const TrocarSpec& t = s.trocars.back();
+    for (std::size_t i = 0; i + 1 < s.trocars.size(); ++i)
+      if (s.trocars[i].name == t.name) item.fail("name", "duplicate trocar name '" + t.name + "'");
+    if (held[static_cast<std::size_t>(t.tool)])
+      item.fail("tool", "tool '" + s.tools[static_cast<std::size_t>(t.tool)].name +
+                            "' is already held by another trocar");
+    held[static_cast<std::size_t>(t.tool)] = true;
+  });
+  if (s.trocars.size() > 4) r.fail("trocars", "at most 4 trocars are supported");
+  forEachItem(r, "blades", [&](const KeyReader& item) {
+    s.blades.push_back(readBlade(item, s.tools));
+    for (std::size_t i = 0; i + 1 < s.blades.size(); ++i)
+      if (s.blades[i].tool == s.blades.back().tool)
+        item.fail("tool", "tool '" + s.tools[static_cast<std::size_t>(s.blades.back().tool)].name +
+                              "' already carries a blade");
+  });
+  if (r.has("robot")) {
+    const KeyReader robot = r.child("robot");
+    robot.onlyKeys({"description", "base_pose"});
+    RobotSpec spec;
+    spec.description = readIdentifier(robot, "description");
+    if (robot.has("base_pose")) spec.X_WB = readPose(robot, "base_pose");
+    s.robot = spec;
+  }
+  assignToolTopics(r, s.tools, s.trocars);
+  return s;
+}
+
+BenchmarkScene parseBenchmark(const YAML::Node& root, const std::string& path) {
+  const KeyReader r(root, "", path);
+  rejectForeignKeys(r, kRuntimeKeys);
+  if (r.has("mesh") && r.node()["mesh"].IsMap())
+    rejectForeignKeys(r.child("mesh"), kRuntimeMeshKeys);
+  r.onlyKeys({"name", "description", "mesh", "material", "models", "integrators", "solvers",
+              "time_step", "steps", "load_factors", "gravity", "damping", "newton", "pcg", "fixed",
+              "prescribed", "measure", "tools", "tissue_pose"});
+  BenchmarkScene s;
+  s.path = path;
+  readBase(r, {"resolutions", "element_types"}, s);
+  const KeyReader mesh = r.child("mesh");
+  if (s.mesh.generator == "file") {
+    s.resolutions = {Eigen::Vector3i::Zero()};
+  } else {
+    for (const auto& item :
+         mesh.list("resolutions", "a non-empty list of [nx, ny, nz] cell counts"))
+      s.resolutions.push_back(readResolution(mesh, "resolutions", item, s.mesh.generator));
+  }
+  for (const auto& t : mesh.has("element_types") ? mesh.choices("element_types", {"tet4", "tet10"})
+                                                 : std::vector<std::string>{"tet4"})
+    s.element_types.push_back(elementType(t));
+  for (const Eigen::Vector3i& res : s.resolutions)
+    for (ElementType type : s.element_types) checkBudget(mesh, "resolutions", s.mesh, res, type);
+  s.models = readEnums(r, "models", kModelNames);
+  s.integrators = readEnums(r, "integrators", kIntegratorNames);
+  s.solvers = readEnums(r, "solvers", kSolverNames);
+  s.steps = r.integer("steps", 1, 1000000);
+  if (r.has("load_factors")) s.load_factors = r.numbers("load_factors");
+  for (double f : s.load_factors)
+    checkRange(r, "load_factors", f, -kMaxLoadFactor, kMaxLoadFactor, "");
+  forEachItem(r, "prescribed", [&](const KeyReader& item) {
+    item.onlyKeys({"region", "components", "displacement"});
+    s.prescribed.push_back(
+        {readRegion(item, "region"), readComponents(item), item.vector3("displacement")});
+    checkRange(item, "displacement", s.prescribed.back().displacement.norm(), 0.0, kMaxDisplacement,
+               "m (magnitude)");
+  });
+  s.measure = readMeasure(r);
+  assignToolTopics(r, s.tools, {});
   if (s.measure.type == "uniaxial_svk_force" && (s.prescribed.empty() || s.load_factors.empty()))
     r.fail("measure", "uniaxial_svk_force needs 'prescribed' and 'load_factors'");
   if (!s.measure.reference_formula.empty() && s.gravity[s.measure.component] == 0.0)
     r.fail("gravity", "measure.reference_formula '" + s.measure.reference_formula +
                           "' needs a non-zero gravity component along measure.component");
   return s;
+}
+
+/// Parses YAML text into a scene of the kind `parse` reads (errors named as in loadRuntimeScene).
+template <class Parse>
+auto parseText(const std::string& yaml_text, const std::string& path, Parse parse) {
+  if (yaml_text.size() > kMaxSceneBytes)
+    throw std::invalid_argument("scene " + path + ": the file has " +
+                                std::to_string(yaml_text.size()) +
+                                " bytes, more than the limit of " + std::to_string(kMaxSceneBytes));
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::DeepRecursion& e) {
+    throw std::invalid_argument("scene " + path + ": " + syntaxErrorPlace(yaml_text, e.mark.line) +
+                                ": nested more than " + std::to_string(e.depth() - 1) +
+                                " levels deep");
+  } catch (const YAML::Exception& e) {
+    throw std::invalid_argument("scene " + path + ": " + syntaxErrorPlace(yaml_text, e.mark.line) +
+                                ": " + e.msg);
+  }
+  if (!root.IsMap())
+    throw std::invalid_argument("scene " + path + ": the file is not a YAML map of keys");
+  long long visited = 0;
+  rejectDuplicateKeys(root, "", path, visited);
+  try {
+    return parse(root, path);
+  } catch (const YAML::Exception& e) {
+    throw std::invalid_argument("scene " + path + ": malformed value at line " +
+                                std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+}
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::invalid_argument("scene " + path + ": cannot open file");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return buffer.str();
 }
 
 }  // namespace
@@ -564,36 +876,20 @@ std::string meshBudgetProblem(const MeshSpec& spec, const Eigen::Vector3i& resol
   return s.str();
 }
 
-SceneConfig parseSceneConfig(const std::string& yaml_text, const std::string& path) {
-  if (yaml_text.size() > kMaxSceneBytes)
-    throw std::invalid_argument("scene " + path + ": the file has " +
-                                std::to_string(yaml_text.size()) +
-                                " bytes, more than the limit of " + std::to_string(kMaxSceneBytes));
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml_text);
-  } catch (const YAML::DeepRecursion& e) {
-    throw std::invalid_argument("scene " + path + ": " + syntaxErrorPlace(yaml_text, e.mark.line) +
-                                ": nested more than " + std::to_string(e.depth() - 1) +
-                                " levels deep");
-  } catch (const YAML::Exception& e) {
-    throw std::invalid_argument("scene " + path + ": " + syntaxErrorPlace(yaml_text, e.mark.line) +
-                                ": " + e.msg);
-  }
-  try {
-    return parse(root, path);
-  } catch (const YAML::Exception& e) {
-    throw std::invalid_argument("scene " + path + ": malformed value at line " +
-                                std::to_string(e.mark.line + 1) + ": " + e.msg);
-  }
+RuntimeScene parseRuntimeScene(const std::string& yaml_text, const std::string& path) {
+  return parseText(yaml_text, path, parseRuntime);
 }
 
-SceneConfig loadSceneConfig(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::invalid_argument("scene " + path + ": cannot open file");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return parseSceneConfig(buffer.str(), path);
+RuntimeScene loadRuntimeScene(const std::string& path) {
+  return parseRuntimeScene(readFile(path), path);
+}
+
+BenchmarkScene parseBenchmarkScene(const std::string& yaml_text, const std::string& path) {
+  return parseText(yaml_text, path, parseBenchmark);
+}
+
+BenchmarkScene loadBenchmarkScene(const std::string& path) {
+  return parseBenchmarkScene(readFile(path), path);
 }
 
 }  // namespace surgical_sim::core

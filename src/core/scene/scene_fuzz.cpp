@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "surgical_sim/core/scene/scene_config.h"
+#include "surgical_sim/core/scene/tissue_case.h"
 #include "surgical_sim/core/scene/tissue_simulation.h"
 
 namespace surgical_sim::core {
@@ -197,7 +198,16 @@ SceneMutant mutateScene(const std::string& text, std::mt19937& rng) {
   }
 }
 
-SceneTrialResult trySceneMutant(const std::string& text, const std::string& path,
+SceneKind sceneKindOf(const std::string& text, const std::string& path) {
+  try {
+    parseRuntimeScene(text, path);
+    return SceneKind::Runtime;
+  } catch (const std::exception&) {
+    return SceneKind::Benchmark;
+  }
+}
+
+SceneTrialResult trySceneMutant(const std::string& text, const std::string& path, SceneKind kind,
                                 double construct_budget_bytes) {
   SceneTrialResult result;
   const auto rejected = [&](const std::string& message) {
@@ -212,9 +222,12 @@ SceneTrialResult trySceneMutant(const std::string& text, const std::string& path
     return result;
   };
   try {
-    const SceneConfig scene = parseSceneConfig(text, path);
-    const MeshSizeEstimate first = estimateMeshSize(scene.mesh, scene.mesh.resolutions.front(),
-                                                    scene.mesh.element_types.front());
+    const RuntimeScene scene = kind == SceneKind::Runtime ? parseRuntimeScene(text, path) : [&] {
+      const BenchmarkScene sweep = parseBenchmarkScene(text, path);
+      return caseScene(sweep, expandSweep(sweep).front());
+    }();
+    const MeshSizeEstimate first =
+        estimateMeshSize(scene.mesh, scene.resolution, scene.element_type);
     if (first.bytes <= construct_budget_bytes) {
       TissueSimulation simulation(scene);
       result.constructed = true;

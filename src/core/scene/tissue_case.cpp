@@ -10,14 +10,10 @@
 #include "surgical_sim/core/mesh/generators.h"
 #include "surgical_sim/core/mesh/gmsh_reader.h"
 #include "surgical_sim/core/mesh/mesh_check.h"
-#include "surgical_sim/core/solve/make_integrator.h"
-#include "surgical_sim/core/solve/make_linear_solver.h"
-#include "surgical_sim/core/tissue/model_factory.h"
+#include "surgical_sim/core/scene/scene_build.h"
 
 namespace surgical_sim::core {
 namespace {
-
-bool linearTetOnly(const std::string& model) { return model == "mass_spring" || model == "ems"; }
 
 /// Cross-section area [m^2], second moment about the bending axis [m^4] and the Cowper shear
 /// coefficient of the scene's beam, for the analytic references.
@@ -28,7 +24,7 @@ struct BeamSection {
   double length = 0.0;
 };
 
-BeamSection beamSection(const SceneConfig& scene, int bending_component) {
+BeamSection beamSection(const BenchmarkScene& scene, int bending_component) {
   const MeshSpec& m = scene.mesh;
   const double nu = scene.material.poisson_ratio;
   BeamSection s;
@@ -53,7 +49,7 @@ BeamSection beamSection(const SceneConfig& scene, int bending_component) {
   return s;
 }
 
-double analyticTipReference(const SceneConfig& scene) {
+double analyticTipReference(const BenchmarkScene& scene) {
   const MeasureSpec& m = scene.measure;
   if (m.reference) return *m.reference;
   const Material& mat = scene.material;
@@ -87,11 +83,12 @@ struct CaseSetup {
   TetMesh mesh;
   std::unique_ptr<TissueModel> model;
   DynamicsProblem problem;
-  std::vector<int> fixed_dofs;
+  std::size_t fixed_dofs =
+      0;  ///< the first fixed_dofs Dirichlet DOFs are fixed, the rest prescribed
   PrescribedDofs prescribed;
 };
 
-CaseSetup setUp(const SceneConfig& scene, const CaseSpec& spec) {
+CaseSetup setUp(const BenchmarkScene& scene, const CaseSpec& spec) {
   CaseSetup c;
   c.mesh = buildSceneMesh(scene.mesh, spec.resolution, spec.element_type);
   requireValidMesh(c.mesh);
@@ -100,44 +97,33 @@ CaseSetup setUp(const SceneConfig& scene, const CaseSpec& spec) {
   c.problem.external_force = c.model->bodyForce(scene.gravity);
   c.problem.damping.mass_coefficient = scene.damping_mass;
   c.problem.damping.stiffness_coefficient = scene.damping_stiffness;
-  std::vector<bool> taken(3 * c.mesh.numNodes(), false);
-  for (std::size_t i = 0; i < scene.fixed.size(); ++i) {
-    const auto dofs = regionDofs(c.mesh, scene.fixed[i].region, scene.fixed[i].components);
-    if (dofs.empty())
-      throw std::invalid_argument("scene " + scene.path + ": key 'fixed[" + std::to_string(i) +
-                                  "].region' contains no mesh node");
-    for (int d : dofs)
-      if (!taken[d]) {
-        taken[d] = true;
-        c.fixed_dofs.push_back(d);
-      }
-  }
+  const Eigen::VectorXd& rest = c.model->restPositions();
+  c.problem.dirichlet = fixedDirichlet(scene, c.mesh, rest);
+  c.fixed_dofs = c.problem.dirichlet.dofs.size();
+  std::vector<bool> taken(static_cast<std::size_t>(3 * c.mesh.numNodes()), false);
+  for (const int d : c.problem.dirichlet.dofs) taken[static_cast<std::size_t>(d)] = true;
   for (std::size_t i = 0; i < scene.prescribed.size(); ++i) {
     const PrescribedBc& bc = scene.prescribed[i];
-    const auto dofs = regionDofs(c.mesh, bc.region, bc.components);
-    if (dofs.empty())
-      throw std::invalid_argument("scene " + scene.path + ": key 'prescribed[" + std::to_string(i) +
-                                  "].region' contains no mesh node");
-    for (int d : dofs)
-      if (!taken[d]) {
-        taken[d] = true;
-        c.prescribed.dofs.push_back(d);
-        c.prescribed.rest.push_back(c.model->restPositions()[d]);
-        c.prescribed.unit_displacement.push_back(bc.displacement[d % 3]);
-      }
+    const std::size_t first = c.prescribed.dofs.size();
+    appendRegionDofs(c.mesh, bc.region, bc.components, "prescribed[" + std::to_string(i) + "]",
+                     scene.path, taken, c.prescribed.dofs);
+    for (std::size_t k = first; k < c.prescribed.dofs.size(); ++k) {
+      const int d = c.prescribed.dofs[k];
+      c.prescribed.rest.push_back(rest[d]);
+      c.prescribed.unit_displacement.push_back(bc.displacement[d % 3]);
+    }
   }
   DirichletBc& bc = c.problem.dirichlet;
-  bc.dofs = c.fixed_dofs;
   bc.dofs.insert(bc.dofs.end(), c.prescribed.dofs.begin(), c.prescribed.dofs.end());
-  bc.positions.resize(static_cast<Eigen::Index>(bc.dofs.size()));
-  for (std::size_t i = 0; i < bc.dofs.size(); ++i)
-    bc.positions[static_cast<Eigen::Index>(i)] = c.model->restPositions()[bc.dofs[i]];
+  bc.positions.conservativeResize(static_cast<Eigen::Index>(bc.dofs.size()));
+  for (std::size_t i = c.fixed_dofs; i < bc.dofs.size(); ++i)
+    bc.positions[static_cast<Eigen::Index>(i)] = rest[bc.dofs[i]];
   return c;
 }
 
 /// Sets the prescribed DOFs' targets to rest + factor * displacement.
 void applyLoadFactor(CaseSetup& c, double factor) {
-  const auto offset = static_cast<Eigen::Index>(c.fixed_dofs.size());
+  const auto offset = static_cast<Eigen::Index>(c.fixed_dofs);
   for (std::size_t i = 0; i < c.prescribed.dofs.size(); ++i)
     c.problem.dirichlet.positions[offset + static_cast<Eigen::Index>(i)] =
         c.prescribed.rest[i] + factor * c.prescribed.unit_displacement[i];
@@ -167,7 +153,7 @@ double reactionForce(const CaseSetup& c, int component, const Eigen::VectorXd& x
   return sum;
 }
 
-RunOutcome runLoading(const SceneConfig& scene, CaseSetup& c, Integrator& integrator) {
+RunOutcome runLoading(const BenchmarkScene& scene, CaseSetup& c, Integrator& integrator) {
   RunOutcome out;
   SimulationState state;
   state.x = c.model->restPositions();
@@ -220,23 +206,10 @@ RunOutcome runLoading(const SceneConfig& scene, CaseSetup& c, Integrator& integr
 
 }  // namespace
 
-std::unique_ptr<Integrator> makeCaseIntegrator(const SceneConfig& scene,
-                                               const std::string& integrator,
-                                               const std::string& solver, double tolerance) {
-  PcgSettings pcg;
-  pcg.max_iterations = scene.pcg_max_iterations;
-  pcg.relative_tolerance = scene.pcg_tolerance;
-  pcg.refresh_interval = scene.pcg_refresh_interval;
-  IntegratorSettings settings;
-  settings.max_iterations = scene.newton_max_iterations;
-  settings.relative_tolerance = tolerance;
-  return makeIntegrator(integrator, settings, makeLinearSolver(solver, pcg));
-}
-
-std::vector<CaseSpec> expandSweep(const SceneConfig& scene) {
+std::vector<CaseSpec> expandSweep(const BenchmarkScene& scene) {
   std::vector<CaseSpec> cases;
-  for (ElementType type : scene.mesh.element_types)
-    for (const auto& res : scene.mesh.resolutions)
+  for (ElementType type : scene.element_types)
+    for (const auto& res : scene.resolutions)
       for (const auto& model : scene.models) {
         if (type != ElementType::Tet4 && linearTetOnly(model)) continue;
         for (const auto& integrator : scene.integrators)
@@ -246,45 +219,18 @@ std::vector<CaseSpec> expandSweep(const SceneConfig& scene) {
   return cases;
 }
 
-TetMesh buildSceneMesh(const MeshSpec& spec, const Eigen::Vector3i& res, ElementType type) {
-  const std::string problem = meshBudgetProblem(spec, res, type);
-  if (!problem.empty())
-    throw std::invalid_argument("buildSceneMesh: key 'mesh.resolutions': " + problem);
-  if (spec.generator == "file") {
-    const std::string key = "buildSceneMesh: key 'mesh.file': ";
-    TetMesh mesh;
-    try {
-      mesh = readGmsh(spec.file, spec.metres_per_unit);  // messages start with the path
-    } catch (const std::runtime_error& e) {
-      throw std::invalid_argument(key + e.what());
-    }
-    try {
-      requireValidMesh(mesh);
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(key + spec.file + ": " + e.what());
-    }
-    if (type == ElementType::Tet10 && mesh.type == ElementType::Tet4) return promoteToTet10(mesh);
-    return mesh;
-  }
-  if (spec.generator == "box") return makeBox(spec.origin, spec.size, res, type);
-  if (spec.generator == "beam")
-    return makeBeam(spec.size[0], spec.size[1], spec.size[2], res, type);
-  if (spec.generator == "hex_beam")
-    return makeHexagonalBeam(spec.hex_side, spec.hex_length, res[0], res[1], type);
-  return makeOrganBlob(spec.size, res[0], type);
+RuntimeScene caseScene(const BenchmarkScene& scene, const CaseSpec& spec) {
+  RuntimeScene one;
+  static_cast<SceneBase&>(one) = scene;
+  one.resolution = spec.resolution;
+  one.element_type = spec.element_type;
+  one.model = spec.model;
+  one.integrator = spec.integrator;
+  one.solver = spec.solver;
+  return one;
 }
 
-std::vector<int> regionDofs(const TetMesh& mesh, const Region& region,
-                            const Eigen::Vector3i& components) {
-  std::vector<int> dofs;
-  for (int n = 0; n < mesh.numNodes(); ++n)
-    if (region.contains(mesh.nodes.col(n)))
-      for (int c = 0; c < 3; ++c)
-        if (components[c]) dofs.push_back(3 * n + c);
-  return dofs;
-}
-
-CaseResult runTissueCase(const SceneConfig& scene, const CaseSpec& spec) {
+CaseResult runTissueCase(const BenchmarkScene& scene, const CaseSpec& spec) {
   CaseSetup c = setUp(scene, spec);
   CaseResult result;
   result.spec = spec;
@@ -293,7 +239,8 @@ CaseResult runTissueCase(const SceneConfig& scene, const CaseSpec& spec) {
   result.dofs = 3 * result.nodes;
   result.dt = scene.time_step;
 
-  auto integrator = makeCaseIntegrator(scene, spec.integrator, spec.solver, scene.newton_tolerance);
+  auto integrator =
+      makeSceneIntegrator(scene, spec.integrator, spec.solver, scene.newton_tolerance);
   const RunOutcome run = runLoading(scene, c, *integrator);
   result.steps = run.steps;
   result.ms_per_step = run.steps > 0 ? 1e3 * run.seconds / run.steps : 0.0;
@@ -335,9 +282,10 @@ CaseResult runTissueCase(const SceneConfig& scene, const CaseSpec& spec) {
     result.error_rel = worst;
   } else {  // self_reference: same mesh, tight Newton + CHOLMOD
     CaseSetup ref_setup = setUp(scene, spec);
-    const std::string ref_integrator =
-        spec.integrator == "quasi_static" ? "quasi_static" : "implicit_euler_newton";
-    auto ref = makeCaseIntegrator(scene, ref_integrator, "cholmod", 1e-10);
+    const IntegratorKind ref_integrator = spec.integrator == IntegratorKind::QuasiStatic
+                                              ? IntegratorKind::QuasiStatic
+                                              : IntegratorKind::ImplicitEulerNewton;
+    auto ref = makeSceneIntegrator(scene, ref_integrator, SolverKind::Cholmod, 1e-10);
     const RunOutcome ref_run = runLoading(scene, ref_setup, *ref);
     result.measured = (run.x - x0).norm();
     result.reference = (ref_run.x - x0).norm();
@@ -361,10 +309,10 @@ const char* caseCsvHeader() {
 std::string caseCsvRow(const std::string& scene_name, const CaseResult& r) {
   std::ostringstream row;
   row << scene_name << "_" << toString(r.spec.element_type) << "_" << r.spec.resolution[0] << "x"
-      << r.spec.resolution[1] << "x" << r.spec.resolution[2] << "," << r.spec.model << ","
-      << r.spec.integrator << "," << r.spec.solver << "," << r.nodes << "," << r.elements << ","
-      << r.dofs << "," << r.dt << "," << r.ms_per_step << "," << r.steps << "," << r.error_rel
-      << "," << toString(r.status);
+      << r.spec.resolution[1] << "x" << r.spec.resolution[2] << "," << modelName(r.spec.model)
+      << "," << integratorName(r.spec.integrator) << "," << solverName(r.spec.solver) << ","
+      << r.nodes << "," << r.elements << "," << r.dofs << "," << r.dt << "," << r.ms_per_step << ","
+      << r.steps << "," << r.error_rel << "," << toString(r.status);
   return row.str();
 }
 

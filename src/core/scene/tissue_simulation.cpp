@@ -7,7 +7,7 @@
 #include "surgical_sim/core/contact/contact_phase.h"
 #include "surgical_sim/core/cutting/cut_tissue_model.h"
 #include "surgical_sim/core/mesh/mesh_check.h"
-#include "surgical_sim/core/scene/tissue_case.h"
+#include "surgical_sim/core/scene/scene_build.h"
 #include "surgical_sim/core/tissue/model_factory.h"
 
 namespace surgical_sim::core {
@@ -30,32 +30,32 @@ StepStatus combined(StepStatus integrator, StepStatus contact) {
 
 }  // namespace
 
-TissueSimulation::TissueSimulation(const SceneConfig& scene) : scene_(scene) {
-  original_mesh_ = buildSceneMesh(scene_.mesh, scene_.mesh.resolutions.front(),
-                                  scene_.mesh.element_types.front());
+TissueSimulation::TissueSimulation(const RuntimeScene& scene) : scene_(scene) {
+  original_mesh_ = buildSceneMesh(scene_.mesh, scene_.resolution, scene_.element_type);
   requireValidMesh(original_mesh_);
 
-  integrator_ = makeCaseIntegrator(scene_, scene_.integrators.front(), scene_.solvers.front(),
-                                   scene_.newton_tolerance);
+  integrator_ =
+      makeSceneIntegrator(scene_, scene_.integrator, scene_.solver, scene_.newton_tolerance);
   problem_.damping.mass_coefficient = scene_.damping_mass;
   problem_.damping.stiffness_coefficient = scene_.damping_stiffness;
-  if (!scene_.tools.empty()) {
-    ContactPhaseSettings contact;
-    contact.solver.max_iterations = 500;
-    contact.solver.relative_tolerance = 1e-6;
-    for (const ToolSpec& t : scene_.tools) {
-      ToolSettings tool;
-      tool.radius = t.radius;
-      tool.shaft_length = t.shaft_length;
-      tool.response = t.contact == "proxy" ? ContactResponse::Proxy : ContactResponse::Constraint;
-      tool.proxy_stiffness = t.proxy_stiffness;
-      tool.grasp_radius = t.grasp_radius > 0.0 ? t.grasp_radius : 1e-9;
-      tool.coupling_stiffness = t.coupling_stiffness;
-      tool.coupling_damping = t.coupling_damping;
-      tool.max_force = t.max_force;
-      contact.tools.push_back(tool);
+  contact_settings_.solver.max_iterations = 500;
+  contact_settings_.solver.relative_tolerance = 1e-6;
+  for (const ToolSpec& t : scene_.tools) {
+    if (!t.contact) {
+      contact_index_.push_back(-1);
+      continue;
     }
-    contact_settings_ = contact;
+    contact_index_.push_back(static_cast<int>(contact_settings_.tools.size()));
+    ToolSettings tool;
+    tool.radius = t.radius;
+    tool.shaft_length = t.shaft_length;
+    tool.response = *t.contact;
+    if (t.proxy_stiffness) tool.proxy_stiffness = *t.proxy_stiffness;
+    if (t.grasp) tool.grasp_radius = t.grasp->radius;
+    tool.coupling_stiffness = t.coupling_stiffness;
+    tool.coupling_damping = t.coupling_damping;
+    tool.max_force = t.max_force;
+    contact_settings_.tools.push_back(tool);
   }
   reset();
   warnings_ = meshWarnings(original_mesh_, base_dirichlet_.dofs);
@@ -66,29 +66,13 @@ void TissueSimulation::installModel(std::unique_ptr<TissueModel> model) {
   problem_.model = model_.get();
   base_force_ = model_->bodyForce(scene_.gravity);
   problem_.external_force = base_force_;
-  DirichletBc bc;
-  std::vector<bool> taken(static_cast<std::size_t>(3 * mesh_.numNodes()), false);
-  for (std::size_t i = 0; i < scene_.fixed.size(); ++i) {
-    const auto dofs = regionDofs(mesh_, scene_.fixed[i].region, scene_.fixed[i].components);
-    if (dofs.empty())
-      throw std::invalid_argument("scene " + scene_.path + ": key 'fixed[" + std::to_string(i) +
-                                  "].region' contains no mesh node");
-    for (int d : dofs)
-      if (!taken[static_cast<std::size_t>(d)]) {
-        taken[static_cast<std::size_t>(d)] = true;
-        bc.dofs.push_back(d);
-      }
-  }
-  bc.positions.resize(static_cast<Eigen::Index>(bc.dofs.size()));
-  for (std::size_t i = 0; i < bc.dofs.size(); ++i)
-    bc.positions[static_cast<Eigen::Index>(i)] = model_->restPositions()[bc.dofs[i]];
-  base_dirichlet_ = bc;
-  problem_.dirichlet = bc;
+  base_dirichlet_ = fixedDirichlet(scene_, mesh_, model_->restPositions());
+  problem_.dirichlet = base_dirichlet_;
 }
 
 std::unique_ptr<ContactPhase> TissueSimulation::makeContact(const Eigen::VectorXd& rest) const {
   auto contact = std::make_unique<ContactPhase>(surface_, rest, contact_settings_,
-                                                integrator_->name() != "quasi_static");
+                                                scene_.integrator != IntegratorKind::QuasiStatic);
   for (std::size_t i = 0; i < tool_poses_.size(); ++i)
     if (tool_poses_[i]) contact->setToolPose(static_cast<int>(i), *tool_poses_[i]);
   return contact;
@@ -103,7 +87,7 @@ void TissueSimulation::reset() {
   cut_faces_.clear();
   mesh_ = original_mesh_;
   surface_ = extractSurface(mesh_);
-  installModel(makeTissueModel(scene_.models.front(), mesh_, scene_.material));
+  installModel(makeTissueModel(scene_.model, mesh_, scene_.material));
   state_.x = model_->restPositions();
   state_.v = Eigen::VectorXd::Zero(state_.x.size());
   state_.time = 0.0;
@@ -112,18 +96,25 @@ void TissueSimulation::reset() {
   integrator_->reset();
   // A fresh contact phase: no carried constraint force, proxy or grasp survives a reset, so a
   // replay after reset is bit-identical to the first run.
-  tool_poses_.assign(scene_.tools.size(), std::nullopt);
+  tool_poses_.assign(contact_settings_.tools.size(), std::nullopt);
   contact_.reset();
-  if (!scene_.tools.empty()) contact_ = makeContact(model_->restPositions());
+  if (!contact_settings_.tools.empty()) contact_ = makeContact(model_->restPositions());
+}
+
+int TissueSimulation::contactIndex(int tool) const {
+  return tool >= 0 && tool < numTools() ? contact_index_[static_cast<std::size_t>(tool)] : -1;
 }
 
 void TissueSimulation::setToolPose(int tool, const Eigen::Isometry3d& X_ST) {
-  if (tool >= 0 && tool < numTools()) tool_poses_[static_cast<std::size_t>(tool)] = X_ST;
-  if (contact_) contact_->setToolPose(tool, X_ST);
+  const int c = contactIndex(tool);
+  if (c < 0) return;
+  tool_poses_[static_cast<std::size_t>(c)] = X_ST;
+  contact_->setToolPose(c, X_ST);
 }
 
 void TissueSimulation::setGrasp(int tool, bool closed) {
-  if (contact_ && tool >= 0 && tool < numTools()) contact_->setGrasp(tool, closed);
+  const int c = contactIndex(tool);
+  if (c >= 0) contact_->setGrasp(c, closed);
 }
 
 void TissueSimulation::requestCut(const BladeSweep& sweep) {
@@ -151,9 +142,9 @@ bool TissueSimulation::applyCuts() {
   const Eigen::VectorXd rest =
       Eigen::Map<const Eigen::VectorXd>(mesh_.nodes.data(), 3 * mesh_.numNodes());
   std::future<std::unique_ptr<ContactPhase>> contact;
-  if (!scene_.tools.empty())
+  if (!contact_settings_.tools.empty())
     contact = std::async(std::launch::async, [this, &rest] { return makeContact(rest); });
-  installModel(makeCutTissueModel(scene_.models.front(), *cutter_, scene_.material));
+  installModel(makeCutTissueModel(scene_.model, *cutter_, scene_.material));
   integrator_->reset();  // new stiffness pattern: the linear solver re-analyses it
   if (contact.valid()) contact_ = contact.get();
   return true;
@@ -216,8 +207,9 @@ Eigen::VectorXd TissueSimulation::appliedContactForce() const {
 }
 
 ContactLinearization TissueSimulation::toolContact(int tool) const {
-  if (!contact_ || tool < 0 || tool >= numTools()) return {};
-  return contact_->linearization(tool);
+  const int c = contactIndex(tool);
+  if (c < 0) return {};
+  return contact_->linearization(c);
 }
 
 std::vector<std::string> TissueSimulation::components() const {

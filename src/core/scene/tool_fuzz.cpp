@@ -189,7 +189,7 @@ void ToolFuzzOutcome::merge(const ToolFuzzOutcome& o) {
   wall_seconds += o.wall_seconds;
 }
 
-std::vector<std::optional<double>> sceneForceBounds(const SceneConfig& scene) {
+std::vector<std::optional<double>> sceneForceBounds(const SceneBase& scene) {
   std::vector<std::optional<double>> bounds;
   for (const ToolSpec& tool : scene.tools) bounds.push_back(tool.max_force);
   return bounds;
@@ -234,9 +234,7 @@ ToolFuzzOutcome runToolFuzzSequence(TissueSimulation& sim, const ToolFuzzSetting
         ++out.rejected_poses;
       }
       const ToolSpec& spec = sim.scene().tools[i];
-      const bool has_grasp =
-          spec.grasp_radius > 0.0 && (!spec.grasp_topic.empty() || !spec.grip_joint.empty());
-      if (has_grasp && gen.chance(settings.grasp_toggle_rate)) {
+      if (spec.grasp && gen.chance(settings.grasp_toggle_rate)) {
         m.jaws_closed = !m.jaws_closed;
         sim.setGrasp(tool, m.jaws_closed);
         ++out.grasp_toggles;

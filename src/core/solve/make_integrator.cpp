@@ -9,26 +9,21 @@
 
 namespace surgical_sim::core {
 
-std::unique_ptr<Integrator> makeIntegrator(const std::string& name,
-                                           const IntegratorSettings& settings,
+std::unique_ptr<Integrator> makeIntegrator(IntegratorKind kind, const IntegratorSettings& settings,
                                            std::unique_ptr<LinearSolver> linear_solver) {
   validateIntegratorSettings(settings);
-  if (name == "symplectic_euler") {
-    return std::make_unique<SymplecticEuler>(settings.blow_up_energy_ratio);
+  switch (kind) {
+    case IntegratorKind::SymplecticEuler:
+      return std::make_unique<SymplecticEuler>(settings.blow_up_energy_ratio);
+    case IntegratorKind::ImplicitEulerLinearized:
+      return std::make_unique<ImplicitEulerLinearized>(std::move(linear_solver),
+                                                       settings.max_line_search_halvings);
+    case IntegratorKind::ImplicitEulerNewton:
+      return std::make_unique<ImplicitEulerNewton>(settings, std::move(linear_solver));
+    case IntegratorKind::QuasiStatic:
+      return std::make_unique<QuasiStaticNewton>(settings, std::move(linear_solver));
   }
-  if (name == "implicit_euler_linearized") {
-    return std::make_unique<ImplicitEulerLinearized>(std::move(linear_solver),
-                                                     settings.max_line_search_halvings);
-  }
-  if (name == "implicit_euler_newton") {
-    return std::make_unique<ImplicitEulerNewton>(settings, std::move(linear_solver));
-  }
-  if (name == "quasi_static") {
-    return std::make_unique<QuasiStaticNewton>(settings, std::move(linear_solver));
-  }
-  throw std::invalid_argument("integrator.type = \"" + name +
-                              "\" is unknown: must be one of symplectic_euler, "
-                              "implicit_euler_linearized, implicit_euler_newton, quasi_static");
+  throw std::invalid_argument("makeIntegrator: invalid IntegratorKind");
 }
 
 }  // namespace surgical_sim::core

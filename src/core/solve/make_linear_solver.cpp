@@ -7,25 +7,22 @@
 
 namespace surgical_sim::core {
 
-std::unique_ptr<LinearSolver> makeLinearSolver(const std::string& name, const PcgSettings& pcg) {
-  if (name == "cholmod") return std::make_unique<CholmodSolver>();
-  if (name == "pcg_jacobi") return std::make_unique<PcgSolver>(PcgPreconditioner::Jacobi, pcg);
-  if (name == "pcg_block_jacobi") {
-    return std::make_unique<PcgSolver>(PcgPreconditioner::BlockJacobi, pcg);
+std::unique_ptr<LinearSolver> makeLinearSolver(SolverKind kind, const PcgSettings& pcg) {
+  switch (kind) {
+    case SolverKind::Cholmod:
+      return std::make_unique<CholmodSolver>();
+    case SolverKind::PcgJacobi:
+      return std::make_unique<PcgSolver>(PcgPreconditioner::Jacobi, pcg);
+    case SolverKind::PcgBlockJacobi:
+      return std::make_unique<PcgSolver>(PcgPreconditioner::BlockJacobi, pcg);
+    case SolverKind::PcgIchol:
+      return std::make_unique<PcgSolver>(PcgPreconditioner::IncompleteCholesky, pcg);
+    case SolverKind::PcgCholeskyReuse:
+      return std::make_unique<PcgSolver>(PcgPreconditioner::CholeskyReuse, pcg);
+    case SolverKind::PcgCholeskyBackground:
+      return std::make_unique<BackgroundCholeskyPcgSolver>(pcg);
   }
-  if (name == "pcg_ichol") {
-    return std::make_unique<PcgSolver>(PcgPreconditioner::IncompleteCholesky, pcg);
-  }
-  if (name == "pcg_cholesky_reuse") {
-    return std::make_unique<PcgSolver>(PcgPreconditioner::CholeskyReuse, pcg);
-  }
-  if (name == "pcg_cholesky_background") {
-    return std::make_unique<BackgroundCholeskyPcgSolver>(pcg);
-  }
-  throw std::invalid_argument("solver.type = \"" + name +
-                              "\" is unknown: must be one of cholmod, pcg_jacobi, "
-                              "pcg_block_jacobi, pcg_ichol, pcg_cholesky_reuse, "
-                              "pcg_cholesky_background");
+  throw std::invalid_argument("makeLinearSolver: invalid SolverKind");
 }
 
 }  // namespace surgical_sim::core

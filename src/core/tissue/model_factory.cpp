@@ -11,24 +11,23 @@
 
 namespace surgical_sim::core {
 
-std::unique_ptr<TissueModel> makeTissueModel(const std::string& name, const TetMesh& mesh,
+std::unique_ptr<TissueModel> makeTissueModel(ModelKind kind, const TetMesh& mesh,
                                              const Material& material) {
-  if (name == "mass_spring") return std::make_unique<MassSpringModel>(mesh, material);
-  if (name == "ems") return std::make_unique<EmsModel>(mesh, material);
-  if (name == "corotational") {
-    return std::make_unique<FeModel>(mesh, material, std::make_unique<CorotationalLaw>(material));
+  switch (kind) {
+    case ModelKind::MassSpring:
+      return std::make_unique<MassSpringModel>(mesh, material);
+    case ModelKind::Ems:
+      return std::make_unique<EmsModel>(mesh, material);
+    case ModelKind::Corotational:
+      return std::make_unique<FeModel>(mesh, material, std::make_unique<CorotationalLaw>(material));
+    case ModelKind::Svk:
+      return std::make_unique<FeModel>(mesh, material,
+                                       std::make_unique<StVenantKirchhoffLaw>(material));
+    case ModelKind::NeoHookean:
+      return std::make_unique<FeModel>(mesh, material,
+                                       std::make_unique<StableNeoHookeanLaw>(material));
   }
-  if (name == "svk") {
-    return std::make_unique<FeModel>(mesh, material,
-                                     std::make_unique<StVenantKirchhoffLaw>(material));
-  }
-  if (name == "neo_hookean") {
-    return std::make_unique<FeModel>(mesh, material,
-                                     std::make_unique<StableNeoHookeanLaw>(material));
-  }
-  throw std::invalid_argument("tissue.model = '" + name +
-                              "' is unknown (expected mass_spring, corotational, svk, ems, "
-                              "neo_hookean)");
+  throw std::invalid_argument("makeTissueModel: invalid ModelKind");
 }
 
 }  // namespace surgical_sim::core

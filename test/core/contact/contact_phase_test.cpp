@@ -30,9 +30,9 @@ struct Palpation {
                      double max_force = 20.0)
       : mesh(makeBox({0, 0, 0}, {kSide, kSide, kHeight}, {cells, cells, 4}, ElementType::Tet4)),
         surface(extractSurface(mesh)),
-        model(makeTissueModel("corotational", mesh, Material::create(5e3, 0.3, 1000.0))),
-        integrator(
-            makeIntegrator(integrator_name, newtonSettings(), makeLinearSolver("cholmod", {}))) {
+        model(makeTissueModel(ModelKind::Corotational, mesh, Material::create(5e3, 0.3, 1000.0))),
+        integrator(makeIntegrator(*enumFromName(kIntegratorNames, integrator_name),
+                                  newtonSettings(), makeLinearSolver(SolverKind::Cholmod, {}))) {
     for (int a = 0; a < mesh.numNodes(); ++a) {
       if (mesh.nodes(2, a) < 1e-12) {
         for (int c = 0; c < 3; ++c) base_bc.dofs.push_back(3 * a + c);

@@ -151,7 +151,7 @@ TEST(TetCutter, BeamCutThroughGivesTwoBodiesWithTheMassAndTheFreePieceFalls) {
 
   // Clamp x = 0 and simulate with linearized implicit Euler under gravity.
   const Material material = Material::create(5e4, 0.3, rho);
-  const auto model = makeCutTissueModel("corotational", cutter, material);
+  const auto model = makeCutTissueModel(ModelKind::Corotational, cutter, material);
   DynamicsProblem problem;
   problem.model = model.get();
   const Eigen::Vector3d g(0, 0, -9.81);
@@ -166,8 +166,8 @@ TEST(TetCutter, BeamCutThroughGivesTwoBodiesWithTheMassAndTheFreePieceFalls) {
         model->restPositions()[problem.dirichlet.dofs[i]];
   SimulationState state{model->restPositions(),
                         Eigen::VectorXd::Zero(model->restPositions().size()), 0.0};
-  const auto integrator =
-      makeIntegrator("implicit_euler_linearized", {}, makeLinearSolver("cholmod", {}));
+  const auto integrator = makeIntegrator(IntegratorKind::ImplicitEulerLinearized, {},
+                                         makeLinearSolver(SolverKind::Cholmod, {}));
   const double dt = 0.01;
   const int steps = 20;
   for (int i = 0; i < steps; ++i)
@@ -193,7 +193,7 @@ TEST(BeamTipDeflection, AxialBodyForceStretchMatchesTheClosedForm) {
   // T3(b): tip u = rho g L^2 / (2 E) for nu = 0 (no lateral contraction at the clamp).
   const double L = 0.1, E = 1e7, rho = 1000.0, g = 9.81;
   const TetMesh beam = makeHexagonalBeam(0.01, L, 10, 1, ElementType::Tet4);
-  const auto model = makeTissueModel("corotational", beam, Material::create(E, 0.0, rho));
+  const auto model = makeTissueModel(ModelKind::Corotational, beam, Material::create(E, 0.0, rho));
   const double u = beamTipDeflection(*model, Eigen::Vector3d(g, 0, 0));
   EXPECT_NEAR(u, rho * g * L * L / (2 * E), 1e-3 * rho * g * L * L / (2 * E));
 }
@@ -207,12 +207,13 @@ TEST(TetCutter, HalfWidthCutAtMidLengthIncreasesTheBendDeflection) {
   const Eigen::Vector3d load(0, 0, -9.81);
   TetCutter uncut(beam, 1000.0);
   const double w_uncut =
-      beamTipDeflection(*makeCutTissueModel("corotational", uncut, material), load);
+      beamTipDeflection(*makeCutTissueModel(ModelKind::Corotational, uncut, material), load);
   TetCutter cut(beam, 1000.0);
   Eigen::Map<const Eigen::VectorXd> x(beam.nodes.data(), 3 * beam.numNodes());
   cut.cut(verticalCut(0.5 * L + 0.25 * L / 20, 2 * a, 2 * a, 1e-4 * a), x, x);
   EXPECT_EQ(cut.numComponents(), 1);
-  const double w_cut = beamTipDeflection(*makeCutTissueModel("corotational", cut, material), load);
+  const double w_cut =
+      beamTipDeflection(*makeCutTissueModel(ModelKind::Corotational, cut, material), load);
   ASSERT_TRUE(std::isfinite(w_uncut) && std::isfinite(w_cut));
   EXPECT_GT(w_uncut, 0.0);
   EXPECT_GT(w_cut, 1.05 * w_uncut);

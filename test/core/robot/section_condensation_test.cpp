@@ -24,7 +24,7 @@ TEST(SectionCondensation, CompliancematchesDirectFeSolveUnderUnitLoads) {
   const Eigen::Vector3d p_PD(0.02, 0.0, 0.0);
   const Eigen::Matrix<double, 6, 6> C = condenseSection(mesh, mat, st.front(), st.back(), p_PD);
 
-  const auto model = makeTissueModel("corotational", mesh, mat);
+  const auto model = makeTissueModel(ModelKind::Corotational, mesh, mat);
   Eigen::SparseMatrix<double> K = model->stiffnessPattern();
   model->assembleStiffness(model->restPositions(), TangentMode::Exact, K);
   const int n = mesh.numNodes();

@@ -6,7 +6,6 @@
 #include <vector>
 
 #include "surgical_sim/core/scene/scene_config.h"
-#include "surgical_sim/core/scene/tissue_simulation.h"
 
 namespace surgical_sim::core {
 namespace {
@@ -36,7 +35,7 @@ measure:
 /// Expects parsing `yaml` to throw std::invalid_argument whose message contains every fragment.
 void expectRejected(const std::string& yaml, const std::vector<std::string>& fragments) {
   try {
-    parseSceneConfig(yaml, "test.yaml");
+    parseBenchmarkScene(yaml, "test.yaml");
     FAIL() << "scene was accepted";
   } catch (const std::invalid_argument& e) {
     const std::string msg = e.what();
@@ -50,22 +49,22 @@ std::string replaced(std::string text, const std::string& from, const std::strin
   return text.replace(pos, from.size(), to);
 }
 
-TEST(SceneConfig, ParsesValidSceneWithUnitsAndOpenRegions) {
-  const SceneConfig s = parseSceneConfig(kValidScene, "test.yaml");
+TEST(BenchmarkScene, ParsesValidSceneWithUnitsAndOpenRegions) {
+  const BenchmarkScene s = parseBenchmarkScene(kValidScene, "test.yaml");
   EXPECT_EQ(s.name, "unit");
   EXPECT_DOUBLE_EQ(s.material.young_modulus, 20e3);
   ASSERT_EQ(s.fixed.size(), 1u);
   EXPECT_EQ(s.fixed[0].components, Eigen::Vector3i(0, 0, 1));
   EXPECT_TRUE(s.fixed[0].region.contains(Eigen::Vector3d(1e6, -1e6, 0.0)));
   EXPECT_FALSE(s.fixed[0].region.contains(Eigen::Vector3d(0, 0, 1e-3)));
-  EXPECT_EQ(s.models, std::vector<std::string>{"svk"});
+  EXPECT_EQ(s.models, std::vector<ModelKind>{ModelKind::Svk});
 }
 
-TEST(SceneConfig, MalformedYamlNamesTheLine) {
+TEST(BenchmarkScene, MalformedYamlNamesTheLine) {
   expectRejected("name: x\nmesh: [unclosed\n", {"test.yaml", "malformed YAML", "line"});
 }
 
-TEST(SceneConfig, MalformedYamlNamesTheEnclosingKey) {
+TEST(BenchmarkScene, MalformedYamlNamesTheEnclosingKey) {
   expectRejected("name: x\nmesh:\n  generator: box\n  size: [1, 2\n",
                  {"test.yaml", "malformed YAML at line", "(in key 'mesh.size')"});
   expectRejected("name: x\ntools:\n  - name: a\n    radius: [0.1: 2]: 3\n",
@@ -74,27 +73,27 @@ TEST(SceneConfig, MalformedYamlNamesTheEnclosingKey) {
                  {"(in key 'mesh')", "levels deep"});
 }
 
-TEST(SceneConfig, DeepNestingNamesTheLine) {
+TEST(BenchmarkScene, DeepNestingNamesTheLine) {
   expectRejected("name: x\nmesh: " + std::string(5000, '[') + std::string(5000, ']') + "\n",
                  {"test.yaml", "malformed YAML at line 2", "levels deep"});
 }
 
-TEST(SceneConfig, MissingKeyIsNamed) {
+TEST(BenchmarkScene, MissingKeyIsNamed) {
   expectRejected(replaced(kValidScene, "  density: 1000.0\n", ""),
                  {"material.density", "missing required key"});
 }
 
-TEST(SceneConfig, TypoKeyIsNamed) {
+TEST(BenchmarkScene, TypoKeyIsNamed) {
   expectRejected(replaced(kValidScene, "young_modulus", "young_modulos"),
                  {"material.young_modulos", "unknown key"});
 }
 
-TEST(SceneConfig, NonNumericValueIsNamed) {
+TEST(BenchmarkScene, NonNumericValueIsNamed) {
   expectRejected(replaced(kValidScene, "20.0e3", "soft"),
                  {"material.young_modulus", "expected a number", "soft"});
 }
 
-TEST(SceneConfig, OutOfRangePhysicalParametersAreNamed) {
+TEST(BenchmarkScene, OutOfRangePhysicalParametersAreNamed) {
   expectRejected(replaced(kValidScene, "poisson_ratio: 0.3", "poisson_ratio: 0.5"),
                  {"material.poisson_ratio", "out of range"});
   expectRejected(replaced(kValidScene, "20.0e3", "-5"), {"material.young_modulus"});
@@ -104,7 +103,7 @@ TEST(SceneConfig, OutOfRangePhysicalParametersAreNamed) {
                  {"time_step", "expected a number"});
 }
 
-TEST(SceneConfig, UnknownChoicesAreNamed) {
+TEST(BenchmarkScene, UnknownChoicesAreNamed) {
   expectRejected(replaced(kValidScene, "models: svk", "models: [svk, jelly]"),
                  {"models", "'jelly' is not one of"});
   expectRejected(replaced(kValidScene, "solvers: cholmod", "solvers: lu"), {"solvers", "'lu'"});
@@ -112,7 +111,7 @@ TEST(SceneConfig, UnknownChoicesAreNamed) {
                  {"mesh.generator", "sphere"});
 }
 
-TEST(SceneConfig, BadResolutionsAndRegionsAreNamed) {
+TEST(BenchmarkScene, BadResolutionsAndRegionsAreNamed) {
   expectRejected(replaced(kValidScene, "[[1, 1, 1]]", "[[0, 1, 1]]"), {"mesh.resolutions"});
   expectRejected(replaced(kValidScene, "[[1, 1, 1]]", "[[1, 1]]"), {"mesh.resolutions"});
   expectRejected(
@@ -120,14 +119,14 @@ TEST(SceneConfig, BadResolutionsAndRegionsAreNamed) {
       {"fixed[0].region.min", "min exceeds max"});
 }
 
-TEST(SceneConfig, UniaxialMeasureNeedsPrescribedMotion) {
+TEST(BenchmarkScene, UniaxialMeasureNeedsPrescribedMotion) {
   expectRejected(replaced(kValidScene, "  type: self_reference",
                           "  type: uniaxial_svk_force\n  region: {}\n  component: z\n"
                           "  face_area: 0.0025\n  rest_length: 0.05"),
                  {"measure", "prescribed"});
 }
 
-TEST(SceneConfig, UnknownMeshUnitIsNamed) {
+TEST(BenchmarkScene, UnknownMeshUnitIsNamed) {
   const std::string scene = replaced(kValidScene,
                                      "  generator: box\n  size: [0.05, 0.05, 0.05]\n"
                                      "  resolutions: [[1, 1, 1]]\n",
@@ -135,28 +134,34 @@ TEST(SceneConfig, UnknownMeshUnitIsNamed) {
   expectRejected(scene, {"mesh.unit", "furlong"});
 }
 
-TEST(SceneConfig, MissingFileIsNamed) {
+TEST(BenchmarkScene, MissingFileIsNamed) {
   try {
-    loadSceneConfig("/nonexistent/scene.yaml");
+    loadBenchmarkScene("/nonexistent/scene.yaml");
     FAIL();
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("cannot open"), std::string::npos);
   }
 }
 
-TEST(SceneConfig, EveryShippedSceneLoads) {
+TEST(BenchmarkScene, EveryShippedBenchmarkAndRuntimeSceneLoads) {
+  const std::string config = std::string(SURGICAL_SIM_SOURCE_DIR) + "/config/";
   int count = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(
-           std::string(SURGICAL_SIM_SOURCE_DIR) + "/config/scenes")) {
-    if (entry.path().extension() != ".yaml") continue;
+  for (const auto& entry : std::filesystem::directory_iterator(config + "bench")) {
     SCOPED_TRACE(entry.path().string());
-    EXPECT_NO_THROW(loadSceneConfig(entry.path().string()));
+    EXPECT_NO_THROW(loadBenchmarkScene(entry.path().string()));
     ++count;
   }
-  EXPECT_GE(count, 5);
+  EXPECT_GE(count, 7);
+  count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(config + "scenes")) {
+    SCOPED_TRACE(entry.path().string());
+    EXPECT_NO_THROW(loadRuntimeScene(entry.path().string()));
+    ++count;
+  }
+  EXPECT_GE(count, 2);
 }
 
-TEST(SceneConfig, DuplicateKeysAreRejectedNamingTheKey) {
+TEST(BenchmarkScene, DuplicateKeysAreRejectedNamingTheKey) {
   expectRejected(replaced(kValidScene, "time_step: 0.01\n", "time_step: 0.01\ntime_step: 0.02\n"),
                  {"test.yaml", "key 'time_step': duplicate key (line"});
   expectRejected(replaced(kValidScene, "  density: 1000.0\n", "  density: 1000.0\n  density: 1\n"),
@@ -168,7 +173,7 @@ TEST(SceneConfig, DuplicateKeysAreRejectedNamingTheKey) {
                  {"key '(top level)'", "is not a plain string"});
 }
 
-TEST(SceneConfig, MalformedIntegersNameTheirKey) {
+TEST(BenchmarkScene, MalformedIntegersNameTheirKey) {
   expectRejected(replaced(kValidScene, "[[1, 1, 1]]", "[[1.5, 1, 1]]"),
                  {"key 'mesh.resolutions'", "expected an integer in [1, 4096], got 1.5"});
   expectRejected(replaced(kValidScene, "[[1, 1, 1]]", "[[99999999999999999999, 1, 1]]"),
@@ -181,7 +186,7 @@ TEST(SceneConfig, MalformedIntegersNameTheirKey) {
                  {"key 'steps'", "expected an integer"});
 }
 
-TEST(SceneConfig, MeshBeyondTheMemoryBudgetIsRejectedBeforeBuilding) {
+TEST(BenchmarkScene, MeshBeyondTheMemoryBudgetIsRejectedBeforeBuilding) {
   // 4096^3 cells pass the per-axis range check but would need terabytes.
   expectRejected(replaced(kValidScene, "[[1, 1, 1]]", "[[4096, 4096, 4096]]"),
                  {"key 'mesh.resolutions'", "resolution [4096, 4096, 4096] with tet4 needs about",
@@ -198,23 +203,23 @@ TEST(SceneConfig, MeshBeyondTheMemoryBudgetIsRejectedBeforeBuilding) {
   EXPECT_TRUE(meshBudgetProblem(organ, {24, 0, 0}, ElementType::Tet4).empty());
 }
 
-TEST(SceneConfig, OverlongListsAreRejected) {
+TEST(BenchmarkScene, OverlongListsAreRejected) {
   std::string factors = "load_factors: [0.1";
   for (int i = 0; i < 10000; ++i) factors += ", 0.1";
   expectRejected(replaced(kValidScene, "steps: 1\n", "steps: 1\n" + factors + "]\n"),
                  {"key 'load_factors'", "10001 entries, more than the limit of 10000"});
 }
 
-TEST(SceneConfig, MeshUnitIsCheckedForGeneratedMeshes) {
+TEST(BenchmarkScene, MeshUnitIsCheckedForGeneratedMeshes) {
   expectRejected(replaced(kValidScene, "  generator: box\n", "  generator: box\n  unit: parsec\n"),
                  {"key 'mesh.unit'", "parsec"});
   expectRejected(replaced(kValidScene, "  generator: box\n", "  generator: box\n  unit: mm\n"),
                  {"key 'mesh.unit'", "applies to mesh files only"});
-  EXPECT_NO_THROW(parseSceneConfig(
+  EXPECT_NO_THROW(parseBenchmarkScene(
       replaced(kValidScene, "  generator: box\n", "  generator: box\n  unit: m\n"), "test.yaml"));
 }
 
-TEST(SceneConfig, TissuePoseIsBounded) {
+TEST(BenchmarkScene, TissuePoseIsBounded) {
   const std::string scene = std::string(kValidScene) + "tissue_pose: {position: P, rpy: R}\n";
   const auto pose = [&](const std::string& p, const std::string& r) {
     return replaced(replaced(scene, "P", p), "R", r);
@@ -223,23 +228,24 @@ TEST(SceneConfig, TissuePoseIsBounded) {
                  {"key 'tissue_pose.position'", "out of range"});
   expectRejected(pose("[0, 0, 0]", "[0, 1.0e20, 0]"), {"key 'tissue_pose.rpy'", "out of range"});
   expectRejected(pose("[0, 0, 0]", "[0, .nan, 0]"), {"key 'tissue_pose.rpy'"});
-  const SceneConfig s = parseSceneConfig(pose("[0, 0, 60]", "[0, 0, 3.14159265358979]"), "t.yaml");
+  const BenchmarkScene s =
+      parseBenchmarkScene(pose("[0, 0, 60]", "[0, 0, 3.14159265358979]"), "t.yaml");
   EXPECT_TRUE(s.tissue_pose.translation().isApprox(Eigen::Vector3d(0, 0, 60)));
   EXPECT_TRUE(s.tissue_pose.linear().isUnitary(1e-12));
 }
 
-TEST(SceneConfig, ReferenceFormulaNeedsGravityAndReferenceIsNonZero) {
+TEST(BenchmarkScene, ReferenceFormulaNeedsGravityAndReferenceIsNonZero) {
   const std::string tip = replaced(kValidScene, "  type: self_reference",
                                    "  type: tip_displacement\n  region: {}\n  component: z\n"
                                    "  reference_formula: euler_bernoulli_timoshenko");
   expectRejected(tip, {"key 'gravity'", "needs a non-zero gravity"});
   EXPECT_NO_THROW(
-      parseSceneConfig(replaced(tip, "steps: 1\n", "steps: 1\ngravity: [0, 0, -9.81]\n"), "t"));
+      parseBenchmarkScene(replaced(tip, "steps: 1\n", "steps: 1\ngravity: [0, 0, -9.81]\n"), "t"));
   expectRejected(replaced(tip, "reference_formula: euler_bernoulli_timoshenko", "reference: 0.0"),
                  {"key 'measure.reference'", "must be non-zero"});
 }
 
-TEST(SceneConfig, LoadPathAndReferencesAreBounded) {
+TEST(BenchmarkScene, LoadPathAndReferencesAreBounded) {
   expectRejected(replaced(kValidScene, "steps: 1\n", "steps: 1\nload_factors: [0.1, 1e20]\n"),
                  {"key 'load_factors'", "1e+20 is out of range [-1000, 1000]"});
   const std::string tip = replaced(kValidScene, "  type: self_reference",
@@ -250,17 +256,17 @@ TEST(SceneConfig, LoadPathAndReferencesAreBounded) {
                           "prescribed:\n  - region: {}\n    displacement: [0, 0, 1e6]\nfixed:\n"),
                  {"key 'prescribed[0].displacement'", "out of range"});
   // A subnormal underflows to (almost) zero and is accepted as a number.
-  EXPECT_NO_THROW(parseSceneConfig(
+  EXPECT_NO_THROW(parseBenchmarkScene(
       replaced(kValidScene, "steps: 1\n", "steps: 1\ngravity: [0, 1e-320, -9.81]\n"), "t"));
 }
 
-TEST(SceneConfig, MaterialErrorsNameTheKey) {
+TEST(BenchmarkScene, MaterialErrorsNameTheKey) {
   expectRejected(replaced(kValidScene, "poisson_ratio: 0.3", "poisson_ratio: 0.7"),
                  {"key 'material.poisson_ratio'", "out of range"});
   expectRejected(replaced(kValidScene, "density: 1000.0", "density: 1e9"),
                  {"key 'material.density'"});
   try {
-    parseSceneConfig(replaced(kValidScene, "density: 1000.0", "density: soft"), "test.yaml");
+    parseBenchmarkScene(replaced(kValidScene, "density: 1000.0", "density: soft"), "test.yaml");
     FAIL() << "accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_EQ(std::string(e.what()),
@@ -268,7 +274,7 @@ TEST(SceneConfig, MaterialErrorsNameTheKey) {
   }
 }
 
-TEST(SceneConfig, EmptyStringsAndTopicNamesAreRejected) {
+TEST(BenchmarkScene, EmptyStringsAndTopicNamesAreRejected) {
   const std::string tools = std::string(kValidScene) +
                             "tools:\n  - name: tool\n    pose_topic: TOPIC\n    radius: 0.002\n"
                             "    shaft_length: 0.05\n    contact: constraint\n";
@@ -281,28 +287,9 @@ TEST(SceneConfig, EmptyStringsAndTopicNamesAreRejected) {
                  {"key 'tools[0].wrench_topic'", "must not be empty"});
   expectRejected(replaced(kValidScene, "name: unit", "name: ''"),
                  {"key 'name'", "must not be empty"});
-  const SceneConfig s = parseSceneConfig(replaced(tools, "TOPIC", "/arm_1/tip_pose"), "t.yaml");
+  const BenchmarkScene s =
+      parseBenchmarkScene(replaced(tools, "TOPIC", "/arm_1/tip_pose"), "t.yaml");
   EXPECT_EQ(s.tools.at(0).pose_topic, "/arm_1/tip_pose");
-}
-
-TEST(SceneConfig, ConstructedSimulationReportsMeshWarnings) {
-  // Sane: a 5 cm cube held at its base.
-  EXPECT_TRUE(TissueSimulation(parseSceneConfig(kValidScene, "t.yaml")).warnings().empty());
-  // No fixed region: the whole cube floats; 500 m cube: absurd scale.
-  const std::string floating =
-      replaced(kValidScene, "  - region: {max: [.inf, .inf, 1.0e-9]}\n    components: [z]\n", "");
-  const std::vector<std::string> w =
-      TissueSimulation(parseSceneConfig(replaced(floating, "fixed:\n", ""), "t.yaml")).warnings();
-  ASSERT_EQ(w.size(), 1u);
-  EXPECT_NE(w[0].find("has no fixed node"), std::string::npos) << w[0];
-  const std::vector<std::string> big =
-      TissueSimulation(
-          parseSceneConfig(replaced(replaced(kValidScene, "[0.05, 0.05, 0.05]", "[500, 500, 500]"),
-                                    "max: [.inf, .inf, 1.0e-9]", "max: [.inf, .inf, 1.0e-6]"),
-                           "t.yaml"))
-          .warnings();
-  ASSERT_EQ(big.size(), 1u);
-  EXPECT_NE(big[0].find("above 100 m"), std::string::npos) << big[0];
 }
 
 }  // namespace

@@ -19,13 +19,14 @@ struct Scene {
 
 std::vector<Scene> shippedScenes() {
   std::vector<Scene> scenes;
-  for (const auto& entry : std::filesystem::directory_iterator(
-           std::string(SURGICAL_SIM_SOURCE_DIR) + "/config/scenes")) {
-    if (entry.path().extension() != ".yaml") continue;
-    std::ifstream in(entry.path());
-    scenes.push_back({entry.path().string(), std::string(std::istreambuf_iterator<char>(in),
-                                                         std::istreambuf_iterator<char>())});
-  }
+  for (const char* dir : {"/config/scenes", "/config/bench"})
+    for (const auto& entry :
+         std::filesystem::directory_iterator(std::string(SURGICAL_SIM_SOURCE_DIR) + dir)) {
+      if (entry.path().extension() != ".yaml") continue;
+      std::ifstream in(entry.path());
+      scenes.push_back({entry.path().string(), std::string(std::istreambuf_iterator<char>(in),
+                                                           std::istreambuf_iterator<char>())});
+    }
   std::sort(scenes.begin(), scenes.end(),
             [](const Scene& a, const Scene& b) { return a.path < b.path; });
   return scenes;
@@ -49,7 +50,8 @@ TEST(SceneFuzz, HundredMutantsAreAcceptedOrRejectedNamingTheirKey) {
     std::mt19937 rng(1400 + i);
     const SceneMutant mutant = mutateScene(scene.text, rng);
     // Construct only small meshes (the palpation and cutting organs, the T2 cube).
-    const SceneTrialResult r = trySceneMutant(mutant.text, scene.path, 40e6);
+    const SceneTrialResult r =
+        trySceneMutant(mutant.text, scene.path, sceneKindOf(scene.text, scene.path), 40e6);
     SCOPED_TRACE(scene.path + " / " + mutant.mutation + ": " + r.message);
     EXPECT_NE(r.outcome, SceneFuzzOutcome::Crash);
     if (r.outcome == SceneFuzzOutcome::RejectedNamingKey) ++named;
@@ -67,7 +69,8 @@ TEST(SceneFuzz, HundredMutantsAreAcceptedOrRejectedNamingTheirKey) {
 
 TEST(SceneFuzz, ShippedScenesAreAccepted) {
   for (const Scene& scene : shippedScenes()) {
-    const SceneTrialResult r = trySceneMutant(scene.text, scene.path, 0.0);
+    const SceneTrialResult r =
+        trySceneMutant(scene.text, scene.path, sceneKindOf(scene.text, scene.path), 0.0);
     EXPECT_EQ(r.outcome, SceneFuzzOutcome::Accepted) << scene.path << ": " << r.message;
   }
 }

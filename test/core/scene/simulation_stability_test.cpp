@@ -45,23 +45,25 @@ std::ostream& operator<<(std::ostream& out, const Combination& c) {
 
 /// A 40 x 40 x 20 mm box (4 x 4 x 2 cells, tet4) under gravity, fixed at z = 0, with `tools`
 /// 5 mm tools (the fourth one a proxy tool), default coupling and force limit.
-SceneConfig boxScene(const Combination& c, int tools) {
+RuntimeScene boxScene(const Combination& c, int tools) {
   std::ostringstream yaml;
   yaml << "name: hostile_tools\n"
        << "mesh: {generator: box, size: [" << kSide << ", " << kSide << ", " << kHeight
-       << "], resolutions: [[4, 4, 2]]}\n"
+       << "], resolution: [4, 4, 2]}\n"
        << "material: {young_modulus: " << c.young_modulus
        << ", poisson_ratio: 0.45, density: 1000.0}\n"
-       << "models: " << c.model << "\nintegrators: " << c.integrator << "\nsolvers: " << c.solver
-       << "\ntime_step: 0.01\nsteps: 1\ngravity: [0.0, 0.0, -9.81]\n"
+       << "model: " << c.model << "\nintegrator: " << c.integrator << "\nsolver: " << c.solver
+       << "\ntime_step: 0.01\ngravity: [0.0, 0.0, -9.81]\n"
        << "damping: {mass: 2.0, stiffness: 0.02}\n"
        << "fixed:\n  - region: {max: [.inf, .inf, 1.0e-9]}\n"
-       << "measure: {type: self_reference}\ntools:\n";
+       << "tools:\n";
   for (int t = 0; t < tools; ++t) {
-    yaml << "  - {name: tool" << t << ", radius: 0.0025, shaft_length: 0.03, grasp_radius: 0.006, "
+    yaml << "  - {name: tool" << t << ", pose_topic: tool" << t << "/pose, wrench_topic: tool" << t
+         << "/wrench, contact_model_topic: tool" << t << "/contact_model, radius: 0.0025, "
+         << "shaft_length: 0.03, grasp: {radius: 0.006}, "
          << (t == 3 ? "contact: proxy, proxy_stiffness: 500.0}\n" : "contact: constraint}\n");
   }
-  return parseSceneConfig(yaml.str(), "hostile_tools.yaml");
+  return parseRuntimeScene(yaml.str(), "hostile_tools.yaml");
 }
 
 /// Tool with its tip at p and its shaft going up (pointing down, z_T = -z_S), or going down
@@ -258,7 +260,7 @@ TEST_P(SimulationStability, PieceCutFreeUnderATool) {
 TEST(SimulationGuards, NonFiniteLoadLeavesTheStateAsItWasAndReportsAFailure) {
   // A scene assembled in code (no parser to reject it) with a NaN body force and a tool in
   // contact: every step reports a failure and keeps the finite state from before it.
-  SceneConfig scene = boxScene({"corotational", "implicit_euler_linearized", "cholmod"}, 1);
+  RuntimeScene scene = boxScene({"corotational", "implicit_euler_linearized", "cholmod"}, 1);
   scene.gravity.x() = std::nan("");
   TissueSimulation sim(scene);
   sim.setToolPose(0, toolAt({0.5 * kSide, 0.5 * kSide, kHeight + 0.0015}));

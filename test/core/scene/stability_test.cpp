@@ -9,6 +9,7 @@
 
 #include "surgical_sim/core/mesh/generators.h"
 #include "surgical_sim/core/mesh/mesh_check.h"
+#include "surgical_sim/core/scene/scene_build.h"
 #include "surgical_sim/core/scene/scene_config.h"
 #include "surgical_sim/core/scene/tissue_case.h"
 #include "surgical_sim/core/solve/make_integrator.h"
@@ -35,7 +36,8 @@ struct Rig {
   Rig(const std::string& model_name, const std::string& integrator_name, double E, double nu) {
     mesh = makeBox(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(kSide),
                    Eigen::Vector3i::Constant(2), ElementType::Tet4);
-    model = makeTissueModel(model_name, mesh, Material::create(E, nu, 1000.0));
+    model = makeTissueModel(*enumFromName(kModelNames, model_name), mesh,
+                            Material::create(E, nu, 1000.0));
     problem.model = model.get();
     problem.external_force = model->bodyForce(Eigen::Vector3d(0, 0, -9.81));
     problem.dirichlet.dofs = regionDofs(mesh, bottom(), Eigen::Vector3i::Ones());
@@ -48,7 +50,8 @@ struct Rig {
     IntegratorSettings settings;
     settings.max_iterations = 20;
     settings.relative_tolerance = 1e-8;
-    integrator = makeIntegrator(integrator_name, settings, makeLinearSolver("cholmod", {}));
+    integrator = makeIntegrator(*enumFromName(kIntegratorNames, integrator_name), settings,
+                                makeLinearSolver(SolverKind::Cholmod, {}));
   }
 
   static Region bottom() {
@@ -176,15 +179,15 @@ TEST(Stability, CrushToTenPercentOfHeight) {
 /// homogeneous path holds up to the limit point and then bifurcates (the SVK compressive
 /// instability: internal nodes find a lower-energy, non-homogeneous state), so l >= 0.7 there.
 TEST(Benchmarks, SvkAndEmsUniaxialCubeMatchClosedForm) {
-  SceneConfig scene =
-      loadSceneConfig(std::string(SURGICAL_SIM_SOURCE_DIR) + "/config/scenes/t2_svk_cube.yaml");
+  BenchmarkScene scene =
+      loadBenchmarkScene(std::string(SURGICAL_SIM_SOURCE_DIR) + "/config/bench/t2_svk_cube.yaml");
   const double peak = 20e3 * 0.0025 / (3.0 * std::sqrt(3.0));
   EXPECT_NEAR(peak, 9.62, 0.005);
-  for (const std::string model : {"svk", "ems"})
+  for (const ModelKind model : {ModelKind::Svk, ModelKind::Ems})
     for (int cells : {1, 2}) {
-      SCOPED_TRACE(model + " cells=" + std::to_string(cells));
-      CaseSpec spec{Eigen::Vector3i::Constant(cells), ElementType::Tet4, model, "quasi_static",
-                    "cholmod"};
+      SCOPED_TRACE(std::string(modelName(model)) + " cells=" + std::to_string(cells));
+      CaseSpec spec{Eigen::Vector3i::Constant(cells), ElementType::Tet4, model,
+                    IntegratorKind::QuasiStatic, SolverKind::Cholmod};
       const CaseResult r = runTissueCase(scene, spec);
       EXPECT_EQ(r.status, StepStatus::Ok);
       ASSERT_EQ(r.path_stretch.size(), 10u);
@@ -211,7 +214,8 @@ TEST(Benchmarks, ScaleRobustCantilever) {
   std::vector<double> normalised;
   for (double s : {1e-3, 1.0, 1e3}) {
     TetMesh mesh = makeBeam(10.0 * s, s, s, Eigen::Vector3i(10, 1, 1), ElementType::Tet10);
-    auto model = makeTissueModel("corotational", mesh, Material::create(1e9 * s, 0.3, 1000.0));
+    auto model =
+        makeTissueModel(ModelKind::Corotational, mesh, Material::create(1e9 * s, 0.3, 1000.0));
     DynamicsProblem problem;
     problem.model = model.get();
     problem.external_force = model->bodyForce(Eigen::Vector3d(0, -9.81, 0));
@@ -227,7 +231,8 @@ TEST(Benchmarks, ScaleRobustCantilever) {
     IntegratorSettings settings;
     settings.max_iterations = 30;
     settings.relative_tolerance = 1e-10;
-    auto integrator = makeIntegrator("quasi_static", settings, makeLinearSolver("cholmod", {}));
+    auto integrator = makeIntegrator(IntegratorKind::QuasiStatic, settings,
+                                     makeLinearSolver(SolverKind::Cholmod, {}));
     ASSERT_EQ(integrator->step(problem, 1.0, state).status, StepStatus::Ok);
     Region tip;
     tip.min.x() = 10.0 * s * (1 - 1e-9);

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "surgical_sim/core/scene/scene_build.h"
 #include "surgical_sim/core/scene/scene_config.h"
 
 namespace surgical_sim::core {
@@ -13,8 +14,8 @@ namespace {
 
 /// A 1-cell box clamped at z = 0, measured against its own tight reference, with `loads` (extra
 /// YAML lines, e.g. gravity) appended.
-SceneConfig selfReferencedBox(const std::string& name, const std::string& loads) {
-  return parseSceneConfig("name: " + name + R"(
+BenchmarkScene selfReferencedBox(const std::string& name, const std::string& loads) {
+  return parseBenchmarkScene("name: " + name + R"(
 mesh: {generator: box, size: [0.05, 0.05, 0.05], resolutions: [[1, 1, 1]]}
 material: {young_modulus: 20.0e3, poisson_ratio: 0.3, density: 1000.0}
 models: corotational
@@ -26,13 +27,13 @@ fixed:
   - region: {max: [.inf, .inf, 1.0e-9]}
 measure: {type: self_reference}
 )" + loads,
-                          name + ".yaml");
+                             name + ".yaml");
 }
 
 TEST(TissueCase, RelativeErrorAgainstAZeroReferenceIsNaN) {
   // No gravity, no prescribed motion: the self reference does not move, so a relative error
   // against it is meaningless (it printed as 5e282 with status ok).
-  const SceneConfig scene = selfReferencedBox("unloaded", "");
+  const BenchmarkScene scene = selfReferencedBox("unloaded", "");
   const std::vector<CaseSpec> cases = expandSweep(scene);
   ASSERT_EQ(cases.size(), 1u);
   const CaseResult r = runTissueCase(scene, cases.front());
@@ -43,7 +44,7 @@ TEST(TissueCase, RelativeErrorAgainstAZeroReferenceIsNaN) {
 }
 
 TEST(TissueCase, LoadedSelfReferenceHasFiniteError) {
-  const SceneConfig scene = selfReferencedBox("sagging", "gravity: [0, 0, -9.81]\n");
+  const BenchmarkScene scene = selfReferencedBox("sagging", "gravity: [0, 0, -9.81]\n");
   const CaseResult r = runTissueCase(scene, expandSweep(scene).front());
   EXPECT_GT(r.reference, 0.0);
   EXPECT_TRUE(std::isfinite(r.error_rel));
@@ -58,7 +59,7 @@ TEST(TissueCase, MeshBeyondTheBudgetIsRejectedBeforeBuilding) {
     buildSceneMesh(spec, Eigen::Vector3i::Constant(4096), ElementType::Tet10);
     FAIL() << "a 4096^3 tet10 box was built";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("key 'mesh.resolutions'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("key 'mesh.resolution'"), std::string::npos) << e.what();
   }
 }
 

@@ -10,8 +10,8 @@
 namespace surgical_sim::core {
 namespace {
 
-SceneConfig palpationScene() {
-  return loadSceneConfig(std::string(SURGICAL_SIM_SOURCE_DIR) + "/config/scenes/palpation.yaml");
+RuntimeScene palpationScene() {
+  return loadRuntimeScene(std::string(SURGICAL_SIM_SOURCE_DIR) + "/config/scenes/palpation.yaml");
 }
 
 bool has(const std::vector<std::string>& list, const std::string& item) {
@@ -37,7 +37,7 @@ double topOfTissue(const TissueSimulation& sim) {
 }
 
 TEST(TissueSimulation, SceneWithoutToolsOrDampingBuildsNeither) {
-  SceneConfig scene = palpationScene();
+  RuntimeScene scene = palpationScene();
   scene.tools.clear();
   scene.damping_mass = scene.damping_stiffness = 0.0;
   TissueSimulation sim(scene);
@@ -54,7 +54,7 @@ TEST(TissueSimulation, SceneWithoutToolsOrDampingBuildsNeither) {
 }
 
 TEST(TissueSimulation, PalpationForceRisesWithIndentationAndVanishesAway) {
-  SceneConfig scene = palpationScene();
+  RuntimeScene scene = palpationScene();
   scene.gravity.setZero();
   TissueSimulation sim(scene);
   ASSERT_TRUE(has(sim.components(), "contact"));
@@ -198,10 +198,10 @@ TEST(TissueSimulation, BackgroundCholeskySolverFollowsTheDirectSolverThroughACut
   // Each cut appends nodes: pcg_cholesky_background goes on with its old factor (plus
   // block-Jacobi on the new nodes) or falls back to a synchronous factorization, and must give
   // the direct solver's steps to the PCG tolerance (amplified by the dynamics of the cut organ).
-  SceneConfig scene = palpationScene();
+  RuntimeScene scene = palpationScene();
   scene.pcg_tolerance = 1e-10;
   TissueSimulation direct(scene);
-  scene.solvers = {"pcg_cholesky_background"};
+  scene.solver = SolverKind::PcgCholeskyBackground;
   TissueSimulation background(scene);
   EXPECT_TRUE(has(background.components(), "integrator:implicit_euler_linearized"));
   for (int k = 0; k < 6; ++k) {
@@ -224,7 +224,7 @@ TEST(TissueSimulation, CuttingSceneCutThroughByAMovingVerticalBladeGivesTwoPiece
   // The motion of test/data/cutting.bag: a vertical 70 mm blade (tip 11 mm below the organ)
   // crossing the organ along y at x = 3.1 mm in 100 steps, with the tool tip moving with it.
   TissueSimulation sim(
-      loadSceneConfig(std::string(SURGICAL_SIM_SOURCE_DIR) + "/config/scenes/cutting.yaml"));
+      loadRuntimeScene(std::string(SURGICAL_SIM_SOURCE_DIR) + "/config/scenes/cutting.yaml"));
   const double mass = totalMass(sim);
   const double tip_z = -0.036, x = 0.0031;
   auto blade = [&](double y) {

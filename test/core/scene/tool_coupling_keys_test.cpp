@@ -14,19 +14,18 @@ namespace {
 /// A 4 cm box fixed on its underside with one constraint tool; `extra` is appended to the tool.
 std::string sceneWithTool(const std::string& extra) {
   return "name: keys\n"
-         "mesh: {generator: box, size: [0.04, 0.04, 0.02], resolutions: [[2, 2, 1]]}\n"
+         "mesh: {generator: box, size: [0.04, 0.04, 0.02], resolution: [2, 2, 1]}\n"
          "material: {young_modulus: 5.0e3, poisson_ratio: 0.45, density: 1000.0}\n"
-         "models: corotational\nintegrators: implicit_euler_linearized\nsolvers: cholmod\n"
-         "time_step: 0.01\nsteps: 1\n"
+         "model: corotational\nintegrator: implicit_euler_linearized\nsolver: cholmod\n"
+         "time_step: 0.01\n"
          "fixed:\n  - region: {max: [.inf, .inf, 1.0e-9]}\n"
-         "measure: {type: self_reference}\n"
          "tools:\n  - {name: tool, radius: 0.0025, shaft_length: 0.03, contact: constraint" +
          extra + "}\n";
 }
 
 std::string rejection(const std::string& extra) {
   try {
-    parseSceneConfig(sceneWithTool(extra), "keys.yaml");
+    parseRuntimeScene(sceneWithTool(extra), "keys.yaml");
   } catch (const std::invalid_argument& e) {
     return e.what();
   }
@@ -34,12 +33,12 @@ std::string rejection(const std::string& extra) {
 }
 
 TEST(ToolCouplingKeys, DefaultsAndExplicitValues) {
-  const SceneConfig defaults = parseSceneConfig(sceneWithTool(""), "keys.yaml");
+  const RuntimeScene defaults = parseRuntimeScene(sceneWithTool(""), "keys.yaml");
   ASSERT_EQ(defaults.tools.size(), 1u);
   EXPECT_EQ(defaults.tools[0].coupling_stiffness, 1e4);
   EXPECT_EQ(defaults.tools[0].max_force, 20.0);
   EXPECT_EQ(defaults.tools[0].coupling_damping, 0.0);
-  const SceneConfig set = parseSceneConfig(
+  const RuntimeScene set = parseRuntimeScene(
       sceneWithTool(", coupling_stiffness: 2.5e3, coupling_damping: 40.0, max_force: 3.0"),
       "keys.yaml");
   EXPECT_EQ(set.tools[0].coupling_stiffness, 2.5e3);
@@ -64,7 +63,7 @@ TEST(ToolCouplingKeys, OutOfRangeValuesAreRejectedNamingTheKey) {
 
 TEST(ToolCouplingKeys, MaxForceReachesTheSimulation) {
   // A tool 8 mm into the fixed underside from below: k_c d = 80 N, capped at max_force = 3 N.
-  SceneConfig scene = parseSceneConfig(sceneWithTool(", max_force: 3.0"), "keys.yaml");
+  RuntimeScene scene = parseRuntimeScene(sceneWithTool(", max_force: 3.0"), "keys.yaml");
   scene.gravity.setZero();
   TissueSimulation sim(scene);
   Eigen::Isometry3d X_ST = Eigen::Isometry3d::Identity();  // pointing up (z_T = z_S)

@@ -14,14 +14,14 @@ namespace surgical_sim::core {
 namespace {
 
 /// The grasp scene (palpation organ, one tool with jaws) on a coarse organ.
-SceneConfig smallGraspScene() {
-  SceneConfig scene =
-      loadSceneConfig(std::string(SURGICAL_SIM_SOURCE_DIR) + "/test/data/grasp_scene.yaml");
-  scene.mesh.resolutions = {Eigen::Vector3i(5, 0, 0)};
+RuntimeScene smallGraspScene() {
+  RuntimeScene scene =
+      loadRuntimeScene(std::string(SURGICAL_SIM_SOURCE_DIR) + "/test/data/grasp_scene.yaml");
+  scene.resolution = Eigen::Vector3i(5, 0, 0);
   return scene;
 }
 
-ToolFuzzSettings shortSettings(const SceneConfig& scene) {
+ToolFuzzSettings shortSettings(const RuntimeScene& scene) {
   ToolFuzzSettings settings;
   settings.steps = 200;
   settings.bad_pose_rate = 0.05;
@@ -31,7 +31,7 @@ ToolFuzzSettings shortSettings(const SceneConfig& scene) {
 }
 
 TEST(ToolFuzz, HostileMotionStaysFiniteBoundedAndTruthful) {
-  const SceneConfig scene = smallGraspScene();
+  const RuntimeScene scene = smallGraspScene();
   TissueSimulation sim(scene);
   const ToolFuzzSettings settings = shortSettings(scene);
   ToolFuzzOutcome total;
@@ -63,7 +63,7 @@ TEST(ToolFuzz, HostileMotionStaysFiniteBoundedAndTruthful) {
 }
 
 TEST(ToolFuzz, SameSeedReplaysTheSameSequence) {
-  const SceneConfig scene = smallGraspScene();
+  const RuntimeScene scene = smallGraspScene();
   TissueSimulation sim(scene);
   ToolFuzzSettings settings = shortSettings(scene);
   settings.steps = 60;
@@ -78,7 +78,7 @@ TEST(ToolFuzz, SameSeedReplaysTheSameSequence) {
 }
 
 TEST(ToolFuzz, CountsForcesAboveABoundAndLimitedStepsReportedOk) {
-  const SceneConfig scene = smallGraspScene();
+  const RuntimeScene scene = smallGraspScene();
   TissueSimulation sim(scene);
   ToolFuzzSettings settings = shortSettings(scene);
   settings.force_bounds = {1e-9};  // far below any contact force
@@ -91,7 +91,7 @@ TEST(ToolFuzz, CountsForcesAboveABoundAndLimitedStepsReportedOk) {
 }
 
 TEST(ToolFuzz, RejectsOutOfRangeSettingsNamingThem) {
-  const SceneConfig scene = smallGraspScene();
+  const RuntimeScene scene = smallGraspScene();
   TissueSimulation sim(scene);
   std::mt19937 rng(1);
   ToolFuzzSettings settings;

@@ -18,7 +18,8 @@ std::unique_ptr<Integrator> integrator(const std::string& name, const char* solv
   settings.relative_tolerance = 1e-12;
   PcgSettings pcg;
   pcg.relative_tolerance = 1e-14;
-  return makeIntegrator(name, settings, makeLinearSolver(solver, pcg));
+  return makeIntegrator(*enumFromName(kIntegratorNames, name), settings,
+                        makeLinearSolver(*enumFromName(kSolverNames, solver), pcg));
 }
 
 class ImplicitScheme : public ::testing::TestWithParam<const char*> {};

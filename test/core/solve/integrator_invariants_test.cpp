@@ -14,7 +14,8 @@ namespace {
 using Law = SpringLatticeModel::Law;
 
 std::unique_ptr<Integrator> make(const std::string& name) {
-  return makeIntegrator(name, IntegratorSettings(), makeLinearSolver("cholmod", {}));
+  return makeIntegrator(*enumFromName(kIntegratorNames, name), IntegratorSettings(),
+                        makeLinearSolver(SolverKind::Cholmod, {}));
 }
 
 SimulationState movingState(const TissueModel& model) {
@@ -140,8 +141,8 @@ TEST_P(ImplicitIntegrator, FailedLinearSolveRestoresTheState) {
   SimulationState state = restState(model);
   state.v.setConstant(0.1);
   const SimulationState before = state;
-  auto integrator =
-      makeIntegrator(GetParam(), IntegratorSettings(), std::make_unique<FailingLinearSolver>());
+  auto integrator = makeIntegrator(*enumFromName(kIntegratorNames, GetParam()),
+                                   IntegratorSettings(), std::make_unique<FailingLinearSolver>());
   const StepReport report = integrator->step(problem, 0.01, state);
   EXPECT_EQ(report.status, StepStatus::SolverFailed);
   EXPECT_EQ(state.x, before.x);
@@ -162,7 +163,8 @@ TEST_P(NewtonIntegrator, IterationLimitGivesNotConvergedWithFiniteState) {
   IntegratorSettings settings;
   settings.max_iterations = 1;
   settings.max_load_step_levels = 0;
-  auto integrator = makeIntegrator(GetParam(), settings, makeLinearSolver("cholmod", {}));
+  auto integrator = makeIntegrator(*enumFromName(kIntegratorNames, GetParam()), settings,
+                                   makeLinearSolver(SolverKind::Cholmod, {}));
   SimulationState state = restState(model);
   const StepReport report = integrator->step(problem, 0.05, state);
   EXPECT_EQ(report.status, StepStatus::NotConverged);
@@ -183,18 +185,22 @@ TEST(IntegratorSettings, InvalidSettingsThrowNamingTheParameter) {
   settings = IntegratorSettings();
   settings.max_iterations = 0;
   expectInvalidArgumentNaming(
-      [&] { makeIntegrator("implicit_euler_newton", settings, makeLinearSolver("cholmod", {})); },
+      [&] {
+        makeIntegrator(IntegratorKind::ImplicitEulerNewton, settings,
+                       makeLinearSolver(SolverKind::Cholmod, {}));
+      },
       "integrator.max_iterations");
   settings = IntegratorSettings();
   settings.max_load_step_levels = -1;
   expectInvalidArgumentNaming(
-      [&] { makeIntegrator("quasi_static", settings, makeLinearSolver("cholmod", {})); },
+      [&] {
+        makeIntegrator(IntegratorKind::QuasiStatic, settings,
+                       makeLinearSolver(SolverKind::Cholmod, {}));
+      },
       "integrator.max_load_step_levels");
   expectInvalidArgumentNaming(
-      [] { makeIntegrator("rk4", IntegratorSettings(), makeLinearSolver("cholmod", {})); },
-      "integrator.type");
-  expectInvalidArgumentNaming(
-      [] { makeIntegrator("implicit_euler_newton", IntegratorSettings(), nullptr); }, "solver");
+      [] { makeIntegrator(IntegratorKind::ImplicitEulerNewton, IntegratorSettings(), nullptr); },
+      "solver");
 }
 
 TEST(DynamicsProblemCheck, ValidatorNamesTheField) {

@@ -12,7 +12,8 @@ namespace {
 using Law = SpringLatticeModel::Law;
 
 std::unique_ptr<Integrator> quasiStatic(const IntegratorSettings& settings = {}) {
-  return makeIntegrator("quasi_static", settings, makeLinearSolver("cholmod", {}));
+  return makeIntegrator(IntegratorKind::QuasiStatic, settings,
+                        makeLinearSolver(SolverKind::Cholmod, {}));
 }
 
 /// Free-DOF equilibrium residual |f_int + f_ext| relative to |f_ext|.

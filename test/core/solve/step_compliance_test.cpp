@@ -14,8 +14,9 @@ using Law = SpringLatticeModel::Law;
 std::unique_ptr<Integrator> integrator(const std::string& name) {
   IntegratorSettings settings;
   settings.relative_tolerance = 1e-12;
-  return makeIntegrator(name, settings,
-                        name == "symplectic_euler" ? nullptr : makeLinearSolver("cholmod", {}));
+  return makeIntegrator(
+      *enumFromName(kIntegratorNames, name), settings,
+      name == "symplectic_euler" ? nullptr : makeLinearSolver(SolverKind::Cholmod, {}));
 }
 
 /// Lattice fixed at z = 0, loaded by gravity-like body force, moving with a random velocity.

@@ -97,8 +97,8 @@ TEST(FusedForceStiffness, DefaultOfOtherModelsEqualsSeparateCalls) {
   const TetMesh m = test::cubeSixTets();
   std::mt19937 rng(13);
   const Eigen::VectorXd x = deformedWithInvertedElement(m, rng);
-  for (const char* name : {"mass_spring", "ems"}) {
-    expectFusedEqualsSeparate(*makeTissueModel(name, m, test::testMaterial(0.3)), x, rng);
+  for (const ModelKind kind : {ModelKind::MassSpring, ModelKind::Ems}) {
+    expectFusedEqualsSeparate(*makeTissueModel(kind, m, test::testMaterial(0.3)), x, rng);
   }
 }
 

@@ -33,7 +33,7 @@ struct ToolSettings {
   double shaft_length = std::numeric_limits<double>::quiet_NaN();  ///< [m], >= 0
   ContactResponse response = ContactResponse::Constraint;
   double proxy_stiffness = std::numeric_limits<double>::quiet_NaN();  ///< Proxy only [N/m], > 0
-  double grasp_radius = std::numeric_limits<double>::quiet_NaN();     ///< [m], > 0
+  std::optional<double> grasp_radius;  ///< [m], > 0; nullopt: the tool has no jaws
   /// Constraint only: tool body to commanded pose spring k_c [N/m], > 0 (ToolCoupling).
   double coupling_stiffness = std::numeric_limits<double>::quiet_NaN();
   /// Constraint only: damper in parallel with the coupling spring [N s/m], >= 0 (ToolCoupling).
@@ -122,12 +122,13 @@ class ContactPhase {
     ToolCapsule capsule;
     ContactResponse response;
     std::optional<ProxyContact> proxy;
-    GraspConstraint grasp;
+    std::optional<GraspConstraint> grasp;  ///< none for a tool without jaws
     bool grasp_requested = false;
     bool posed = false;    ///< a pose was set: until then the tool touches and grasps nothing
     bool slipped = false;  ///< the grasp slipped; cleared when the jaws open
     double max_force;      ///< [N]
     ContactLinearization linearization;
+    bool grasping() const { return grasp && grasp->active(); }
   };
 
   Eigen::Matrix3Xi triangles_;

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "surgical_sim/core/tissue/material.h"
+#include "surgical_sim/core/tissue/model_factory.h"
 #include "surgical_sim/core/tissue/tissue_model.h"
 
 namespace surgical_sim::core {
@@ -51,10 +52,10 @@ class CutTissueModel final : public TissueModel {
 
 class TetCutter;
 
-/// Tissue model of the cutter's current mesh: makeTissueModel(model_name, cutter.mesh(),
-/// material) wrapped in a CutTissueModel with cutter.lumpedMass().
+/// Tissue model of the cutter's current mesh: makeTissueModel(kind, cutter.mesh(), material)
+/// wrapped in a CutTissueModel with cutter.lumpedMass().
 /// @throws std::invalid_argument as makeTissueModel().
-std::unique_ptr<TissueModel> makeCutTissueModel(const std::string& model_name,
-                                                const TetCutter& cutter, const Material& material);
+std::unique_ptr<TissueModel> makeCutTissueModel(ModelKind kind, const TetCutter& cutter,
+                                                const Material& material);
 
 }  // namespace surgical_sim::core

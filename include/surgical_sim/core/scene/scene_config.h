@@ -7,8 +7,12 @@
 #include <string>
 #include <vector>
 
+#include "surgical_sim/core/contact/contact_phase.h"
 #include "surgical_sim/core/mesh/tet_mesh.h"
+#include "surgical_sim/core/solve/make_integrator.h"
+#include "surgical_sim/core/solve/make_linear_solver.h"
 #include "surgical_sim/core/tissue/material.h"
+#include "surgical_sim/core/tissue/model_factory.h"
 
 namespace surgical_sim::core {
 
@@ -22,7 +26,8 @@ struct Region {
   }
 };
 
-/// Where the mesh comes from. Exactly one generator; resolutions form a sweep.
+/// Where the mesh comes from: exactly one generator and its geometry (the resolution and element
+/// type are chosen by the runtime scene, or swept by a benchmark scene).
 struct MeshSpec {
   std::string generator;  ///< "box", "beam", "hex_beam", "organ_blob" or "file"
   // box / beam / organ_blob
@@ -34,10 +39,6 @@ struct MeshSpec {
   // file
   std::string file;            ///< Gmsh .msh path (relative paths: to the scene file)
   double metres_per_unit = 1;  ///< from mesh.unit ("m", "cm", "mm", "um")
-  /// Sweep of resolutions: cells along x,y,z (box/beam), {cells_along, rings, -} (hex_beam),
-  /// {cells_per_axis, -, -} (organ_blob); a file mesh has one implicit resolution.
-  std::vector<Eigen::Vector3i> resolutions;
-  std::vector<ElementType> element_types;  ///< sweep of element types (tet4, tet10)
 };
 
 /// A group of constrained DOFs: the listed components of every node in region.
@@ -68,19 +69,34 @@ struct MeasureSpec {
   double rest_length = 0.0;         ///< uniaxial_svk_force: L0 [m]
 };
 
+/// The jaws of a tool: nodes within `radius` of the tip are held while the jaws are closed. The
+/// jaws follow a std_msgs/Bool topic, a device joint, or both (the last message wins).
+struct GraspSpec {
+  double radius = 0.0;  ///< [m], (0, 0.05]
+  std::string topic;    ///< std_msgs/Bool jaws (true = closed); empty: none
+  /// The joint `joint` of the sensor_msgs/JointState messages on joint_topic closes the jaws at
+  /// or below closed_angle [rad] (trocar grip: 0 = closed); empty: none.
+  std::string joint;
+  std::string joint_topic;
+  double closed_angle = 0.05;  ///< [rad], [-pi, pi]
+};
+
 /// A surgical instrument touching the tissue (tissue_simulator). The tool is a capsule: the tip
-/// pose comes from pose_topic; the shaft runs back from the tip along the tool's -z axis.
+/// pose comes from pose_topic; the shaft runs back from the tip along the tool's -z axis. What
+/// the tool does not use is absent: a proxy tool has a proxy stiffness and no coupling, a
+/// constraint tool the reverse; a tool without jaws has no grasp; a tool without contact has
+/// none of these.
 struct ToolSpec {
-  std::string name;                                          ///< unique, e.g. "tool" or "trocar_0"
-  std::string pose_topic = "tool/pose";                      ///< geometry_msgs/PoseStamped (tip)
-  std::string grasp_topic;                                   ///< std_msgs/Bool jaws; empty: none
-  std::string wrench_topic = "tissue/wrench";                ///< WrenchStamped output
-  std::string contact_model_topic = "tissue/contact_model";  ///< ContactModel output
-  double radius = 0.0;                                       ///< capsule radius [m], (0, 0.05]
-  double shaft_length = 0.0;     ///< capsule length behind the tip [m], [0, 1]
-  std::string contact;           ///< "constraint" (Lagrange multipliers, PGS) or "proxy"
-  double proxy_stiffness = 0.0;  ///< proxy spring [N/m], (0, 1e6] (contact: proxy)
-  double grasp_radius = 0.0;     ///< nodes within this distance of the tip are grasped [m]
+  std::string name;                 ///< unique, [A-Za-z][A-Za-z0-9_]*
+  std::string pose_topic;           ///< geometry_msgs/PoseStamped (tip)
+  std::string wrench_topic;         ///< WrenchStamped output
+  std::string contact_model_topic;  ///< ContactModel output
+  /// How the tool touches the tissue; none: it touches nothing (e.g. it only carries a blade)
+  /// and has no capsule, coupling, proxy or jaws.
+  std::optional<ContactResponse> contact;
+  double radius = 0.0;                    ///< capsule radius [m], (0, 0.05]
+  double shaft_length = 0.0;              ///< capsule length behind the tip [m], [0, 1]
+  std::optional<double> proxy_stiffness;  ///< proxy spring [N/m], (0, 1e6]; proxy tools only
   /// Constraint tools: the simulated tool body follows the commanded pose through this spring
   /// [N/m], [1, 1e7]. Default 1e4: about 30x the tissue under a 5 mm tool (50-300 N/m), so a
   /// palpation force changes by a few percent while a push against fixed tissue stays bounded.
@@ -91,25 +107,37 @@ struct ToolSpec {
   /// Cap on the tool's contact force and grasp force (the jaws slip above it) [N], [1e-3, 1e4].
   /// Default 20 N: above what a laparoscopic instrument applies to soft tissue in palpation.
   double max_force = 20.0;
-  /// Jaws from a device joint: the joint `grip_joint` of the sensor_msgs/JointState messages on
-  /// grip_topic closes the jaws at or below grip_closed_angle [rad] (trocar_grip: 0 = closed).
-  std::string grip_joint;  ///< empty: none
-  std::string grip_topic = "joint_states";
-  double grip_closed_angle = 0.05;  ///< [rad], [-pi, pi]
+  std::optional<GraspSpec> grasp;  ///< none: the tool has no jaws
 };
 
-/// A whole tissue scene, validated. Every physical key has a unit and no silent default.
-struct SceneConfig {
+/// An active trocar (trocar_device node) holding one of the scene's tools.
+struct TrocarSpec {
+  std::string name;  ///< unique; namespace, tf frame and joint prefix "<name>_" of the device
+  int tool = 0;      ///< index into the scene's tools
+  Eigen::Isometry3d X_WF = Eigen::Isometry3d::Identity();  ///< fulcrum frame F in world
+};
+
+/// A cutting blade (cutting_tool node) carried by one of the scene's tools.
+struct BladeSpec {
+  int tool = 0;           ///< index into the scene's tools
+  Eigen::Matrix3Xd edge;  ///< polyline in the tool frame [m], 2..1000 points
+};
+
+/// The continuum robot (continuum_robot_controller node).
+struct RobotSpec {
+  std::string description;  ///< a key of config/continuum_robot.yaml (trunk, cable)
+  Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();  ///< robot_base in world
+};
+
+/// What runtime and benchmark scenes share: the tissue, its material, loads and boundary
+/// conditions, the time step and solver settings, the tools. Every physical key has a unit and
+/// no silent default.
+struct SceneBase {
   std::string name;
   std::string path;  ///< file it was read from
   MeshSpec mesh;
   Material material;
-  std::vector<std::string> models;       ///< tissue models to sweep
-  std::vector<std::string> integrators;  ///< integrators to sweep
-  std::vector<std::string> solvers;      ///< linear solvers to sweep
-  double time_step = 0.0;                ///< dt [s], (0, 1]
-  int steps = 1;                         ///< steps per case (quasi_static: load increments)
-  std::vector<double> load_factors;      ///< load path (quasi-static stretch values etc.)
+  double time_step = 0.0;                             ///< dt [s], (0, 1]
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  ///< body acceleration [m/s^2]
   double damping_mass = 0.0;                          ///< Rayleigh alpha [1/s]
   double damping_stiffness = 0.0;                     ///< Rayleigh beta [s]
@@ -119,11 +147,39 @@ struct SceneConfig {
   double pcg_tolerance = 1e-6;    ///< relative residual [-]
   int pcg_refresh_interval = 10;  ///< steps between preconditioner refreshes
   std::vector<FixedBc> fixed;
-  std::vector<PrescribedBc> prescribed;
-  MeasureSpec measure;
   std::vector<ToolSpec> tools;  ///< empty: no contact structures are built
   /// Pose of the tissue rest frame in the world frame (tf world -> tissue).
   Eigen::Isometry3d tissue_pose = Eigen::Isometry3d::Identity();
+};
+
+/// The simulation a node runs: one mesh resolution, element type, model, integrator and solver,
+/// and the instruments (trocars, blades, robot) that decide which nodes a launch starts.
+struct RuntimeScene : SceneBase {
+  Eigen::Vector3i resolution = Eigen::Vector3i::Zero();  ///< see BenchmarkScene::resolutions
+  ElementType element_type = ElementType::Tet4;
+  ModelKind model = ModelKind::Corotational;
+  IntegratorKind integrator = IntegratorKind::ImplicitEulerLinearized;
+  SolverKind solver = SolverKind::Cholmod;
+  std::vector<TrocarSpec> trocars;  ///< at most 4, each holding a different tool
+  std::vector<BladeSpec> blades;    ///< at most 4
+  std::optional<RobotSpec> robot;
+};
+
+/// A benchmark file: the shared scene, sweeps over resolution, element type, model, integrator
+/// and solver, a number of steps or a load path, prescribed displacements, and what error_rel
+/// is measured against.
+struct BenchmarkScene : SceneBase {
+  /// Sweep of resolutions: cells along x,y,z (box/beam), {cells_along, rings, -} (hex_beam),
+  /// {cells_per_axis, -, -} (organ_blob); a file mesh has one implicit resolution.
+  std::vector<Eigen::Vector3i> resolutions;
+  std::vector<ElementType> element_types;  ///< sweep of element types (tet4, tet10)
+  std::vector<ModelKind> models;
+  std::vector<IntegratorKind> integrators;
+  std::vector<SolverKind> solvers;
+  int steps = 1;                     ///< steps per case (quasi_static: load increments)
+  std::vector<double> load_factors;  ///< load path (quasi-static stretch values etc.)
+  std::vector<PrescribedBc> prescribed;
+  MeasureSpec measure;
 };
 
 /// Working-memory budget of one case of a scene [bytes]: a generated mesh whose estimate
@@ -140,8 +196,8 @@ struct MeshSizeEstimate {
                           ///< (tet4) or 3 kB (tet10) per element [bytes]
 };
 
-/// Estimate for the generator of `spec` at `resolution` (see MeshSpec::resolutions) and element
-/// type, computed without building anything (doubles: no overflow). A "file" mesh has no
+/// Estimate for the generator of `spec` at `resolution` (see BenchmarkScene::resolutions) and
+/// element type, computed without building anything (doubles: no overflow). A "file" mesh has no
 /// estimate (all zero): its size is bounded by the file's.
 MeshSizeEstimate estimateMeshSize(const MeshSpec& spec, const Eigen::Vector3i& resolution,
                                   ElementType type);
@@ -151,14 +207,22 @@ MeshSizeEstimate estimateMeshSize(const MeshSpec& spec, const Eigen::Vector3i& r
 std::string meshBudgetProblem(const MeshSpec& spec, const Eigen::Vector3i& resolution,
                               ElementType type);
 
-/// Reads and validates a scene file. @throws std::invalid_argument whose message starts with
-/// "scene <path>: key '<dotted.key>': " and says what is wrong (missing, duplicate, wrong type,
-/// malformed or out-of-range value, empty string or topic name, list longer than 10,000 entries,
-/// mesh resolution above the memory budget); without a key for a file that cannot be opened,
-/// is larger than 4 MiB, is not YAML (names the line) or is not a map.
-SceneConfig loadSceneConfig(const std::string& path);
+/// Reads and validates a runtime scene file (docs/scenes.md). @throws std::invalid_argument whose
+/// message starts with "scene <path>: key '<dotted.key>': " and says what is wrong (missing,
+/// duplicate, wrong type, malformed or out-of-range value, empty string or topic name, list
+/// longer than 10,000 entries, mesh resolution above the memory budget, a benchmark key such as
+/// a sweep list or `measure`, which a runtime scene does not have); without a key for a file that
+/// cannot be opened, is larger than 4 MiB, is not YAML (names the line) or is not a map.
+RuntimeScene loadRuntimeScene(const std::string& path);
 
 /// Same from YAML text (path used in messages and to resolve relative mesh files).
-SceneConfig parseSceneConfig(const std::string& yaml_text, const std::string& path);
+RuntimeScene parseRuntimeScene(const std::string& yaml_text, const std::string& path);
+
+/// Reads and validates a benchmark file: the shared keys, the sweep lists, steps, load_factors,
+/// prescribed and measure (docs/benchmarks.md); errors as loadRuntimeScene().
+BenchmarkScene loadBenchmarkScene(const std::string& path);
+
+/// Same from YAML text.
+BenchmarkScene parseBenchmarkScene(const std::string& yaml_text, const std::string& path);
 
 }  // namespace surgical_sim::core

@@ -38,10 +38,17 @@ struct SceneTrialResult {
   bool constructed = false;  ///< a TissueSimulation was built
 };
 
-/// Parses `text` with parseSceneConfig(text, path) and, when it parses and the estimate of its
-/// first case (estimateMeshSize()) is at most construct_budget_bytes [bytes], constructs a
-/// TissueSimulation from it. Never throws.
-SceneTrialResult trySceneMutant(const std::string& text, const std::string& path,
+/// The two kinds of scene file.
+enum class SceneKind { Runtime, Benchmark };
+
+/// Runtime if `text` parses as a runtime scene, else Benchmark (the kind of a seed file).
+SceneKind sceneKindOf(const std::string& text, const std::string& path);
+
+/// Parses `text` as a scene of `kind` (parseRuntimeScene / parseBenchmarkScene) and, when it
+/// parses and the estimate of its mesh (a benchmark: its first case; estimateMeshSize()) is at
+/// most construct_budget_bytes [bytes], constructs a TissueSimulation from it (a benchmark: from
+/// its first case). Never throws.
+SceneTrialResult trySceneMutant(const std::string& text, const std::string& path, SceneKind kind,
                                 double construct_budget_bytes);
 
 }  // namespace surgical_sim::core

@@ -8,7 +8,6 @@
 #include "surgical_sim/core/common/status.h"
 #include "surgical_sim/core/mesh/tet_mesh.h"
 #include "surgical_sim/core/scene/scene_config.h"
-#include "surgical_sim/core/solve/integrator.h"
 
 namespace surgical_sim::core {
 
@@ -16,9 +15,9 @@ namespace surgical_sim::core {
 struct CaseSpec {
   Eigen::Vector3i resolution = Eigen::Vector3i::Zero();
   ElementType element_type = ElementType::Tet4;
-  std::string model;
-  std::string integrator;
-  std::string solver;
+  ModelKind model = ModelKind::Corotational;
+  IntegratorKind integrator = IntegratorKind::ImplicitEulerLinearized;
+  SolverKind solver = SolverKind::Cholmod;
 };
 
 /// Measured outcome of one case; one CSV row of tissue_bench.
@@ -41,29 +40,15 @@ struct CaseResult {
 
 /// All cases of a scene's sweep, in a stable order. Models that only support linear tets
 /// (mass_spring, ems) are skipped for tet10.
-std::vector<CaseSpec> expandSweep(const SceneConfig& scene);
+std::vector<CaseSpec> expandSweep(const BenchmarkScene& scene);
 
-/// Builds the mesh of one resolution / element type of the scene (metres).
-/// @throws std::invalid_argument on bad generator arguments; naming 'mesh.file' and the file
-///         for a mesh file that cannot be read or fails requireValidMesh(); naming
-///         'mesh.resolutions' before allocating anything when the mesh exceeds the memory budget
-///         (meshBudgetProblem()).
-TetMesh buildSceneMesh(const MeshSpec& spec, const Eigen::Vector3i& resolution, ElementType type);
-
-/// Node-major DOF indices of every node in `region` for the set components.
-std::vector<int> regionDofs(const TetMesh& mesh, const Region& region,
-                            const Eigen::Vector3i& components);
-
-/// The integrator `integrator` with linear solver `solver` and the scene's Newton / PCG
-/// settings, Newton converging at `tolerance` (relative residual).
-/// @throws std::invalid_argument on an unknown integrator or solver name.
-std::unique_ptr<Integrator> makeCaseIntegrator(const SceneConfig& scene,
-                                               const std::string& integrator,
-                                               const std::string& solver, double tolerance);
+/// The runtime scene of one case (what TissueSimulation runs for it): the shared keys of
+/// `scene` with the case's resolution, element type, model, integrator and solver.
+RuntimeScene caseScene(const BenchmarkScene& scene, const CaseSpec& spec);
 
 /// Runs one case headless and measures it against the scene's reference.
 /// @throws std::invalid_argument when the scene and case do not fit (e.g. an empty BC region).
-CaseResult runTissueCase(const SceneConfig& scene, const CaseSpec& spec);
+CaseResult runTissueCase(const BenchmarkScene& scene, const CaseSpec& spec);
 
 /// CSV header of tissue_bench rows.
 const char* caseCsvHeader();

@@ -35,14 +35,13 @@ struct SimulationStepStats {
   int contacts = 0;
 };
 
-/// One running tissue scene: the first entry of each of the scene's sweeps (resolution, element
-/// type, model, integrator, solver), its boundary conditions and loads, and its tools. Builds
-/// only what the scene needs: no contact structures without tools, no damping work without
-/// damping. step() never throws.
+/// One running tissue scene: its mesh, model, integrator and solver, boundary conditions and
+/// loads, and its tools. Builds only what the scene needs: no contact structures without tools,
+/// no damping work without damping, no cut structures before the first cut. step() never throws.
 class TissueSimulation {
  public:
   /// @throws std::invalid_argument / std::runtime_error naming the scene key on bad input.
-  explicit TissueSimulation(const SceneConfig& scene);
+  explicit TissueSimulation(const RuntimeScene& scene);
   ~TissueSimulation();
   TissueSimulation(const TissueSimulation&) = delete;
   TissueSimulation& operator=(const TissueSimulation&) = delete;
@@ -57,7 +56,8 @@ class TissueSimulation {
   /// Back to the rest state, time 0, tools released.
   void reset();
 
-  /// Tool tip pose X_ST of tool `tool` in the tissue frame (validated by the caller).
+  /// Tool tip pose X_ST of tool `tool` in the tissue frame (validated by the caller); ignored for
+  /// a tool without contact.
   void setToolPose(int tool, const Eigen::Isometry3d& X_ST);
   /// Closes (true) or opens the tool's jaws: closing attaches the nearby surface nodes.
   void setGrasp(int tool, bool closed);
@@ -74,13 +74,14 @@ class TissueSimulation {
   const std::vector<bool>& cutFaces() const { return cut_faces_; }
 
   int numTools() const { return static_cast<int>(scene_.tools.size()); }
-  const SceneConfig& scene() const { return scene_; }
+  const RuntimeScene& scene() const { return scene_; }
   double timeStep() const { return scene_.time_step; }
   const TetMesh& mesh() const { return mesh_; }
   const SurfaceMesh& surface() const { return surface_; }
   const SimulationState& state() const { return state_; }
   const TissueModel& model() const { return *model_; }
-  /// Contact model of tool `tool` after the last step (zero when not in contact / no tools);
+  /// Contact model of tool `tool` after the last step (zero when not in contact, or for a tool
+  /// without contact);
   /// f0_S is the force of the tissue on the tool [N], |f0_S| <= ToolSpec::max_force.
   ContactLinearization toolContact(int tool) const;
   /// Contact force the last step applied to the tissue (ContactPhase::appliedForce) [N], size
@@ -102,10 +103,13 @@ class TissueSimulation {
   std::unique_ptr<ContactPhase> makeContact(const Eigen::VectorXd& rest) const;
   /// Applies the queued cuts; returns true if the topology changed.
   bool applyCuts();
+  /// Index of scene tool `tool` in the contact phase; -1 for a tool without contact or an
+  /// index out of range.
+  int contactIndex(int tool) const;
   /// Puts the state back to the start of the current step (x_previous_, v_previous_, time [s]).
   void restoreStart(double time);
 
-  SceneConfig scene_;
+  RuntimeScene scene_;
   TetMesh original_mesh_;
   TetMesh mesh_;
   SurfaceMesh surface_;
@@ -116,10 +120,12 @@ class TissueSimulation {
   Eigen::VectorXd base_force_;             ///< body force [N], before contact forces
   DirichletBc base_dirichlet_;             ///< the scene's fixed DOFs, before grasps
   std::unique_ptr<ContactPhase> contact_;  ///< null for a scene without tools
-  ContactPhaseSettings contact_settings_;
+  ContactPhaseSettings contact_settings_;  ///< the tools with contact, in scene order
+  std::vector<int> contact_index_;         ///< per scene tool: contact phase index, or -1
   std::vector<int> contact_nodes_;
-  std::vector<std::optional<Eigen::Isometry3d>> tool_poses_;  ///< last X_ST of each tool, if any
-  std::unique_ptr<TetCutter> cutter_;                         ///< null until the first cut request
+  /// Last X_ST of each contact tool (contact phase order), if any.
+  std::vector<std::optional<Eigen::Isometry3d>> tool_poses_;
+  std::unique_ptr<TetCutter> cutter_;  ///< null until the first cut request
   std::vector<BladeSweep> pending_cuts_;
   Eigen::VectorXd x_previous_;  ///< positions at the start of the last step [m]
   Eigen::VectorXd v_previous_;  ///< velocities at the start of the last step [m/s]

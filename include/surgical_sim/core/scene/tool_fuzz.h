@@ -58,7 +58,7 @@ struct ToolFuzzOutcome {
 };
 
 /// Per tool of the scene: its force bound ToolSpec::max_force [N].
-std::vector<std::optional<double>> sceneForceBounds(const SceneConfig& scene);
+std::vector<std::optional<double>> sceneForceBounds(const SceneBase& scene);
 
 /// Resets `sim` and runs one sequence of settings.steps steps. Each tool follows random motion
 /// segments drawn from `rng`, at speeds up to settings.max_speed (biased low) with random
