@@ -24,22 +24,11 @@ Eigen::Isometry3d toIsometry(const urdf::Pose& pose) {
 }
 
 const char* typeName(int type) {
-  switch (type) {
-    case urdf::Joint::REVOLUTE:
-      return "revolute";
-    case urdf::Joint::CONTINUOUS:
-      return "continuous";
-    case urdf::Joint::PRISMATIC:
-      return "prismatic";
-    case urdf::Joint::FIXED:
-      return "fixed";
-    case urdf::Joint::FLOATING:
-      return "floating";
-    case urdf::Joint::PLANAR:
-      return "planar";
-    default:
-      return "unknown";
-  }
+  // Indexed by urdf::Joint's enum: UNKNOWN, REVOLUTE, CONTINUOUS, PRISMATIC, FLOATING, PLANAR,
+  // FIXED.
+  static constexpr const char* kNames[] = {"unknown",  "revolute", "continuous", "prismatic",
+                                           "floating", "planar",   "fixed"};
+  return type >= 0 && type < 7 ? kNames[type] : "unknown";
 }
 
 int expectedUrdfType(int joint) {

@@ -152,23 +152,29 @@ TEST(TrocarUrdf, BrokenUrdfsGiveErrorsNamingTheProblem) {
   for (std::size_t at; (at = renamed_tip.find("\"trocar_tool_tip\"")) != std::string::npos;)
     renamed_tip.replace(at, 17, "\"trocar_tip\"");
   expectError(renamed_tip, "has no link 'trocar_tool_tip'");
-  expectError(inJoint(text, "trocar_insertion", "type=\"prismatic\"", "type=\"revolute\""),
-              "joint 'trocar_insertion' is revolute: must be prismatic");
-  expectError(inJoint(text, "trocar_yaw", "<axis xyz=\"0 1 0\"/>", "<axis xyz=\"0 0 0\"/>"),
-              "joint 'trocar_yaw' has a zero <axis>");
-  expectError(inJoint(text, "trocar_pitch", "upper=\"0.7853981633974483\"", "upper=\"1.4\""),
-              "joint 'trocar_pitch' <limit upper> = 1.4 rad is out of range");
-  expectError(inJoint(text, "trocar_yaw", "lower=\"-0.7853981633974483\"", "lower=\"-0.5\""),
-              "joint 'trocar_yaw' <limit lower> = -0.5");
-  expectError(inJoint(text, "trocar_insertion", "upper=\"0.30\"", "upper=\"0.4\""),
-              "joint 'trocar_insertion' <limit upper> = 0.4 m is out of range");
-  expectError(inJoint(text, "trocar_grip", "effort=\"0.3\"", "effort=\"0\""),
-              "joint 'trocar_grip' <limit effort> = 0 N m is out of range");
-  expectError(inJoint(text, "trocar_spin", "<dynamics damping=\"0.0005\" friction=\"0.002\"/>", ""),
-              "joint 'trocar_spin' has no <dynamics");
-  expectError(
-      inJoint(text, "trocar_shaft_mount", "type=\"fixed\"", "type=\"continuous\""),
-      "joint 'trocar_shaft_mount' (continuous) lies between 'trocar' and 'trocar_tool_tip'");
+  struct Edit {
+    const char *joint, *from, *to, *error;
+  };
+  const Edit edits[] = {
+      {"trocar_insertion", "type=\"prismatic\"", "type=\"revolute\"",
+       "joint 'trocar_insertion' is revolute: must be prismatic"},
+      {"trocar_yaw", "<axis xyz=\"0 1 0\"/>", "<axis xyz=\"0 0 0\"/>",
+       "joint 'trocar_yaw' has a zero <axis>"},
+      {"trocar_pitch", "upper=\"0.7853981633974483\"", "upper=\"1.4\"",
+       "joint 'trocar_pitch' <limit upper> = 1.4 rad is out of range"},
+      {"trocar_yaw", "lower=\"-0.7853981633974483\"", "lower=\"-0.5\"",
+       "joint 'trocar_yaw' <limit lower> = -0.5"},
+      {"trocar_insertion", "upper=\"0.30\"", "upper=\"0.4\"",
+       "joint 'trocar_insertion' <limit upper> = 0.4 m is out of range"},
+      {"trocar_grip", "effort=\"0.3\"", "effort=\"0\"",
+       "joint 'trocar_grip' <limit effort> = 0 N m is out of range"},
+      {"trocar_spin", "<dynamics damping=\"0.0005\" friction=\"0.002\"/>", "",
+       "joint 'trocar_spin' has no <dynamics"},
+      {"trocar_shaft_mount", "type=\"fixed\"", "type=\"continuous\"",
+       "joint 'trocar_shaft_mount' (continuous) lies between 'trocar' and 'trocar_tool_tip'"},
+  };
+  for (const Edit& edit : edits)
+    expectError(inJoint(text, edit.joint, edit.from, edit.to), edit.error);
   std::string on_table = text;
   on_table.replace(on_table.find("</robot>"), 0,
                    "<link name=\"table\"/><joint name=\"table_to_trocar\" type=\"fixed\"><parent "
