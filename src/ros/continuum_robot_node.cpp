@@ -29,9 +29,9 @@ ContinuumRobotNode::ContinuumRobotNode(ros::NodeHandle& nh, ros::NodeHandle& pnh
       stringParam(pnh, "config", std::string(SURGICAL_SIM_CONFIG_DIR) + "/continuum_robot.yaml");
   const std::string robot = stringParam(pnh, "robot", "trunk");
   rate_ = numberParam(pnh, "rate", 10.0, {0.0, 1000.0, true}, "Hz");
-  base_frame_ = stringParam(pnh, "base_frame", "robot_base");
-  link_prefix_ = stringParam(pnh, "link_prefix", "vertebra_");
-  tip_frame_ = stringParam(pnh, "tip_frame", "robot_tip");
+  frames_.base = stringParam(pnh, "base_frame", frames_.base);
+  frames_.link_prefix = stringParam(pnh, "link_prefix", frames_.link_prefix);
+  frames_.tip = stringParam(pnh, "tip_frame", frames_.tip);
   tolerance_ = numberParam(pnh, "tolerance", 1e-4, {0.0, 1.0, true}, "m");
   max_iterations_ = intParam(pnh, "max_iterations", 30, 1, kMaxIterations, "");
   step_iterations_ = intParam(pnh, "step_iterations", 5, 1, 1000, "");
@@ -72,7 +72,7 @@ ContinuumRobotNode::ContinuumRobotNode(ros::NodeHandle& nh, ros::NodeHandle& pnh
       "robot '%s': %d vertebrae, %d actuators, sections condensed in %.2f s (%d cached), "
       "control at %.1f Hz in frame %s",
       robot.c_str(), description.num_vertebrae, model_->numActuators(), compliances.seconds,
-      compliances.cache_hits, rate_, base_frame_.c_str());
+      compliances.cache_hits, rate_, frames_.base.c_str());
   control_spinner_.start();
 }
 
@@ -84,17 +84,18 @@ bool ContinuumRobotNode::toBaseFrame(const std::string& frame, const Eigen::Vect
     message = "target has a NaN or Inf coordinate";
     return false;
   }
-  if (frame.empty() || frame == base_frame_) {
+  if (frame.empty() || frame == frames_.base) {
     p_B = p_F;
     return true;
   }
   try {
-    const auto t = tf_buffer_.lookupTransform(base_frame_, frame, ros::Time(0), ros::Duration(0.2));
+    const auto t =
+        tf_buffer_.lookupTransform(frames_.base, frame, ros::Time(0), ros::Duration(0.2));
     p_B = tf2::transformToEigen(t) * p_F;
     return true;
   } catch (const tf2::TransformException& e) {
     status = "unknown_frame";
-    message = "cannot resolve frame '" + frame + "' to '" + base_frame_ + "': " + e.what();
+    message = "cannot resolve frame '" + frame + "' to '" + frames_.base + "': " + e.what();
     return false;
   }
 }
@@ -221,7 +222,7 @@ bool ContinuumRobotNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger:
 void ContinuumRobotNode::publishActuation(const ros::Time& stamp) {
   surgical_sim::Actuation msg;
   msg.header.stamp = stamp;
-  msg.header.frame_id = base_frame_;
+  msg.header.frame_id = frames_.base;
   const int chambers = static_cast<int>(model_->description().chambers.size());
   for (int a = 0; a < model_->numActuators(); ++a) {
     msg.names.push_back(model_->actuators()[a]->name());
@@ -236,7 +237,7 @@ void ContinuumRobotNode::publishActuation(const ros::Time& stamp) {
 void ContinuumRobotNode::publishShape(const ros::Time& stamp) {
   geometry_msgs::PoseArray shape;
   shape.header.stamp = stamp;
-  shape.header.frame_id = base_frame_;
+  shape.header.frame_id = frames_.base;
   std::vector<geometry_msgs::TransformStamped> transforms;
   const auto& nodes = model_->nodes();
   for (size_t k = 0; k < nodes.size(); ++k) {
@@ -246,13 +247,13 @@ void ContinuumRobotNode::publishShape(const ros::Time& stamp) {
     if (k == 0) continue;  // the base rigid node is the fixed robot_base itself
     geometry_msgs::TransformStamped t = tf2::eigenToTransform(X_BN);
     t.header = shape.header;
-    t.child_frame_id = link_prefix_ + std::to_string(k);
+    t.child_frame_id = frames_.rigidNode(static_cast<int>(k));
     transforms.push_back(t);
   }
   geometry_msgs::TransformStamped tip;  // identity: the tip is the last rigid node
   tip.header.stamp = stamp;
   tip.header.frame_id = transforms.back().child_frame_id;
-  tip.child_frame_id = tip_frame_;
+  tip.child_frame_id = frames_.tip;
   tip.transform.rotation.w = 1.0;
   transforms.push_back(tip);
   shape_pub_.publish(shape);

@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "surgical_sim/LoopStats.h"
+#include "surgical_sim/core/common/text_file.h"
+#include "surgical_sim/core/haptics/trocar_urdf.h"
 #include "surgical_sim/ros/conversions.h"
 #include "surgical_sim/ros/parameters.h"
 
@@ -30,17 +32,51 @@ const std::string* duplicatedName(const std::vector<std::string>& names) {
   return nullptr;
 }
 
+/// The trocar URDF: the file ~urdf_file if set, else the text of robot_description (searched up
+/// from the node's namespace, so a namespaced node finds the global one).
+std::string loadTrocarUrdfText(const ros::NodeHandle& pnh) {
+  if (pnh.hasParam("urdf_file")) {
+    const std::string path = stringParam(pnh, "urdf_file", "");
+    try {
+      return core::readTextFile(path);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("~urdf_file: ") + e.what());
+    }
+  }
+  std::string key, text;
+  if (!pnh.searchParam("robot_description", key))
+    throw std::invalid_argument(
+        "no trocar URDF: set robot_description (searched up from the node's namespace) or "
+        "~urdf_file");
+  if (!pnh.getParam(key, text) || text.empty())
+    throw std::invalid_argument(key + " must be a non-empty string holding the URDF");
+  return text;
+}
+
 }  // namespace
 
 TrocarDeviceSettings loadTrocarDeviceSettings(const ros::NodeHandle& pnh) {
   constexpr double kTwoPi = 2.0 * M_PI;
+  for (const char* removed : {"pitch_limit_deg", "yaw_limit_deg"})
+    if (pnh.hasParam(removed))
+      throw std::invalid_argument(std::string("~") + removed +
+                                  " is not a parameter: the joint limits come from the URDF "
+                                  "<limit> elements; narrow them at run time with "
+                                  "trocar/set_limits");
   TrocarDeviceSettings s;
+  s.world_frame = stringParam(pnh, "world_frame", "world");
+  s.trocar_frame = stringParam(pnh, "trocar_frame", "trocar");
+  s.joint_prefix = stringParam(pnh, "joint_prefix", "trocar_", true);
+  core::TrocarUrdfNames names;
+  names.base_link = s.trocar_frame;
+  names.joint_prefix = s.joint_prefix;
+  names.world_link = s.world_frame;
+  const core::TrocarUrdf urdf = core::readTrocarUrdf(loadTrocarUrdfText(pnh), names);
+
   core::HapticRendererConfig& c = s.renderer;
-  c.geometry = core::TrocarGeometry::chendebPrototype();
-  c.device = core::TrocarDeviceConfig::chendebPrototype();
+  c.chain = urdf.chain;
+  c.device = core::makeTrocarDeviceConfig(urdf, core::chendebPrototypeMotors());
   c.rate_hz = numberParam(pnh, "rate", 1000.0, {100.0, 20000.0}, "Hz");
-  c.device.pitch_limit = kDeg * numberParam(pnh, "pitch_limit_deg", 45.0, {0.0, 70.0}, "deg");
-  c.device.yaw_limit = kDeg * numberParam(pnh, "yaw_limit_deg", 45.0, {0.0, 70.0}, "deg");
   c.contact.max_age = numberParam(pnh, "stale_age", 0.1, {0.0, 10.0, true}, "s");
   c.contact.fade_time = numberParam(pnh, "fade_time", 0.05, {0.0, 10.0}, "s");
   c.contact.stale_policy = choiceParam(pnh, "stale_policy", "fade", {"fade", "hold"}) == "fade"
@@ -50,33 +86,42 @@ TrocarDeviceSettings loadTrocarDeviceSettings(const ros::NodeHandle& pnh) {
   c.coupling.damping = numberParam(pnh, "coupling_damping", 2.0, {0.0, 1e4}, "N s/m");
   c.passivity.control_enabled = boolParam(pnh, "passivity", true);
 
-  // Pose of the trocar frame F (fulcrum, z along the cannula) in W: fixed-axis roll-pitch-yaw.
-  Eigen::Vector3d p_WF;
-  p_WF.x() = numberParam(pnh, "x", 0.0, {-10.0, 10.0}, "m");
-  p_WF.y() = numberParam(pnh, "y", 0.0, {-10.0, 10.0}, "m");
-  p_WF.z() = numberParam(pnh, "z", 0.2, {-10.0, 10.0}, "m");
-  const double roll = numberParam(pnh, "roll", M_PI, {-kTwoPi, kTwoPi}, "rad");
-  const double pitch = numberParam(pnh, "pitch", 0.0, {-kTwoPi, kTwoPi}, "rad");
-  const double yaw = numberParam(pnh, "yaw", 0.0, {-kTwoPi, kTwoPi}, "rad");
-  c.X_WF = Eigen::Translation3d(p_WF) * Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
-           Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
-           Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX());
+  // Pose of the trocar frame F (fulcrum, z along the cannula) in W: the URDF's fixed joint
+  // world -> trocar if it has one, else the pose parameters (fixed-axis roll-pitch-yaw).
+  static const char* const kPoseParams[] = {"x", "y", "z", "roll", "pitch", "yaw"};
+  s.publish_trocar_tf = !urdf.X_WF.has_value();
+  if (urdf.X_WF) {
+    for (const char* name : kPoseParams)
+      if (pnh.hasParam(name))
+        throw std::invalid_argument(
+            std::string("~") + name + " is set but the URDF places '" + s.trocar_frame + "' in '" +
+            s.world_frame + "' (fixed joint '" + s.world_frame + "' -> '" + s.trocar_frame +
+            "'): the fulcrum pose has one source, remove ~x ~y ~z ~roll ~pitch ~yaw");
+    c.X_WF = *urdf.X_WF;
+  } else {
+    Eigen::Vector3d p_WF;
+    p_WF.x() = numberParam(pnh, "x", 0.0, {-10.0, 10.0}, "m");
+    p_WF.y() = numberParam(pnh, "y", 0.0, {-10.0, 10.0}, "m");
+    p_WF.z() = numberParam(pnh, "z", 0.2, {-10.0, 10.0}, "m");
+    const double roll = numberParam(pnh, "roll", M_PI, {-kTwoPi, kTwoPi}, "rad");
+    const double pitch = numberParam(pnh, "pitch", 0.0, {-kTwoPi, kTwoPi}, "rad");
+    const double yaw = numberParam(pnh, "yaw", 0.0, {-kTwoPi, kTwoPi}, "rad");
+    c.X_WF = Eigen::Translation3d(p_WF) * Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+             Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+             Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX());
+  }
 
   s.realtime_priority = intParam(pnh, "realtime_priority", 0, 0, 99, "");
   s.publish_rate = numberParam(pnh, "publish_rate", 100.0, {0.0, 1000.0, true}, "Hz");
   s.stats_rate = numberParam(pnh, "stats_rate", 1.0, {0.0, 100.0, true}, "Hz");
   s.pose_rate = numberParam(pnh, "pose_rate", 0.0, {0.0, 1000.0}, "Hz");
-  s.world_frame = stringParam(pnh, "world_frame", "world");
-  s.trocar_frame = stringParam(pnh, "trocar_frame", "trocar");
-  s.joint_prefix = stringParam(pnh, "joint_prefix", "trocar_", true);
-  s.publish_trocar_tf = boolParam(pnh, "publish_trocar_tf", true);
   core::validateHapticRendererConfig(c);
   return s;
 }
 
 TrocarDeviceNode::TrocarDeviceNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
     : settings_(loadTrocarDeviceSettings(pnh)),
-      kinematics_(settings_.renderer.geometry),
+      kinematics_(settings_.renderer.chain),
       device_(settings_.renderer.device),
       loop_(settings_.renderer,
             static_cast<std::size_t>(kStatsWindowSeconds * settings_.renderer.rate_hz),

@@ -1,6 +1,7 @@
 // trocar_bench: headless H1 benchmark of the active-trocar haptic loop (no ROS).
 // Usage: trocar_bench [--seconds S] [--rt-priority P] [--csv FILE] [--plot FILE]
-//  1. runs HapticLoop at 1 kHz for S seconds (default 3) with a moving operator and a 60 Hz
+//  1. runs HapticLoop at 1 kHz (the trocar of urdf/active_trocar.urdf) for S seconds (default 3)
+//  with a moving operator and a 60 Hz
 //     contact model, prints period mean / p99 / max deviation / missed ticks;
 //  2. the stiff wall (5 kN/m) with and without the passivity controller: energy summary;
 //  3. rendered-force error vs tissue update rate (30..500 Hz) for a stiffening contact, zero-order
@@ -16,9 +17,11 @@
 #include <thread>
 
 #include "bench_cli.h"
+#include "surgical_sim/core/common/text_file.h"
 #include "surgical_sim/core/haptics/contact_rate_study.h"
 #include "surgical_sim/core/haptics/haptic_loop.h"
 #include "surgical_sim/core/haptics/stiff_wall_simulation.h"
+#include "surgical_sim/core/haptics/trocar_urdf.h"
 
 namespace {
 
@@ -32,12 +35,15 @@ int usage(const std::string& msg) {
 
 void runLoopTiming(double seconds, int rt_priority) {
   HapticRendererConfig config;
-  config.geometry = TrocarGeometry::chendebPrototype();
-  config.device = TrocarDeviceConfig::chendebPrototype();
+  const TrocarUrdf trocar =
+      readTrocarUrdf(readTextFile(std::string(SURGICAL_SIM_URDF_DIR) + "/active_trocar.urdf"),
+                     TrocarUrdfNames::forTrocar("trocar"));
+  config.chain = trocar.chain;
+  config.device = makeTrocarDeviceConfig(trocar, chendebPrototypeMotors());
   config.coupling.stiffness = 3000.0;
   config.coupling.damping = 2.0;
   HapticLoop loop(config, 1 << 16, rt_priority);
-  const TrocarKinematics kinematics(config.geometry);
+  const TrocarKinematics kinematics(config.chain);
   StiffeningTissue tissue;  // surface 0.14 m below the fulcrum, normal toward it
   tissue.normal_W = -Eigen::Vector3d::UnitZ();
   tissue.surface_point_W = Eigen::Vector3d(0.0, 0.0, 0.14);

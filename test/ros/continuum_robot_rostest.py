@@ -4,6 +4,7 @@ import math
 import sys
 import threading
 import unittest
+import xml.etree.ElementTree as ET
 
 import rospy
 import rostest
@@ -11,6 +12,7 @@ from geometry_msgs.msg import Point, PointStamped, PoseArray
 from std_srvs.srv import Trigger
 from surgical_sim.msg import Actuation
 from surgical_sim.srv import FollowPath, SetTarget
+from tf2_msgs.msg import TFMessage
 
 TIP_REST = (0.4, 0.0, 0.0)  # trunk tip at rest in robot_base [m]
 ACTUATORS = 6
@@ -38,6 +40,14 @@ class ContinuumRobotTest(unittest.TestCase):
         cls.shape = None
         rospy.Subscriber("continuum_robot/actuation", Actuation, cls.on_actuation, queue_size=1000)
         rospy.Subscriber("continuum_robot/shape", PoseArray, cls.on_shape, queue_size=10)
+        cls.tf_children = set()
+        for topic in ("/tf", "/tf_static"):
+            rospy.Subscriber(topic, TFMessage, cls.on_tf, queue_size=1000)
+
+    @classmethod
+    def on_tf(cls, msg):
+        with cls.lock:
+            cls.tf_children.update(t.child_frame_id for t in msg.transforms)
 
     @classmethod
     def on_actuation(cls, msg):
@@ -66,6 +76,22 @@ class ContinuumRobotTest(unittest.TestCase):
             self.assertEqual(self.shape.header.frame_id, "robot_base")
             self.assertEqual(len(self.shape.poses), 17)
         self.assertLess(math.dist((tip.x, tip.y, tip.z), target), 2e-4)
+
+    def test_robot_description_links_are_the_published_frames(self):
+        """The generated URDF (make_urdf --robot trunk) has one link per frame on tf: world (the
+        root), robot_base (robot_state_publisher), vertebra_1..16 and robot_tip (controller)."""
+        links = {link.get("name")
+                 for link in ET.fromstring(rospy.get_param("/robot_description")).iter("link")}
+        self.assertEqual(len(links), 19)
+        self.assertTrue(self.reset().success)  # publishes the shape and its tf
+        deadline = rospy.get_time() + 10.0
+        while rospy.get_time() < deadline:
+            with self.lock:
+                if links - {"world"} <= self.tf_children:
+                    break
+            rospy.sleep(0.1)
+        with self.lock:
+            self.assertEqual(links - {"world"}, self.tf_children)
 
     def test_target_in_world_frame_is_resolved_with_tf(self):
         # URDF mount: world -> robot_base is the identity.

@@ -3,11 +3,13 @@
 request runs and interrupt it; SIGINT stops every node, also mid-request. Asserts the order of
 events (the control call answered before the long call returned), never wall-clock thresholds;
 the measured latencies are printed."""
+import os
 import sys
 import threading
 import time
 import unittest
 
+import rospkg
 import rospy
 import rostest
 from geometry_msgs.msg import PointStamped
@@ -184,7 +186,8 @@ class InterruptTest(unittest.TestCase):
                            SetTarget, (robot_target(), 1e-12, LONG_ITERATIONS))
 
     def test_trocar_device_exits_on_sigint(self):
-        self.sigint_during("trocar_device", [], "trocar/home")
+        urdf = os.path.join(rospkg.RosPack().get_path("surgical_sim"), "urdf", "active_trocar.urdf")
+        self.sigint_during("trocar_device", ["_urdf_file:=" + urdf], "trocar/home")
 
     def test_cutting_tool_exits_on_sigint(self):
         self.sigint_during("cutting_tool", [], "cutting/set_blade")

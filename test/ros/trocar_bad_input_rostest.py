@@ -1,11 +1,15 @@
 #!/usr/bin/python3
 """rostest: bad input never crashes trocar_device; bad parameters stop it at start-up, naming the
-parameter. The node runs with its default pose: fulcrum at (0, 0, 0.2) m, cannula pointing down."""
+parameter or the URDF problem. The node runs on urdf/active_trocar.urdf (robot_description) with its
+default pose: fulcrum at (0, 0, 0.2) m, cannula pointing down."""
 import math
+import os
 import sys
+import tempfile
 import threading
 import unittest
 
+import rospkg
 import rospy
 import rostest
 from geometry_msgs.msg import WrenchStamped
@@ -204,7 +208,7 @@ class TrocarBadInputTest(unittest.TestCase):
         self.assertTrue(0.0 < stats.period_mean <= stats.period_p99 <= stats.period_max)
 
     def test_out_of_range_parameters_exit_naming_the_parameter(self):
-        for args, name in ((["_pitch_limit_deg:=80"], "~pitch_limit_deg"),
+        for args, name in ((["_pitch_limit_deg:=80"], "~pitch_limit_deg is not a parameter"),
                            (["_rate:=5"], "~rate"),
                            (["_stale_age:=-1"], "~stale_age"),
                            (["_stale_policy:=maybe"], "~stale_policy"),
@@ -217,6 +221,39 @@ class TrocarBadInputTest(unittest.TestCase):
             code, out = run_node("trocar_device", args)
             self.assertNotEqual(code, 0, "%s accepted" % args)
             self.assertIn(name, out)
+
+    def test_a_namespaced_node_finds_the_global_robot_description(self):
+        code, out = run_node("trocar_device", ["__ns:=/left", "_rate:=5"])
+        self.assertNotEqual(code, 0)
+        self.assertIn("~rate", out)  # read after the URDF
+        self.assertNotIn("no trocar URDF", out)
+
+    def test_bad_urdfs_exit_naming_the_problem(self):
+        path = os.path.join(rospkg.RosPack().get_path("surgical_sim"), "urdf", "active_trocar.urdf")
+        with open(path) as f:
+            urdf = f.read()
+        placed = urdf.replace("</robot>", '<link name="world"/><joint name="world_to_trocar" '
+                              'type="fixed"><parent link="world"/><child link="trocar"/>'
+                              '<origin xyz="0 0 0.2" rpy="3.14159 0 0"/></joint></robot>')
+        wide = urdf.replace('upper="0.7853981633974483"', 'upper="1.4"', 1)
+        with tempfile.TemporaryDirectory() as folder:
+            files = {}
+            for name, text in (("placed", placed), ("wide", wide)):
+                files[name] = os.path.join(folder, name + ".urdf")
+                with open(files[name], "w") as f:
+                    f.write(text)
+            for args, problem in (
+                    (["_urdf_file:=/nonexistent/trocar.urdf"],
+                     "~urdf_file: cannot read '/nonexistent/trocar.urdf'"),
+                    (["_trocar_frame:=trocar_9"], "trocar URDF has no link 'trocar_9'"),
+                    (["_joint_prefix:=left_"], "has no link 'left_tool_tip'"),
+                    (["_urdf_file:=" + files["wide"]],
+                     "joint 'trocar_pitch' <limit upper> = 1.4 rad is out of range"),
+                    (["_urdf_file:=" + files["placed"], "_x:=0.1"],
+                     "~x is set but the URDF places 'trocar' in 'world'")):
+                code, out = run_node("trocar_device", args)
+                self.assertNotEqual(code, 0, "%s accepted" % args)
+                self.assertIn(problem, out)
 
 
 if __name__ == "__main__":

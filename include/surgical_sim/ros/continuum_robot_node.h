@@ -18,6 +18,7 @@
 #include "surgical_sim/FollowPath.h"
 #include "surgical_sim/SetTarget.h"
 #include "surgical_sim/core/robot/continuum_robot_model.h"
+#include "surgical_sim/core/robot/continuum_robot_urdf.h"
 #include "surgical_sim/core/robot/inverse_controller.h"
 
 namespace surgical_sim::ros_layer {
@@ -68,7 +69,7 @@ class ContinuumRobotNode {
   std::unique_ptr<core::ContinuumRobotModel> model_;
   std::unique_ptr<core::InverseController> controller_;
   core::InverseResult result_;
-  std::string base_frame_, link_prefix_, tip_frame_;
+  core::ContinuumRobotFrames frames_;  ///< tf frames (the links of its generated URDF)
   double rate_ = 10.0;
   double tolerance_ = 1e-4;
   int max_iterations_ = 30;

@@ -16,7 +16,7 @@ namespace surgical_sim::ros_layer {
 
 /// Everything trocar_device reads from its private parameters, validated.
 struct TrocarDeviceSettings {
-  core::HapticRendererConfig renderer;  ///< geometry, drives, limits, contact, coupling, X_WF, rate
+  core::HapticRendererConfig renderer;  ///< chain, drives, limits, contact, coupling, X_WF, rate
   int realtime_priority = 0;            ///< SCHED_FIFO priority of the loop thread, 0 = none
   double publish_rate = 100.0;          ///< joint_states / motor_effort / rendered_wrench rate [Hz]
   double stats_rate = 1.0;              ///< trocar/loop_stats rate [Hz]
@@ -24,13 +24,14 @@ struct TrocarDeviceSettings {
   std::string world_frame;   ///< fixed frame W of tool/pose, rendered_wrench, contact models
   std::string trocar_frame;  ///< frame F at the fulcrum (URDF base link)
   std::string joint_prefix;  ///< URDF joint names are <prefix>pitch, <prefix>yaw, ...
-  /// Broadcast the static tf world -> trocar from the pose parameters (false when the URDF holds
-  /// it, as in the scenes of scripts/make_trocar_scene).
+  /// Broadcast the static tf world -> trocar from the pose parameters: true unless the URDF holds
+  /// the fixed joint world -> trocar (a scene URDF), whose tf robot_state_publisher broadcasts.
   bool publish_trocar_tf = true;
 };
 
 /// Reads and validates the private parameters of trocar_device (see TrocarDeviceNode).
-/// @throws std::invalid_argument naming the parameter (e.g. "~pitch_limit_deg"), unit and range.
+/// @throws std::invalid_argument naming the parameter (e.g. "~stale_age"), unit and range, or the
+/// URDF problem (see core::readTrocarUrdf).
 TrocarDeviceSettings loadTrocarDeviceSettings(const ros::NodeHandle& pnh);
 
 /// ROS wrapper of core::HapticLoop: the 5-DoF active trocar (node `trocar_device`).
@@ -43,6 +44,13 @@ TrocarDeviceSettings loadTrocarDeviceSettings(const ros::NodeHandle& pnh);
 /// a lockstep tissue_simulator steps once per command. A contact model is stamped with its
 /// receipt time on the loop clock: its age is the time since it arrived.
 ///
+/// The device model (joint chain, position and effort limits, joint friction) comes from the
+/// trocar's URDF: ~urdf_file if set, else robot_description (found with searchParam, so a node in
+/// namespace T reads the global scene URDF). ~trocar_frame names its base link, ~joint_prefix its
+/// joints (<prefix>pitch ... <prefix>grip) and tip link (<prefix>tool_tip). Gear ratios, rotor
+/// inertias and encoder steps are the prototype's (core::chendebPrototypeMotors). Run-time
+/// narrowing of the pitch/yaw limits: service trocar/set_limits.
+///
 /// Private parameters (units; range; default):
 ///   ~rate [Hz; 100..20000; 1000]          haptic loop rate
 ///   ~publish_rate [Hz; (0, 1000]; 100]    joint_states, trocar/motor_effort, rendered_wrench
@@ -51,15 +59,17 @@ TrocarDeviceSettings loadTrocarDeviceSettings(const ros::NodeHandle& pnh);
 ///   ~stale_age [s; (0, 10]; 0.1]          contact models older than this are stale
 ///   ~stale_policy [fade|hold; fade]       stale model: fade the force to zero, or hold it
 ///   ~fade_time [s; [0, 10]; 0.05]         fade duration of the stale force
-///   ~pitch_limit_deg, ~yaw_limit_deg [deg; [0, 70]; 45]
 ///   ~coupling_stiffness [N/m; (0, 1e6]; 3000], ~coupling_damping [N s/m; [0, 1e4]; 2]
 ///   ~passivity [bool; true]               passivity controller on/off
-///   ~x ~y ~z [m; |.| <= 10; 0 0 0.2]      fulcrum position in ~world_frame
+///   ~urdf_file [path; unset]              trocar URDF instead of robot_description
+///   ~x ~y ~z [m; |.| <= 10; 0 0 0.2]      fulcrum position in ~world_frame, only when the URDF
+///                                         has no fixed joint ~world_frame -> ~trocar_frame
 ///   ~roll ~pitch ~yaw [rad; [-2pi, 2pi]; pi 0 0]  orientation of F in W (fixed-axis rpy); the
 ///                                         default points the cannula (z_F) straight down
 ///   ~realtime_priority [-; 0..99; 0]      SCHED_FIFO priority of the loop thread (0: none)
 ///   ~world_frame [world], ~trocar_frame [trocar], ~joint_prefix [trocar_]
-///   ~publish_trocar_tf [bool; true]       static tf ~world_frame -> ~trocar_frame from the pose
+/// Without that fixed joint in the URDF the node broadcasts the static tf ~world_frame ->
+/// ~trocar_frame from the pose parameters.
 class TrocarDeviceNode {
  public:
   /// @throws std::invalid_argument if a parameter is invalid (main exits naming it).

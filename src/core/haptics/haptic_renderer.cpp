@@ -8,7 +8,7 @@
 namespace surgical_sim::core {
 
 void validateHapticRendererConfig(const HapticRendererConfig& config) {
-  validateTrocarGeometry(config.geometry);
+  validateTrocarChain(config.chain);
   validateTrocarDeviceConfig(config.device);
   validateLocalContactSettings(config.contact);
   validateVirtualCouplingSettings(config.coupling);
@@ -25,7 +25,7 @@ void validateHapticRendererConfig(const HapticRendererConfig& config) {
 
 HapticRenderer::HapticRenderer(const HapticRendererConfig& config)
     : config_((validateHapticRendererConfig(config), config)),
-      kinematics_(config_.geometry),
+      kinematics_(config_.chain),
       device_(config_.device),
       contact_(config_.contact),
       coupling_(config_.coupling),

@@ -13,18 +13,6 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kDegToRad = M_PI / 180.0;
 constexpr double kRadToDeg = 180.0 / M_PI;
 
-TrocarJointDrive makeDrive(double gear_ratio, double rotor_inertia, double viscous, double coulomb,
-                           double effort_limit, double encoder_step) {
-  TrocarJointDrive d;
-  d.gear_ratio = gear_ratio;
-  d.rotor_inertia = rotor_inertia;
-  d.viscous_friction = viscous;
-  d.coulomb_friction = coulomb;
-  d.effort_limit = effort_limit;
-  d.encoder_step = encoder_step;
-  return d;
-}
-
 }  // namespace
 
 TrocarJointDrive::TrocarJointDrive()
@@ -38,18 +26,14 @@ TrocarJointDrive::TrocarJointDrive()
 TrocarDeviceConfig::TrocarDeviceConfig()
     : pitch_limit(kNaN), yaw_limit(kNaN), insertion_max(kNaN), grip_max(kNaN) {}
 
-TrocarDeviceConfig TrocarDeviceConfig::chendebPrototype() {
-  TrocarDeviceConfig c;
-  c.drives[kTrocarPitch] = makeDrive(1.0, 1e-5, 0.005, 0.01, 6.0, 0.01 * kDegToRad);
-  c.drives[kTrocarYaw] = makeDrive(1.0, 1e-5, 0.005, 0.01, 6.0, 0.01 * kDegToRad);
-  c.drives[kTrocarSpin] = makeDrive(10.0, 1e-6, 5e-4, 2e-3, 0.2, 0.05 * kDegToRad);
-  c.drives[kTrocarInsertion] = makeDrive(200.0, 1e-6, 0.2, 0.1, 5.0, 1e-4);
-  c.drives[kTrocarGrip] = makeDrive(20.0, 1e-7, 1e-4, 1e-3, 0.3, 0.1 * kDegToRad);
-  c.pitch_limit = 45.0 * kDegToRad;
-  c.yaw_limit = 45.0 * kDegToRad;
-  c.insertion_max = 0.30;
-  c.grip_max = 60.0 * kDegToRad;
-  return c;
+TrocarMotors chendebPrototypeMotors() {
+  TrocarMotors m;
+  m[kTrocarPitch] = {1.0, 1e-5, 0.01 * kDegToRad};
+  m[kTrocarYaw] = {1.0, 1e-5, 0.01 * kDegToRad};
+  m[kTrocarSpin] = {10.0, 1e-6, 0.05 * kDegToRad};
+  m[kTrocarInsertion] = {200.0, 1e-6, 1e-4};
+  m[kTrocarGrip] = {20.0, 1e-7, 0.1 * kDegToRad};
+  return m;
 }
 
 void validateTrocarDeviceConfig(const TrocarDeviceConfig& config) {
@@ -65,12 +49,14 @@ void validateTrocarDeviceConfig(const TrocarDeviceConfig& config) {
     requirePositive(prefix + "effort_limit", d.effort_limit, prismatic ? "N" : "N m");
     requirePositive(prefix + "encoder_step", d.encoder_step, prismatic ? "m" : "rad");
   }
-  requireInRange("trocar.pitch_limit", config.pitch_limit * kRadToDeg, 0.0, 70.0, "deg");
-  requireInRange("trocar.yaw_limit", config.yaw_limit * kRadToDeg, 0.0, 70.0, "deg");
+  requireInRange("trocar.pitch_limit", config.pitch_limit * kRadToDeg, 0.0, kTrocarMaxTiltLimitDeg,
+                 "deg");
+  requireInRange("trocar.yaw_limit", config.yaw_limit * kRadToDeg, 0.0, kTrocarMaxTiltLimitDeg,
+                 "deg");
   requirePositive("trocar.insertion_max", config.insertion_max, "m");
-  requireInRange("trocar.insertion_max", config.insertion_max, 0.0, 0.30, "m");
+  requireInRange("trocar.insertion_max", config.insertion_max, 0.0, kTrocarMaxInsertion, "m");
   requirePositive("trocar.grip_max", config.grip_max, "rad");
-  requireInRange("trocar.grip_max", config.grip_max * kRadToDeg, 0.0, 90.0, "deg");
+  requireInRange("trocar.grip_max", config.grip_max * kRadToDeg, 0.0, kTrocarMaxGripDeg, "deg");
 }
 
 }  // namespace surgical_sim::core

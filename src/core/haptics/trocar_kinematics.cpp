@@ -1,52 +1,64 @@
 #include "surgical_sim/core/haptics/trocar_kinematics.h"
 
-#include <cmath>
+#include <cstddef>
 
 namespace surgical_sim::core {
+namespace {
 
-TrocarKinematics::TrocarKinematics(const TrocarGeometry& geometry) : geometry_(geometry) {
-  validateTrocarGeometry(geometry_);
+/// Motion of a joint by q about/along its axis (joint frame before -> after the motion).
+Eigen::Isometry3d jointMotion(const TrocarChainJoint& joint, double q) {
+  Eigen::Isometry3d M = Eigen::Isometry3d::Identity();
+  if (joint.type == TrocarJointType::Prismatic)
+    M.translation() = q * joint.axis;
+  else
+    M.linear() = Eigen::AngleAxisd(q, joint.axis).toRotationMatrix();
+  return M;
+}
+
+}  // namespace
+
+TrocarKinematics::TrocarKinematics(const TrocarChain& chain) : chain_(chain) {
+  validateTrocarChain(chain_);
+}
+
+Eigen::Isometry3d TrocarKinematics::jointFrame(const TrocarJointVector& q, int joint) const {
+  Eigen::Isometry3d X_FJ = Eigen::Isometry3d::Identity();
+  for (int j = 0; j < joint; ++j) {
+    const TrocarChainJoint& chain_joint = chain_.joints[static_cast<std::size_t>(j)];
+    X_FJ = X_FJ * chain_joint.X_PJ * jointMotion(chain_joint, q[j]);
+  }
+  return X_FJ * chain_.joints[static_cast<std::size_t>(joint)].X_PJ;
 }
 
 Eigen::Isometry3d TrocarKinematics::toolTipPose(const TrocarJointVector& q) const {
-  const Eigen::Matrix3d R_FT = (Eigen::AngleAxisd(q[kTrocarPitch], Eigen::Vector3d::UnitX()) *
-                                Eigen::AngleAxisd(q[kTrocarYaw], Eigen::Vector3d::UnitY()) *
-                                Eigen::AngleAxisd(q[kTrocarSpin], Eigen::Vector3d::UnitZ()))
-                                   .toRotationMatrix();
-  Eigen::Isometry3d X_FT = Eigen::Isometry3d::Identity();
-  X_FT.linear() = R_FT;
-  X_FT.translation() = R_FT.col(2) * tipDepth(q);
-  return X_FT;
+  constexpr int kLast = kTrocarChainJointCount - 1;
+  return jointFrame(q, kLast) * jointMotion(chain_.joints[kLast], q[kLast]) * chain_.X_JT;
 }
 
 Eigen::Vector3d TrocarKinematics::shaftAxis(const TrocarJointVector& q) const {
-  const double sp = std::sin(q[kTrocarPitch]), cp = std::cos(q[kTrocarPitch]);
-  const double sy = std::sin(q[kTrocarYaw]), cy = std::cos(q[kTrocarYaw]);
-  return Eigen::Vector3d(sy, -sp * cy, cp * cy);
+  return jointFrame(q, kTrocarInsertion).linear() * chain_.joints[kTrocarInsertion].axis;
 }
 
 double TrocarKinematics::tipDepth(const TrocarJointVector& q) const {
-  return q[kTrocarInsertion] + geometry_.tip_offset;
+  return toolTipPose(q).translation().dot(shaftAxis(q));
 }
 
 TrocarJacobian TrocarKinematics::jacobian(const TrocarJointVector& q) const {
-  // Joint axes in F: pitch about x_F, yaw about Rx(pitch) y, spin and insertion along the shaft.
-  // The three revolute axes pass through the fulcrum, so the linear column of a revolute joint
-  // is a_i x p_FT, with p_FT = d e_F the tip position.
-  const double sp = std::sin(q[kTrocarPitch]), cp = std::cos(q[kTrocarPitch]);
-  const Eigen::Vector3d a_pitch = Eigen::Vector3d::UnitX();
-  const Eigen::Vector3d a_yaw(0.0, cp, sp);
-  const Eigen::Vector3d e_F = shaftAxis(q);
-  const Eigen::Vector3d p_FT = tipDepth(q) * e_F;
-
+  // Column j: axis a_j in F through the joint origin o_j; revolute [a_j x (p_FT - o_j); a_j],
+  // prismatic [a_j; 0].
+  const Eigen::Vector3d p_FT = toolTipPose(q).translation();
   TrocarJacobian J = TrocarJacobian::Zero();
-  J.block<3, 1>(0, kTrocarPitch) = a_pitch.cross(p_FT);
-  J.block<3, 1>(3, kTrocarPitch) = a_pitch;
-  J.block<3, 1>(0, kTrocarYaw) = a_yaw.cross(p_FT);
-  J.block<3, 1>(3, kTrocarYaw) = a_yaw;
-  // Spin: e_F x p_FT = 0 exactly, the tip point does not translate.
-  J.block<3, 1>(3, kTrocarSpin) = e_F;
-  J.block<3, 1>(0, kTrocarInsertion) = e_F;
+  for (int j = 0; j < kTrocarChainJointCount; ++j) {
+    const TrocarChainJoint& joint = chain_.joints[static_cast<std::size_t>(j)];
+    const Eigen::Isometry3d X_FJ = jointFrame(q, j);
+    const Eigen::Vector3d a_F = X_FJ.linear() * joint.axis;
+    if (joint.type == TrocarJointType::Prismatic) {
+      J.block<3, 1>(0, j) = a_F;
+    } else {
+      J.block<3, 1>(0, j) = a_F.cross(p_FT - X_FJ.translation());
+      J.block<3, 1>(3, j) = a_F;
+    }
+  }
   return J;
 }
 

@@ -7,13 +7,15 @@
 
 #include <gtest/gtest.h>
 
+#include "shipped_trocar.h"
+
 namespace surgical_sim::core {
 namespace {
 
 HapticRendererConfig prototypeConfig() {
   HapticRendererConfig c;
-  c.geometry = TrocarGeometry::chendebPrototype();
-  c.device = TrocarDeviceConfig::chendebPrototype();
+  c.chain = shippedTrocar().chain;
+  c.device = shippedDeviceConfig();
   c.coupling.stiffness = 3000.0;
   c.coupling.damping = 2.0;
   return c;

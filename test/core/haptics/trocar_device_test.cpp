@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "shipped_trocar.h"
+
 namespace surgical_sim::core {
 namespace {
 
@@ -22,7 +24,7 @@ std::string errorOf(const TrocarDeviceConfig& config) {
 }
 
 TEST(TrocarDevice, JointLimitsClampAndSpinWraps) {
-  const TrocarDevice device(TrocarDeviceConfig::chendebPrototype());
+  const TrocarDevice device(shippedDeviceConfig());
   TrocarJointVector q;
   q << 50.0 * kDeg, -60.0 * kDeg, 3.0 * M_PI, 0.35, -0.1;
   EXPECT_TRUE(device.clampToLimits(q));
@@ -43,7 +45,7 @@ TEST(TrocarDevice, JointLimitsClampAndSpinWraps) {
 }
 
 TEST(TrocarDevice, LimitsCanBeWidenedToSeventyDegreesButNotBeyond) {
-  TrocarDevice device(TrocarDeviceConfig::chendebPrototype());
+  TrocarDevice device(shippedDeviceConfig());
   device.setPitchYawLimits(70.0 * kDeg, 60.0 * kDeg);
   TrocarJointVector q;
   q << 69.0 * kDeg, 65.0 * kDeg, 0.0, 0.1, 0.0;
@@ -61,7 +63,7 @@ TEST(TrocarDevice, LimitsCanBeWidenedToSeventyDegreesButNotBeyond) {
 }
 
 TEST(TrocarDevice, EncoderQuantizationUsesTheDocumentedSteps) {
-  const TrocarDevice device(TrocarDeviceConfig::chendebPrototype());
+  const TrocarDevice device(shippedDeviceConfig());
   const double steps[kTrocarJointCount] = {0.01 * kDeg, 0.01 * kDeg, 0.05 * kDeg, 1e-4, 0.1 * kDeg};
   std::mt19937 rng(2);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -87,7 +89,7 @@ TEST(TrocarDevice, EncoderQuantizationUsesTheDocumentedSteps) {
 }
 
 TEST(TrocarDevice, SaturationPreservesTheEffortDirection) {
-  const TrocarDevice device(TrocarDeviceConfig::chendebPrototype());
+  const TrocarDevice device(shippedDeviceConfig());
   TrocarJointVector tau;
   tau << 3.0, -12.0, 0.1, 8.0, 0.0;  // yaw 2x over its 6 N m, insertion 1.6x over its 5 N
   const TrocarJointVector original = tau;
@@ -113,7 +115,7 @@ TEST(TrocarDevice, SaturationPreservesTheEffortDirection) {
 }
 
 TEST(TrocarDevice, MotorTorqueFrictionAndReflectedInertiaFollowTheTransmission) {
-  const TrocarDevice device(TrocarDeviceConfig::chendebPrototype());
+  const TrocarDevice device(shippedDeviceConfig());
   TrocarJointVector tau;
   tau << 6.0, 6.0, 0.2, 5.0, 0.3;
   const TrocarJointVector motor = device.motorTorques(tau);
@@ -130,32 +132,32 @@ TEST(TrocarDevice, MotorTorqueFrictionAndReflectedInertiaFollowTheTransmission) 
 }
 
 TEST(TrocarDevice, InvalidConfigurationsThrowNamingParameterUnitAndRange) {
-  TrocarDeviceConfig c = TrocarDeviceConfig::chendebPrototype();
+  TrocarDeviceConfig c = shippedDeviceConfig();
   c.yaw_limit = 75.0 * kDeg;
   EXPECT_EQ(errorOf(c), "trocar.yaw_limit = 75 deg is out of range: must be in [0 deg, 70 deg]");
-  c = TrocarDeviceConfig::chendebPrototype();
+  c = shippedDeviceConfig();
   c.drives[kTrocarSpin].effort_limit = -1.0;
   EXPECT_EQ(errorOf(c),
             "trocar.spin.effort_limit = -1 N m is out of range: must be finite and > 0");
-  c = TrocarDeviceConfig::chendebPrototype();
+  c = shippedDeviceConfig();
   c.insertion_max = 0.4;
   EXPECT_EQ(errorOf(c), "trocar.insertion_max = 0.4 m is out of range: must be in [0 m, 0.3 m]");
-  c = TrocarDeviceConfig::chendebPrototype();
+  c = shippedDeviceConfig();
   c.drives[kTrocarInsertion].encoder_step = 0.0;
   EXPECT_NE(errorOf(c).find("trocar.insertion.encoder_step = 0 m"), std::string::npos);
-  c = TrocarDeviceConfig::chendebPrototype();
+  c = shippedDeviceConfig();
   c.drives[kTrocarPitch].gear_ratio = 0.0;
   EXPECT_NE(errorOf(c).find("trocar.pitch.gear_ratio"), std::string::npos);
-  c = TrocarDeviceConfig::chendebPrototype();
+  c = shippedDeviceConfig();
   c.drives[kTrocarYaw].viscous_friction = -1.0;
   EXPECT_NE(errorOf(c).find("trocar.yaw.viscous_friction"), std::string::npos);
-  c = TrocarDeviceConfig::chendebPrototype();
+  c = shippedDeviceConfig();
   c.drives[kTrocarGrip].coulomb_friction = -1.0;
   EXPECT_NE(errorOf(c).find("trocar.grip.coulomb_friction"), std::string::npos);
-  c = TrocarDeviceConfig::chendebPrototype();
+  c = shippedDeviceConfig();
   c.drives[kTrocarGrip].rotor_inertia = std::nan("");
   EXPECT_NE(errorOf(c).find("trocar.grip.rotor_inertia"), std::string::npos);
-  c = TrocarDeviceConfig::chendebPrototype();
+  c = shippedDeviceConfig();
   c.grip_max = 2.0;
   EXPECT_NE(errorOf(c).find("trocar.grip_max"), std::string::npos);
   // No silent defaults: an unfilled configuration is rejected.

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "shipped_trocar.h"
+
 #include "surgical_sim/core/haptics/trocar_device.h"
 
 namespace surgical_sim::core {
@@ -41,7 +43,7 @@ SpatialVector finiteDifferenceTwist(const TrocarKinematics& kin, const TrocarJoi
 }
 
 TEST(TrocarKinematics, HomeConfigurationPutsTipOnTheCannulaAxis) {
-  const TrocarKinematics kin(TrocarGeometry::chendebPrototype());
+  const TrocarKinematics kin(shippedTrocar().chain);
   TrocarJointVector q = TrocarJointVector::Zero();
   q[kTrocarInsertion] = 0.1;
   const Eigen::Isometry3d X_FT = kin.toolTipPose(q);
@@ -53,7 +55,7 @@ TEST(TrocarKinematics, HomeConfigurationPutsTipOnTheCannulaAxis) {
 }
 
 TEST(TrocarKinematics, JacobianMatchesFiniteDifferencesOfForwardKinematics) {
-  const TrocarKinematics kin(TrocarGeometry::chendebPrototype());
+  const TrocarKinematics kin(shippedTrocar().chain);
   std::mt19937 rng(7);
   for (int trial = 0; trial < 100; ++trial) {
     const TrocarJointVector q = randomConfiguration(rng);
@@ -69,7 +71,7 @@ TEST(TrocarKinematics, JacobianMatchesFiniteDifferencesOfForwardKinematics) {
 
 TEST(TrocarKinematics, VirtualWorkOfJointEffortsEqualsWorkOfTipWrench) {
   // tau . dq = f . dx + m . dtheta, with (dx, dtheta) from the forward kinematics.
-  const TrocarKinematics kin(TrocarGeometry::chendebPrototype());
+  const TrocarKinematics kin(shippedTrocar().chain);
   std::mt19937 rng(11);
   std::normal_distribution<double> normal(0.0, 1.0);
   for (int trial = 0; trial < 200; ++trial) {
@@ -86,7 +88,7 @@ TEST(TrocarKinematics, VirtualWorkOfJointEffortsEqualsWorkOfTipWrench) {
 }
 
 TEST(TrocarKinematics, ShaftAlwaysPassesThroughTheFulcrum) {
-  const TrocarKinematics kin(TrocarGeometry::chendebPrototype());
+  const TrocarKinematics kin(shippedTrocar().chain);
   std::mt19937 rng(3);
   double worst = 0.0;
   for (int trial = 0; trial < 1000; ++trial) {
@@ -102,7 +104,7 @@ TEST(TrocarKinematics, ForceOnTheShaftLineProducesNoSpinTorque) {
   // A point force F at M = s e (on the shaft line through the fulcrum) has moment OM x F about
   // the fulcrum, which is perpendicular to e: no spin torque. Chendeb's eq. 5.4,
   // C_r = (X F_Y - Y F_X) / cos(theta), is not zero there.
-  const TrocarKinematics kin(TrocarGeometry::chendebPrototype());
+  const TrocarKinematics kin(shippedTrocar().chain);
   TrocarJointVector q;
   q << 20.0 * kDeg, -30.0 * kDeg, 0.4, 0.12, 0.0;
   const Eigen::Vector3d e = kin.shaftAxis(q);
@@ -127,20 +129,22 @@ TEST(TrocarKinematics, ForceOnTheShaftLineProducesNoSpinTorque) {
   }
 }
 
-TEST(TrocarKinematics, InvalidGeometryThrowsNamingTheParameter) {
-  TrocarGeometry g = TrocarGeometry::chendebPrototype();
-  g.tip_offset = 0.5;
+TEST(TrocarKinematics, InvalidChainThrowsNamingTheParameter) {
+  TrocarChain chain = shippedTrocar().chain;
+  chain.joints[kTrocarYaw].axis = Eigen::Vector3d(0.0, 2.0, 0.0);
   try {
-    TrocarKinematics kin(g);
+    TrocarKinematics kin(chain);
     FAIL() << "expected std::invalid_argument";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("trocar.tip_offset = 0.5 m"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("trocar.chain.yaw.axis"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(TrocarKinematics{TrocarGeometry()}, std::invalid_argument);
-  g = TrocarGeometry::chendebPrototype();
-  g.shaft_diameter = 0.0;
-  EXPECT_THROW(TrocarKinematics{g}, std::invalid_argument);
+  EXPECT_THROW(TrocarKinematics{TrocarChain()}, std::invalid_argument);
+  chain = shippedTrocar().chain;
+  chain.joints[kTrocarInsertion].type = TrocarJointType::Revolute;
+  EXPECT_THROW(TrocarKinematics{chain}, std::invalid_argument);
+  chain = shippedTrocar().chain;
+  chain.X_JT.linear() *= 2.0;
+  EXPECT_THROW(TrocarKinematics{chain}, std::invalid_argument);
 }
 
 }  // namespace

@@ -7,8 +7,8 @@
 
 #include "surgical_sim/core/haptics/local_contact_model.h"
 #include "surgical_sim/core/haptics/passivity_controller.h"
+#include "surgical_sim/core/haptics/trocar_chain.h"
 #include "surgical_sim/core/haptics/trocar_device.h"
-#include "surgical_sim/core/haptics/trocar_geometry.h"
 #include "surgical_sim/core/haptics/trocar_kinematics.h"
 #include "surgical_sim/core/haptics/virtual_coupling.h"
 
@@ -16,7 +16,7 @@ namespace surgical_sim::core {
 
 /// Everything the per-tick force rendering needs.
 struct HapticRendererConfig {
-  TrocarGeometry geometry;                ///< instrument and cradle dimensions
+  TrocarChain chain;                      ///< joint chain fulcrum -> tool tip (from the URDF)
   TrocarDeviceConfig device;              ///< drives, limits, encoders
   LocalContactSettings contact;           ///< staleness handling
   VirtualCouplingSettings coupling;       ///< proxy spring-damper (physical: no defaults)

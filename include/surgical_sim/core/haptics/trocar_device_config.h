@@ -22,7 +22,14 @@ struct TrocarJointDrive {
   TrocarJointDrive();
 };
 
-/// Configuration of the active trocar device model (Chendeb 2007 §5.3–5.4).
+/// Ranges validateTrocarDeviceConfig accepts for the joint limits.
+inline constexpr double kTrocarMaxTiltLimitDeg = 70.0;  ///< pitch and yaw range +-limit [deg]
+inline constexpr double kTrocarMaxInsertion = 0.30;     ///< insertion travel [m]
+inline constexpr double kTrocarMaxGripDeg = 90.0;       ///< jaw opening [deg]
+
+/// Configuration of the active trocar device model (Chendeb 2007 §5.3–5.4). The limits, effort
+/// limits and joint frictions come from the trocar's URDF (makeTrocarDeviceConfig in
+/// trocar_urdf.h), the rest of the drive data from TrocarMotor.
 struct TrocarDeviceConfig {
   /// Drives indexed by TrocarJoint (pitch, yaw, spin, insertion, grip).
   std::array<TrocarJointDrive, kTrocarJointCount> drives;
@@ -32,18 +39,25 @@ struct TrocarDeviceConfig {
   double grip_max;       ///< jaw opening range [0, grip_max] [rad], in (0, 90 deg]
 
   TrocarDeviceConfig();
-
-  /// The prototype as built (Chendeb 2007 §5.4.5), documented choices marked (ours):
-  /// - pitch/yaw: +-45 deg, 0.01 deg encoder, 6 N m, direct drive (ratio 1), rotor 1e-5 kg m^2
-  ///   (ours), viscous 0.005 N m s/rad (ours), Coulomb 0.01 N m (ours);
-  /// - spin: continuous, 0.05 deg encoder, 0.2 N m, gear ratio 10 (ours; value not given in the
-  ///   thesis), rotor 1e-6 kg m^2, viscous 5e-4 N m s/rad, Coulomb 2e-3 N m (ours);
-  /// - insertion: 0.30 m, 0.1 mm encoder, 5 N, friction rollers r = 5 mm (ratio 200 rad/m, ours),
-  ///   rotor 1e-6 kg m^2, viscous 0.2 N s/m, Coulomb 0.1 N (ours);
-  /// - grip (not built in the thesis; ours): 0..60 deg, 0.1 deg encoder, 0.3 N m jaw torque,
-  ///   ratio 20, rotor 1e-7 kg m^2, viscous 1e-4 N m s/rad, Coulomb 1e-3 N m.
-  static TrocarDeviceConfig chendebPrototype();
 };
+
+/// Drive data of one joint that a URDF cannot hold (see TrocarJointDrive for units and ranges).
+struct TrocarMotor {
+  double gear_ratio;     ///< [rad/rad] or [rad/m], > 0
+  double rotor_inertia;  ///< [kg m^2], >= 0
+  double encoder_step;   ///< [rad] or [m], > 0
+};
+
+/// Motors indexed by TrocarJoint (pitch, yaw, spin, insertion, grip).
+using TrocarMotors = std::array<TrocarMotor, kTrocarJointCount>;
+
+/// The prototype's motors (Chendeb 2007 §5.4.5), documented choices marked (ours):
+/// - pitch/yaw: 0.01 deg encoder, direct drive (ratio 1), rotor 1e-5 kg m^2 (ours);
+/// - spin: 0.05 deg encoder, gear ratio 10 (ours; not given in the thesis), rotor 1e-6 kg m^2;
+/// - insertion: 0.1 mm encoder, friction rollers r = 5 mm (ratio 200 rad/m, ours), rotor
+///   1e-6 kg m^2;
+/// - grip (not built in the thesis; ours): 0.1 deg encoder, ratio 20, rotor 1e-7 kg m^2.
+TrocarMotors chendebPrototypeMotors();
 
 /// Throws std::invalid_argument naming the parameter, unit and range, e.g.
 /// "trocar.pitch_limit = 80 deg is out of range: must be in [0 deg, 70 deg]" or
