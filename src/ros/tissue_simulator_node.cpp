@@ -28,6 +28,7 @@ TissueSimulatorNode::TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& p
   tissue_frame_ = stringParam(pnh, "tissue_frame", "tissue");
   max_tool_distance_ = numberParam(pnh, "max_tool_distance", 5.0, {0.0, 1000.0, true}, "m");
   surface_period_ = 1.0 / numberParam(pnh, "surface_rate", 30.0, {0.0, 1000.0, true}, "Hz");
+  force_arrow_scale_ = numberParam(pnh, "force_arrow_scale", 0.03, {0.0, 10.0, true}, "m/N");
 
   sim_ = std::make_unique<core::TissueSimulation>(core::loadSceneConfig(scene_path));
   for (const std::string& warning : sim_->warnings())
@@ -385,6 +386,20 @@ void TissueSimulatorNode::publishToolMarkers(const ros::Time& stamp) {
     m.type = visualization_msgs::Marker::CYLINDER;
     m.pose = toPoseMsg(io.X_ST * Eigen::Translation3d(0.0, 0.0, -0.5 * spec.shaft_length));
     m.scale.z = spec.shaft_length;
+    tool_marker_pub_.publish(m);
+    // Force of the tissue on the tool: an arrow from the tip, deleted out of contact.
+    const core::ContactLinearization c = sim_->toolContact(i);
+    m.id = 2;
+    m.type = visualization_msgs::Marker::ARROW;
+    m.action = c.in_contact ? visualization_msgs::Marker::ADD : visualization_msgs::Marker::DELETE;
+    m.pose = toPoseMsg(Eigen::Isometry3d::Identity());
+    m.points = {toPointMsg(c.p0_S), toPointMsg(c.p0_S + force_arrow_scale_ * c.f0_S)};
+    m.scale.x = 0.002;  // shaft diameter [m]
+    m.scale.y = 0.005;  // head diameter [m]
+    m.scale.z = 0.006;  // head length [m]
+    m.color.r = 1.0f;
+    m.color.g = 0.78f;
+    m.color.b = 0.16f;
     tool_marker_pub_.publish(m);
   }
 }

@@ -14,7 +14,7 @@ import rospy
 import rostest
 from geometry_msgs.msg import PoseStamped, WrenchStamped
 from rosgraph_msgs.msg import Log
-from std_srvs.srv import Empty
+from std_srvs.srv import Empty, SetBool
 from surgical_sim.msg import ContactModel, TissueStats
 
 from node_probe import run_node, wait_for_subscribers
@@ -119,6 +119,7 @@ class MultiToolLockstepTest(unittest.TestCase):
         rospy.init_node("multi_tool_lockstep_rostest")
         rospy.wait_for_service("tissue/reset", timeout=120.0)
         cls.reset_srv = rospy.ServiceProxy("tissue/reset", Empty)
+        cls.pause = rospy.ServiceProxy("tissue/pause", SetBool)
         cls.steps_per_pose = rospy.get_param("~steps_per_pose")
         cls.rec = Recorder()
         cls.pubs = {t: rospy.Publisher(t + "/tool/pose", PoseStamped, queue_size=1000)
@@ -221,6 +222,26 @@ class MultiToolLockstepTest(unittest.TestCase):
             stamps = [s.pose_set_stamp for s in self.rec.stats]
             self.assertEqual(stamps, [t2] * self.steps_per_pose + [t3] * self.steps_per_pose)
             self.assertEqual(self.rec.force["left"][t2.to_nsec()].z, 0.0)
+
+    def test_a_set_completed_while_paused_steps_on_resume(self):
+        self.reset()
+        first, second = self.sets[0][0], self.sets[1][0]
+        for tool in TOOLS:
+            self.pubs[tool].publish(self.sets[0][1][tool])
+        self.rec.wait_end(first)
+        self.assertTrue(self.pause(True).success)
+        try:
+            for tool in TOOLS:
+                self.pubs[tool].publish(self.sets[1][1][tool])
+            rospy.sleep(1.0)  # delivered while paused (the assertions below hold either way)
+            with self.rec.cond:
+                self.assertNotIn(second.to_nsec(), self.rec.ends, "stepped while paused")
+        finally:
+            self.assertTrue(self.pause(False).success)
+        self.rec.wait_end(second)
+        with self.rec.cond:
+            self.assertEqual([s.pose_set_stamp for s in self.rec.stats],
+                             [first] * self.steps_per_pose + [second] * self.steps_per_pose)
 
 
 if __name__ == "__main__":

@@ -38,6 +38,8 @@ namespace surgical_sim::ros_layer {
 ///   ~surface_rate [Hz; (0, 1000]; 30]  rate of tissue/surface in realtime mode
 ///   ~max_tool_distance [m; (0, 1000]; 5]  poses farther than this from the world origin are
 ///                                      rejected
+///   ~force_arrow_scale [m/N; (0, 10]; 0.03]  length per newton of the force arrows on
+///                                      tissue/tools
 /// Lockstep: the node steps once per synchronized SET of tool poses (PoseSetSync), whatever the
 /// number of tools: when every tool of the scene has received a pose stamped newer than the last
 /// stepped set, it moves each tool to its newest pose and steps steps_per_pose times, every output
@@ -93,7 +95,8 @@ class TissueSimulatorNode {
   bool stepAndPublish(const ros::Time& stamp, bool publish_surface,
                       const ros::Time& set_stamp = ros::Time(), int burst_step = 0);
   void publishSurface(const ros::Time& stamp);
-  /// Each posed tool as a capsule (shaft cylinder + tip sphere) on tissue/tools.
+  /// Each posed tool as a capsule (shaft cylinder + tip sphere) on tissue/tools (namespace: the
+  /// tool's name), with the tissue's force on it as an arrow from the tip while in contact.
   void publishToolMarkers(const ros::Time& stamp);
   void publishTool(int tool, const ros::Time& stamp);
   /// Resolves a pose to the tissue frame; false (with a throttled warning) if impossible.
@@ -125,6 +128,7 @@ class TissueSimulatorNode {
   int steps_per_pose_ = 1;
   double max_tool_distance_ = 5.0;
   double surface_period_ = 1.0 / 30.0;
+  double force_arrow_scale_ = 0.03;  ///< [m/N]
   double last_surface_wall_ = -1e9;
   double last_publish_seconds_ = 0.0;
   unsigned step_count_ = 0;
