@@ -117,15 +117,15 @@ class MultiToolLockstepTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node("multi_tool_lockstep_rostest")
-        rospy.wait_for_service("tissue/reset", timeout=120.0)
-        cls.reset_srv = rospy.ServiceProxy("tissue/reset", Empty)
-        cls.pause = rospy.ServiceProxy("tissue/pause", SetBool)
         cls.steps_per_pose = rospy.get_param("~steps_per_pose")
+        cls.sets = motion()
         cls.rec = Recorder()
         cls.pubs = {t: rospy.Publisher(t + "/tool/pose", PoseStamped, queue_size=1000)
                     for t in TOOLS}
+        rospy.wait_for_service("tissue/reset", timeout=120.0)
+        cls.reset_srv = rospy.ServiceProxy("tissue/reset", Empty)
+        cls.pause = rospy.ServiceProxy("tissue/pause", SetBool)
         wait_for_subscribers(*cls.pubs.values())
-        cls.sets = motion()
 
     def reset(self):
         self.reset_srv()
