@@ -20,7 +20,7 @@
 namespace surgical_sim::ros_layer {
 
 TissueSimulatorNode::TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
-    : tf_listener_(tf_buffer_), control_spinner_(1, &control_queue_) {
+    : nh_(nh), tf_listener_(tf_buffer_), control_spinner_(1, &control_queue_) {
   const std::string scene_path = requiredStringParam(pnh, "scene", "path of a scene YAML file");
   realtime_ = boolParam(pnh, "realtime", true);
   steps_per_pose_ = intParam(pnh, "steps_per_pose", 1, 1, 1000, "");
@@ -28,6 +28,7 @@ TissueSimulatorNode::TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& p
   tissue_frame_ = stringParam(pnh, "tissue_frame", "tissue");
   max_tool_distance_ = numberParam(pnh, "max_tool_distance", 5.0, {0.0, 1000.0, true}, "m");
   surface_period_ = 1.0 / numberParam(pnh, "surface_rate", 30.0, {0.0, 1000.0, true}, "Hz");
+  force_arrow_scale_ = numberParam(pnh, "force_arrow_scale", 0.03, {0.0, 10.0, true}, "m/N");
 
   sim_ = std::make_unique<core::TissueSimulation>(core::loadRuntimeScene(scene_path));
   for (const std::string& warning : sim_->warnings())
@@ -68,8 +69,9 @@ TissueSimulatorNode::TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& p
   step_srv_ = nh.advertiseService("tissue/step", &TissueSimulatorNode::onStep, this);
   blade_sub_ = nh.subscribe("cutting/blade_sweep", 100, &TissueSimulatorNode::onBladeSweep, this);
 
-  // Realtime: wall-clock paced at dt. Lockstep with tools: driven by poses. Lockstep without
+  // Realtime: wall-clock paced at dt. Lockstep with tools: driven by pose sets. Lockstep without
   // tools: free-running as fast as possible.
+  if (!realtime_ && sim_->numTools() > 0) sync_ = std::make_unique<PoseSetSync>(sim_->numTools());
   if (realtime_ || sim_->numTools() == 0) {
     const double period = realtime_ ? sim_->timeStep() : 1e-6;
     timer_ = nh.createWallTimer(ros::WallDuration(period), [this](const auto&) { onTimer(); });
@@ -123,16 +125,64 @@ bool TissueSimulatorNode::frameInTissue(const std::string& frame, const char* wh
 void TissueSimulatorNode::onPose(const geometry_msgs::PoseStamped::ConstPtr& msg, int tool) {
   Eigen::Isometry3d X_ST;
   if (!toTissueFrame(*msg, X_ST)) return;
-  const unsigned interrupts = interrupts_.load();
-  {
+  if (!sync_) {
     std::lock_guard<std::mutex> lock(sim_mutex_);
     sim_->setToolPose(tool, X_ST);
     tools_[static_cast<std::size_t>(tool)].has_pose = true;
     tools_[static_cast<std::size_t>(tool)].X_ST = X_ST;
+    return;
   }
-  if (realtime_ || paused_) return;
-  for (int k = 0; k < steps_per_pose_ && !interruption(interrupts); ++k)
-    if (!stepAndPublish(msg->header.stamp, k + 1 == steps_per_pose_)) break;
+  {
+    std::lock_guard<std::mutex> lock(sim_mutex_);
+    offerPose(tool, msg->header.stamp.isZero() ? ros::Time::now() : msg->header.stamp, X_ST);
+  }
+  runLockstep();
+}
+
+void TissueSimulatorNode::offerPose(int tool, const ros::Time& stamp,
+                                    const Eigen::Isometry3d& X_ST) {
+  const auto name = [this](int i) { return sim_->scene().tools[static_cast<std::size_t>(i)].name; };
+  const PoseSetSync::Offer offer = sync_->offer(tool, stamp, X_ST);
+  if (offer == PoseSetSync::Offer::Stale)
+    ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator",
+                            "lockstep: tool %s pose stamped %.6f s ignored: not newer than the "
+                            "last stepped set (%.6f s) or its waiting pose (tissue/reset "
+                            "restarts a replay)",
+                            name(tool).c_str(), stamp.toSec(), sync_->lastSetStamp().toSec());
+  if (offer != PoseSetSync::Offer::Replaced) return;
+  ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator",
+                          "lockstep: tool %s overran: its pose stamped %.6f s replaces a waiting "
+                          "one before every tool's pose of that set arrived (a dropped pose)",
+                          name(tool).c_str(), stamp.toSec());
+  std::string blocking;
+  for (int i : sync_->neverPosed()) blocking += (blocking.empty() ? "" : ", ") + name(i);
+  if (!blocking.empty())
+    ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator",
+                            "lockstep: no step until every tool has a pose; waiting for the first "
+                            "pose of tool(s) %s",
+                            blocking.c_str());
+}
+
+void TissueSimulatorNode::runLockstep() {
+  const unsigned interrupts = interrupts_.load();
+  while (!paused_ && !interruption(interrupts)) {
+    std::lock_guard<std::mutex> lock(sim_mutex_);
+    if (!burst_open_) {
+      if (!sync_->complete()) return;
+      burst_stamp_ = sync_->take(set_poses_);
+      for (int i = 0; i < sim_->numTools(); ++i) {
+        ToolIo& io = tools_[static_cast<std::size_t>(i)];
+        io.X_ST = set_poses_[static_cast<std::size_t>(i)];
+        io.has_pose = true;
+        sim_->setToolPose(i, io.X_ST);
+      }
+      burst_steps_done_ = 0;
+      burst_open_ = true;
+    }
+    const int k = ++burst_steps_done_;
+    const bool ok = stepAndPublish(burst_stamp_, k == steps_per_pose_, burst_stamp_, k);
+    if (!ok || k == steps_per_pose_) burst_open_ = false;
+  }
 }
 
 void TissueSimulatorNode::onGrasp(const std_msgs::Bool::ConstPtr& msg, int tool) {
@@ -179,11 +229,12 @@ void TissueSimulatorNode::onTimer() {
   const double now = ros::WallTime::now().toSec();
   const bool surface = !realtime_ || now - last_surface_wall_ >= surface_period_;
   if (surface) last_surface_wall_ = now;
+  std::lock_guard<std::mutex> lock(sim_mutex_);
   stepAndPublish(ros::Time::now(), surface);
 }
 
-bool TissueSimulatorNode::stepAndPublish(const ros::Time& stamp, bool publish_surface) {
-  std::lock_guard<std::mutex> lock(sim_mutex_);
+bool TissueSimulatorNode::stepAndPublish(const ros::Time& stamp, bool publish_surface,
+                                         const ros::Time& set_stamp, int burst_step) {
   const core::SimulationStepStats s = sim_->step();
   ++step_count_;
   core::Stopwatch publish_watch;
@@ -212,12 +263,15 @@ bool TissueSimulatorNode::stepAndPublish(const ros::Time& stamp, bool publish_su
   stats.pieces = static_cast<unsigned>(sim_->numComponents());
   stats.status = core::toString(s.report.status);
   stats.components = sim_->components();
-  stats_pub_.publish(stats);
-  last_publish_seconds_ = publish_watch.seconds();
-
   const bool failed = s.report.status == core::StepStatus::SolverFailed ||
                       s.report.status == core::StepStatus::NonFinite ||
                       s.report.status == core::StepStatus::BlowUp;
+  stats.pose_set_stamp = set_stamp;
+  stats.burst_step = static_cast<unsigned>(burst_step);
+  stats.burst_end = burst_step > 0 && (failed || burst_step == steps_per_pose_);
+  stats_pub_.publish(stats);
+  last_publish_seconds_ = publish_watch.seconds();
+
   if (failed)
     ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator", "step %u failed: %s (state kept finite)",
                             step_count_, stats.status.c_str());
@@ -325,6 +379,20 @@ void TissueSimulatorNode::publishToolMarkers(const ros::Time& stamp) {
     m.pose = toPoseMsg(io.X_ST * Eigen::Translation3d(0.0, 0.0, -0.5 * spec.shaft_length));
     m.scale.z = spec.shaft_length;
     tool_marker_pub_.publish(m);
+    // Force of the tissue on the tool: an arrow from the tip, deleted out of contact.
+    const core::ContactLinearization c = sim_->toolContact(i);
+    m.id = 2;
+    m.type = visualization_msgs::Marker::ARROW;
+    m.action = c.in_contact ? visualization_msgs::Marker::ADD : visualization_msgs::Marker::DELETE;
+    m.pose = toPoseMsg(Eigen::Isometry3d::Identity());
+    m.points = {toPointMsg(c.p0_S), toPointMsg(c.p0_S + force_arrow_scale_ * c.f0_S)};
+    m.scale.x = 0.002;  // shaft diameter [m]
+    m.scale.y = 0.005;  // head diameter [m]
+    m.scale.z = 0.006;  // head length [m]
+    m.color.r = 1.0f;
+    m.color.g = 0.78f;
+    m.color.b = 0.16f;
+    tool_marker_pub_.publish(m);
   }
 }
 
@@ -333,6 +401,8 @@ bool TissueSimulatorNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Re
   std::lock_guard<std::mutex> lock(sim_mutex_);  // waits for at most the step in progress
   sim_->reset();
   step_count_ = 0;
+  if (sync_) sync_->reset();
+  burst_open_ = false;
   ROS_INFO_NAMED("tissue_simulator", "reset to the rest state");
   return true;
 }
@@ -341,6 +411,10 @@ bool TissueSimulatorNode::onPause(std_srvs::SetBool::Request& req,
                                   std_srvs::SetBool::Response& res) {
   paused_ = req.data;
   interrupt("pause");
+  // Lockstep: finish the interrupted burst and any set completed meanwhile, on the main thread.
+  if (sync_ && !req.data)
+    resume_timer_ = nh_.createWallTimer(
+        ros::WallDuration(1e-6), [this](const auto&) { runLockstep(); }, true);
   res.success = true;
   res.message = req.data ? "paused" : "running";
   return true;
@@ -368,6 +442,7 @@ bool TissueSimulatorNode::onStep(surgical_sim::StepTissue::Request& req,
                     std::to_string(res.steps_done) + " steps";
       return true;
     }
+    std::lock_guard<std::mutex> lock(sim_mutex_);
     if (!stepAndPublish(ros::Time::now(), k + 1 == req.steps)) {
       res.message = "step failed after " + std::to_string(res.steps_done) + " steps";
       return true;

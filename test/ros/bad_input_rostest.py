@@ -73,6 +73,8 @@ class BadInputTest(unittest.TestCase):
                               (["_steps_per_pose:=0"], "~steps_per_pose = 0 is out of range"),
                               (["_surface_rate:=0"], "~surface_rate = 0 Hz is out of range"),
                               (["_max_tool_distance:=far"], "~max_tool_distance must be a number"),
+                              (["_force_arrow_scale:=0"],
+                               "~force_arrow_scale = 0 m/N is out of range"),
                               (["_tissue_frame:=7"], "~tissue_frame must be a non-empty string")):
             code, out = run_node("tissue_simulator", [scene] + args)
             self.assertNotEqual(code, 0, "%s accepted" % args)

@@ -22,21 +22,35 @@
 #include "surgical_sim/BladeSweep.h"
 #include "surgical_sim/StepTissue.h"
 #include "surgical_sim/core/scene/tissue_simulation.h"
+#include "surgical_sim/ros/pose_set_sync.h"
 
 namespace surgical_sim::ros_layer {
 
 /// ROS wrapper of core::TissueSimulation (node `tissue_simulator`). Parameters (private; all
 /// strict, see parameters.h):
 ///   ~scene [string; required]          scene YAML path
-///   ~realtime [bool; true]             true: step on a wall-clock timer at the scene's dt;
-///                                      false: lockstep, steps_per_pose steps per received tool
-///                                      pose (deterministic replay), or free-running without tools
-///   ~steps_per_pose [-; 1..1000; 1]    lockstep steps per tool pose
+///   ~realtime [bool; true]             true: step on a wall-clock timer at the scene's dt, each
+///                                      tool at its newest pose; false: lockstep (below), or
+///                                      free-running without tools
+///   ~steps_per_pose [-; 1..1000; 1]    lockstep steps per synchronized set of tool poses
 ///   ~world_frame [string; world]       frame of the wrench / contact-model outputs
 ///   ~tissue_frame [string; tissue]     rest frame of the organ (tf world -> tissue published)
 ///   ~surface_rate [Hz; (0, 1000]; 30]  rate of tissue/surface in realtime mode
 ///   ~max_tool_distance [m; (0, 1000]; 5]  poses farther than this from the world origin are
 ///                                      rejected
+///   ~force_arrow_scale [m/N; (0, 10]; 0.03]  length per newton of the force arrows on
+///                                      tissue/tools
+/// Lockstep: the node steps once per synchronized SET of tool poses (PoseSetSync), whatever the
+/// number of tools: when every tool of the scene has received a pose stamped newer than the last
+/// stepped set, it moves each tool to its newest pose and steps steps_per_pose times, every output
+/// stamped with the set's (newest) stamp; tissue/stats carries pose_set_stamp, burst_step and
+/// burst_end. A pose with a zero stamp is stamped on receipt. A second pose of one tool before the
+/// set is complete replaces the first (throttled warning: a dropped pose); a pose not newer than
+/// the last set is ignored (throttled warning; tissue/reset forgets the stamps, so a replay can
+/// restart); a tool that never received a pose blocks every set (named in a throttled warning
+/// when another tool overruns).
+/// tissue/pause interrupts a burst between two steps; un-pausing finishes it and steps a set that
+/// completed meanwhile. Same poses and stamps from a reset give bit-identical outputs.
 /// Tool poses that are NaN/Inf, have a zero or non-finite quaternion, lie too far or are in a
 /// frame tf cannot resolve are rejected, each with its own throttled warning.
 /// Subscribes cutting/blade_sweep (BladeSweep, any frame tf can resolve): each sweep is applied
@@ -64,15 +78,25 @@ class TissueSimulatorNode {
   };
 
   void onPose(const geometry_msgs::PoseStamped::ConstPtr& msg, int tool);
+  /// Lockstep: offers a resolved pose to sync_ (warning on a stale or dropped pose, then naming
+  /// the tools that never had a pose); under sim_mutex_.
+  void offerPose(int tool, const ros::Time& stamp, const Eigen::Isometry3d& X_ST);
+  /// Lockstep (main thread): finishes the open burst, then steps every complete pose set, until
+  /// paused or interrupted.
+  void runLockstep();
   void onGrasp(const std_msgs::Bool::ConstPtr& msg, int tool);
   /// Jaws from the tool's grip joint in a JointState (e.g. trocar_device's joint_states).
   void onGrip(const sensor_msgs::JointState::ConstPtr& msg, int tool);
   void onBladeSweep(const surgical_sim::BladeSweep::ConstPtr& msg);
   void onTimer();
-  /// Steps once and publishes everything stamped `stamp`; returns false on a failed step.
-  bool stepAndPublish(const ros::Time& stamp, bool publish_surface);
+  /// Steps once and publishes everything stamped `stamp`; burst_step > 0: step burst_step of the
+  /// lockstep burst of set `set_stamp` (reported in tissue/stats). Needs sim_mutex_ held; returns
+  /// false on a failed step.
+  bool stepAndPublish(const ros::Time& stamp, bool publish_surface,
+                      const ros::Time& set_stamp = ros::Time(), int burst_step = 0);
   void publishSurface(const ros::Time& stamp);
-  /// Each posed tool as a capsule (shaft cylinder + tip sphere) on tissue/tools.
+  /// Each posed tool as a capsule (shaft cylinder + tip sphere) on tissue/tools (namespace: the
+  /// tool's name), with the tissue's force on it as an arrow from the tip while in contact.
   void publishToolMarkers(const ros::Time& stamp);
   void publishTool(int tool, const ros::Time& stamp);
   /// Resolves a pose to the tissue frame; false (with a throttled warning) if impossible.
@@ -89,8 +113,8 @@ class TissueSimulatorNode {
   bool onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res);
   bool onStep(surgical_sim::StepTissue::Request& req, surgical_sim::StepTissue::Response& res);
 
-  /// Guards sim_, step_count_ and the tools' poses: held for one step at a time, so tissue/reset
-  /// (control thread) waits for at most the step in progress.
+  /// Guards sim_, step_count_, the tools' poses, sync_ and the burst state: held for one step at
+  /// a time, so tissue/reset (control thread) waits for at most the step in progress.
   std::mutex sim_mutex_;
   std::unique_ptr<core::TissueSimulation> sim_;
   Eigen::Isometry3d X_WS_ = Eigen::Isometry3d::Identity();
@@ -102,11 +126,19 @@ class TissueSimulatorNode {
   int steps_per_pose_ = 1;
   double max_tool_distance_ = 5.0;
   double surface_period_ = 1.0 / 30.0;
+  double force_arrow_scale_ = 0.03;  ///< [m/N]
   double last_surface_wall_ = -1e9;
   double last_publish_seconds_ = 0.0;
   unsigned step_count_ = 0;
 
   std::vector<ToolIo> tools_;
+  std::unique_ptr<PoseSetSync> sync_;         ///< lockstep with tools only
+  std::vector<Eigen::Isometry3d> set_poses_;  ///< X_ST of the set being applied (work vector)
+  ros::Time burst_stamp_;                     ///< stamp of the set whose burst is open
+  int burst_steps_done_ = 0;                  ///< steps of the open burst done so far
+  bool burst_open_ = false;                   ///< a set was taken and its burst is unfinished
+  ros::NodeHandle nh_;
+  ros::WallTimer resume_timer_;  ///< one-shot: resumes lockstep on the main thread after un-pause
   ros::Publisher surface_pub_, tool_marker_pub_, stats_pub_;
   visualization_msgs::Marker surface_marker_;  ///< tissue/surface, reused between publishes
   std::vector<char> contact_flags_;            ///< per node: touched by a tool (work vector)
