@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "fuzz_child.h"
+#include "package_dirs.h"
 #include "surgical_sim/core/scene/scene_fuzz.h"
 
 namespace ss = surgical_sim::core;
@@ -52,10 +53,9 @@ int main(int argc, char** argv) {
   }
   if (!problem.empty()) return usage(problem);
   const std::string csv_path = args.text["--csv"];
-  const std::string scenes_dir =
-      args.text.count("--scenes")
-          ? args.text["--scenes"]
-          : (fs::path(SURGICAL_SIM_SCRIPTS_DIR).parent_path() / "config/scenes").string();
+  const std::string scenes_dir = args.text.count("--scenes")
+                                     ? args.text["--scenes"]
+                                     : surgical_sim::tools::configDir() + "/scenes";
   std::vector<std::string> scenes;
   if (fs::is_directory(scenes_dir))
     for (const auto& entry : fs::directory_iterator(scenes_dir))

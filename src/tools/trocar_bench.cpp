@@ -24,9 +24,17 @@ namespace {
 
 using namespace surgical_sim::core;
 
+constexpr const char* kUsage =
+    "usage: trocar_bench [--seconds S] [--rt-priority P] [--csv FILE] [--plot FILE]\n"
+    "H1 benchmark of the active-trocar haptic loop (no ROS): loop timing, stiff wall with and\n"
+    "without passivity control, rendered-force error against the tissue update rate.\n"
+    "  --seconds S      loop timing duration [s], (0, 3600], default 3\n"
+    "  --rt-priority P  SCHED_FIFO priority of the loop, [0, 99], default 0 (none)\n"
+    "  --csv FILE       rendered-force error rows\n"
+    "  --plot FILE      their plot (PNG; needs --csv)\n";
+
 int usage(const std::string& msg) {
-  std::cerr << "trocar_bench: " << msg << "\n"
-            << "usage: trocar_bench [--seconds S] [--rt-priority P] [--csv FILE] [--plot FILE]\n";
+  std::cerr << "trocar_bench: " << msg << "\n" << kUsage;
   return 2;
 }
 
@@ -98,6 +106,10 @@ void runStiffWall() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (surgical_sim::tools::wantsHelp(argc, argv)) {
+    std::cout << kUsage;
+    return 0;
+  }
   std::string csv_path, plot_path;
   double seconds = 3.0;
   int rt_priority = 0;
@@ -126,7 +138,9 @@ int main(int argc, char** argv) {
   std::ofstream csv;
   if (!surgical_sim::tools::openCsv("trocar_bench", csv_path, csv)) return 1;
 
+  surgical_sim::tools::progress("trocar_bench", "loop timing, " + std::to_string(seconds) + " s");
   runLoopTiming(seconds, rt_priority);
+  surgical_sim::tools::progress("trocar_bench", "stiff wall without and with passivity control");
   runStiffWall();
 
   const std::string header =
@@ -135,6 +149,10 @@ int main(int argc, char** argv) {
   if (csv) csv << header << "\n";
   for (const double rate : {30.0, 60.0, 120.0, 250.0, 500.0}) {
     for (const bool linear : {false, true}) {
+      surgical_sim::tools::progress("trocar_bench",
+                                    std::string("contact rate study, ") +
+                                        (linear ? "local_linear" : "zero_order_hold") + " at " +
+                                        std::to_string(rate) + " Hz");
       ContactRateStudySettings settings;
       settings.update_rate_hz = rate;
       settings.linear_model = linear;
