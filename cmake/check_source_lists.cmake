@@ -9,7 +9,8 @@
 #    step with an error naming every unlisted file, and records the list in
 #    ${CMAKE_BINARY_DIR}/surgical_sim_listed_files.txt for the test below;
 #  - script mode, the catkin test "source_lists" (a file added after the last configure):
-#      cmake -DSOURCE_DIR=<repo> -DLISTED=<listed_files.txt> [-DXML=<junit.xml>] -P check_source_lists.cmake
+#      cmake -DSOURCE_DIR=<repo> -DLISTED=<listed_files.txt> [-DXML=<junit.xml>]
+#            -P check_source_lists.cmake
 #    fails naming every unlisted file (and writes a one-case JUnit file when XML is given).
 
 # Sets ${out} to the files (relative to source_dir) of the checked folders that are not in listed.
