@@ -8,7 +8,12 @@ import csv
 import math
 import sys
 
-import matplotlib
+# --help answers before matplotlib loads (it would write its font cache into $HOME).
+if __name__ == "__main__" and ("--help" in sys.argv[1:] or "-h" in sys.argv[1:]):
+    print(__doc__)
+    sys.exit(0)
+
+import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402

@@ -33,7 +33,11 @@ import xmlrpc.client
 import yaml
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-PKG = os.path.dirname(HERE)
+# The package root: the checkout (scripts/..), or share/surgical_sim when installed in
+# lib/surgical_sim.
+PKG_CANDIDATES = (os.path.dirname(HERE), os.path.join(HERE, "..", "..", "share", "surgical_sim"))
+PKG = next((p for p in PKG_CANDIDATES if os.path.isdir(os.path.join(p, "config"))),
+           PKG_CANDIDATES[0])
 PALPATION = os.path.join(PKG, "config", "scenes", "palpation.yaml")
 CUTTING = os.path.join(PKG, "config", "scenes", "cutting.yaml")
 NAN = float("nan")

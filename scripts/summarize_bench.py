@@ -1,6 +1,9 @@
 #!/usr/bin/python3
 """Prints a short human-readable summary of a *_bench CSV: per case the error and ms per step,
-and the best configuration (lowest error, then fastest)."""
+and the best configuration (lowest error, then fastest).
+
+usage: summarize_bench.py CSV
+"""
 import csv
 import math
 import sys
@@ -34,4 +37,10 @@ def main(path):
 
 
 if __name__ == "__main__":
+    if "--help" in sys.argv[1:] or "-h" in sys.argv[1:]:
+        print(__doc__)
+        sys.exit(0)
+    if len(sys.argv) != 2:
+        print(__doc__, file=sys.stderr)
+        sys.exit(2)
     sys.exit(main(sys.argv[1]))

@@ -2,6 +2,7 @@
 
 #include <geometry_msgs/PoseArray.h>
 #include <geometry_msgs/TransformStamped.h>
+#include <ros/package.h>
 #include <tf2_eigen/tf2_eigen.h>
 
 #include <algorithm>
@@ -25,8 +26,8 @@ constexpr const char* kName = "continuum_robot_controller";
 
 ContinuumRobotNode::ContinuumRobotNode(ros::NodeHandle& nh, ros::NodeHandle& pnh)
     : tf_listener_(tf_buffer_), control_spinner_(1, &control_queue_) {
-  const std::string config =
-      stringParam(pnh, "config", std::string(SURGICAL_SIM_CONFIG_DIR) + "/continuum_robot.yaml");
+  const std::string config = stringParam(
+      pnh, "config", ros::package::getPath("surgical_sim") + "/config/continuum_robot.yaml");
   const std::string robot = stringParam(pnh, "robot", "trunk");
   rate_ = numberParam(pnh, "rate", 10.0, {0.0, 1000.0, true}, "Hz");
   frames_.base = stringParam(pnh, "base_frame", frames_.base);

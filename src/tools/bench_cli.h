@@ -8,7 +8,30 @@
 #include <iostream>
 #include <string>
 
+#include "package_dirs.h"
+
 namespace surgical_sim::tools {
+
+/// True when the command line asks for help (--help or -h anywhere): the tool then prints its
+/// usage on stdout and exits 0 without doing or writing anything.
+inline bool wantsHelp(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") return true;
+  }
+  return false;
+}
+
+/// Prints "<tool>: <what>" as one line on stderr (unbuffered): a long benchmark shows one line per
+/// case while it runs, also when its stdout goes to a file.
+inline void progress(const std::string& tool, const std::string& what) {
+  std::cerr << tool << ": " << what << std::endl;
+}
+
+/// "[i/n] " for the progress line of case i (0-based) of n.
+inline std::string caseCounter(std::size_t i, std::size_t n) {
+  return "[" + std::to_string(i + 1) + "/" + std::to_string(n) + "] ";
+}
 
 /// Arguments of a scene benchmark: <scene.yaml> [--csv FILE] [--plot FILE].
 struct SceneBenchArgs {
@@ -48,8 +71,7 @@ inline bool openCsv(const std::string& tool, const std::string& path, std::ofstr
 /// /usr/bin/python3; false (with a message on stderr prefixed by `tool`) if it fails.
 inline bool runPlotScript(const std::string& tool, const std::string& script,
                           std::initializer_list<std::string> arguments) {
-  std::string cmd =
-      std::string("/usr/bin/python3 '") + SURGICAL_SIM_SCRIPTS_DIR + "/" + script + "'";
+  std::string cmd = "/usr/bin/python3 '" + scriptsDir() + "/" + script + "'";
   for (const std::string& a : arguments) cmd += " '" + a + "'";
   if (std::system(cmd.c_str()) == 0) return true;
   std::cerr << tool << ": plotting failed (" << cmd << ")\n";

@@ -27,9 +27,15 @@ using namespace surgical_sim::core;
 constexpr double kDepth = 6e-3;               // indentation of the tip below the rest surface [m]
 constexpr double kPressFraction = 2.0 / 3.0;  // share of the steps spent pressing [-]
 
+constexpr const char* kUsage =
+    "usage: contact_bench <scene.yaml> [--csv FILE] [--plot FILE]\n"
+    "Tool-in-contact cost of every case of the scene's sweep: ms per step (collision, integrate,\n"
+    "contact), pose-to-contact-model latency and the tool force against the finest case.\n"
+    "  --csv FILE   one row per case\n"
+    "  --plot FILE  error against run time (PNG; needs --csv)\n";
+
 int usage(const std::string& msg) {
-  std::cerr << "contact_bench: " << msg << "\n"
-            << "usage: contact_bench <scene.yaml> [--csv FILE] [--plot FILE]\n";
+  std::cerr << "contact_bench: " << msg << "\n" << kUsage;
   return 2;
 }
 
@@ -122,6 +128,10 @@ constexpr const char* kHeader =
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (surgical_sim::tools::wantsHelp(argc, argv)) {
+    std::cout << kUsage;
+    return 0;
+  }
   surgical_sim::tools::SceneBenchArgs args;
   const std::string error = surgical_sim::tools::parseSceneBenchArgs(argc, argv, args);
   if (!error.empty()) return usage(error);
@@ -131,10 +141,13 @@ int main(int argc, char** argv) {
   try {
     scene = loadBenchmarkScene(args.scene);
     if (scene.tools.empty()) return usage("scene " + args.scene + " has no tools");
-    for (const CaseSpec& spec : expandSweep(scene)) {
-      std::cerr << "contact_bench: " << spec.resolution.x() << " cells, " << solverName(spec.solver)
-                << "\n";
-      rows.push_back(runCase(scene, spec));
+    const std::vector<CaseSpec> cases = expandSweep(scene);
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+      surgical_sim::tools::progress("contact_bench",
+                                    surgical_sim::tools::caseCounter(i, cases.size()) +
+                                        std::to_string(cases[i].resolution.x()) + " cells, " +
+                                        solverName(cases[i].solver));
+      rows.push_back(runCase(scene, cases[i]));
     }
   } catch (const std::exception& e) {
     std::cerr << "contact_bench: " << e.what() << "\n";

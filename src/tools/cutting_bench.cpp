@@ -23,6 +23,8 @@
 #include <string>
 #include <vector>
 
+#include "bench_cli.h"
+#include "package_dirs.h"
 #include "surgical_sim/core/cutting/beam_tip_deflection.h"
 #include "surgical_sim/core/cutting/cut_fuzz.h"
 #include "surgical_sim/core/cutting/cut_tissue_model.h"
@@ -79,6 +81,8 @@ void updateTimes(const std::string& dir) {
     for (const ss::CutUpdateMode mode :
          {ss::CutUpdateMode::Incremental, ss::CutUpdateMode::Rebuild}) {
       const char* name = mode == ss::CutUpdateMode::Incremental ? "incremental" : "rebuild";
+      surgical_sim::tools::progress("cutting_bench", std::string("update times, ") + name + ", " +
+                                                         std::to_string(cells) + " cells");
       ss::TetCutter cutter(ss::makeOrganBlob(kOrgan, cells, ss::ElementType::Tet4), 1000.0, mode);
       const int elements = cutter.mesh().numElements();
       std::vector<double> changing;  // total time of sweeps that changed the topology [ms]
@@ -116,8 +120,10 @@ void stepTimes(const std::string& dir) {
                       "linear_iterations,pieces");
   for (const ss::SolverKind solver :
        {ss::SolverKind::Cholmod, ss::SolverKind::PcgCholeskyBackground}) {
-    ss::RuntimeScene scene = ss::loadRuntimeScene(std::string(SURGICAL_SIM_SCRIPTS_DIR) +
-                                                  "/../config/scenes/palpation.yaml");
+    surgical_sim::tools::progress("cutting_bench",
+                                  std::string("step times, ") + ss::solverName(solver));
+    ss::RuntimeScene scene =
+        ss::loadRuntimeScene(surgical_sim::tools::configDir() + "/scenes/palpation.yaml");
     scene.resolution = Eigen::Vector3i(12, 0, 0);
     scene.solver = solver;
     ss::TissueSimulation sim(scene);
@@ -161,6 +167,8 @@ void surfaceError(const std::string& dir) {
   const Eigen::Vector3d motion(0.02, 0, -0.1);
   const Eigen::Vector3d n = along.cross(motion).normalized();
   for (int cells : {4, 6, 8, 10, 12, 15}) {
+    surgical_sim::tools::progress("cutting_bench",
+                                  "cut-surface error, " + std::to_string(cells) + " cells");
     ss::TetCutter cutter(ss::makeOrganBlob(kOrgan, cells, ss::ElementType::Tet4), 1000.0);
     ss::BladeSweep sweep;
     sweep.start.resize(3, 2);
@@ -237,6 +245,9 @@ void t3c(const std::string& dir) {
                       "elements,cells_along,rings,w_uncut_m,w_cut_m,w_ref_cut_m,error_cut_rel,"
                       "w_ref_uncut_m,w_closed_form_uncut_m,cut_update_ms");
   for (auto [along, rings] : {std::pair{11, 1}, std::pair{21, 2}, std::pair{31, 3}}) {
+    surgical_sim::tools::progress("cutting_bench", "T3(c) cut beam, " + std::to_string(along) +
+                                                       " cells along, " + std::to_string(rings) +
+                                                       " rings");
     const ss::TetMesh beam = ss::makeHexagonalBeam(a, L, along, rings, ss::ElementType::Tet4);
     ss::TetCutter cutter(beam, material.density);
     const double w_uncut = ss::beamTipDeflection(
@@ -267,6 +278,7 @@ bool fuzz(const std::string& dir, int sweeps) {
   settings.sweeps = sweeps;
   settings.cells_per_axis = 8;
   settings.seed = 6;
+  surgical_sim::tools::progress("cutting_bench", "fuzz, " + std::to_string(sweeps) + " sweeps");
   const ss::CutFuzzReport r = ss::runCutFuzz(settings);
   FILE* csv = openCsv(dir, "cutting_fuzz.csv",
                       "sweeps,cells_per_axis,seed,failure,max_mass_error,min_rest_volume_m3,"
@@ -285,9 +297,21 @@ bool fuzz(const std::string& dir, int sweeps) {
   return r.failure.empty() && r.finite;
 }
 
+constexpr const char* kUsage =
+    "usage: cutting_bench [--out DIR] [--fuzz N] [--no-plot]\n"
+    "P2 cutting benchmark: topology-update and step times, cut-surface error, T3(c) cut beams and\n"
+    "a fuzz campaign of random blade sweeps; CSV files (and PNG plots) in DIR.\n"
+    "  --out DIR   output folder (default ./report)\n"
+    "  --fuzz N    random sweeps of the fuzz campaign, >= 1 (default 1000)\n"
+    "  --no-plot   CSV only\n";
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (surgical_sim::tools::wantsHelp(argc, argv)) {
+    std::cout << kUsage;
+    return 0;
+  }
   std::string dir = "report";
   int sweeps = 1000;
   bool plot = true;
@@ -300,7 +324,7 @@ int main(int argc, char** argv) {
     } else if (arg == "--no-plot") {
       plot = false;
     } else {
-      std::cerr << "usage: cutting_bench [--out DIR] [--fuzz N] [--no-plot]\n";
+      std::cerr << "cutting_bench: unknown argument " << arg << "\n" << kUsage;
       return 2;
     }
   }
@@ -315,10 +339,7 @@ int main(int argc, char** argv) {
     t3c(dir);
     const bool ok = fuzz(dir, sweeps);
     if (plot) {
-      const std::string cmd = std::string("/usr/bin/python3 '") + SURGICAL_SIM_SCRIPTS_DIR +
-                              "/plot_cutting.py' '" + dir + "'";
-      if (std::system(cmd.c_str()) != 0)
-        std::cerr << "cutting_bench: plotting failed (" << cmd << ")\n";
+      surgical_sim::tools::runPlotScript("cutting_bench", "plot_cutting.py", {dir});
     }
     return ok ? 0 : 1;
   } catch (const std::exception& e) {

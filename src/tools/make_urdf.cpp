@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "package_dirs.h"
 #include "surgical_sim/core/common/text_file.h"
 #include "surgical_sim/core/robot/continuum_robot_loader.h"
 #include "surgical_sim/core/scene/scene_config.h"
@@ -92,8 +93,9 @@ std::vector<TrocarPlacement> parseTrocars(const std::string& spec) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string robot_name, config = std::string(SURGICAL_SIM_CONFIG_DIR) + "/continuum_robot.yaml";
-  std::string trocar_spec, trocar_urdf = std::string(SURGICAL_SIM_URDF_DIR) + "/active_trocar.urdf";
+  std::string robot_name, config = surgical_sim::tools::configDir() + "/continuum_robot.yaml";
+  std::string trocar_spec,
+      trocar_urdf = surgical_sim::tools::packageDir() + "/urdf/active_trocar.urdf";
   std::string robot_base = "0,0,0,0,0,0";
   std::string scene_path;
   bool plan = false;

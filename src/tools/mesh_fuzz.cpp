@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "fuzz_child.h"
+#include "package_dirs.h"
 #include "surgical_sim/core/mesh/mesh_fuzz.h"
 
 namespace ss = surgical_sim::core;
@@ -60,9 +61,8 @@ int main(int argc, char** argv) {
   }
   if (!problem.empty()) return usage(problem);
   const std::string out = args.text["--out"];
-  const std::string sources = args.text.count("--sources")
-                                  ? args.text["--sources"]
-                                  : fs::path(SURGICAL_SIM_SCRIPTS_DIR).parent_path().string();
+  const std::string sources =
+      args.text.count("--sources") ? args.text["--sources"] : surgical_sim::tools::packageDir();
   const std::vector<std::string> files = shippedMeshes(sources);
   if (files.empty()) return usage("no mesh files under " + sources);
   const std::string mutants = out + "/mutants";

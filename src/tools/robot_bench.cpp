@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include "bench_cli.h"
+#include "package_dirs.h"
 #include "surgical_sim/core/common/stopwatch.h"
 #include "surgical_sim/core/robot/compliance_cache.h"
 #include "surgical_sim/core/robot/continuum_robot_loader.h"
@@ -70,6 +72,8 @@ struct Robot {
 };
 
 Robot makeRobot(const std::string& config, const std::string& name) {
+  surgical_sim::tools::progress("robot_bench",
+                                name + ": condensing sections, building the FE plant");
   Robot r;
   r.description = ss::loadContinuumRobot(config, name);
   const ss::SectionCompliances c =
@@ -95,6 +99,12 @@ struct RunStats {
 RunStats follow(Robot& robot, const std::string& case_name, const std::string& path_name,
                 const std::vector<Eigen::Vector3d>& path, double tolerance, int max_iterations,
                 const ss::ModelSolveSettings& model_settings, int plant_stride, FILE* csv) {
+  surgical_sim::tools::progress(
+      "robot_bench", case_name + " " + robot.description.name + " " + path_name + ", " +
+                         std::to_string(path.size()) + " targets, " +
+                         std::to_string(max_iterations) + " QP / " +
+                         std::to_string(model_settings.max_iterations) + " Newton iterations" +
+                         (plant_stride > 0 ? ", FE plant" : ""));
   ss::InverseControllerSettings cs;
   cs.model = model_settings;
   ss::InverseController controller(*robot.model, cs);
@@ -135,8 +145,7 @@ RunStats follow(Robot& robot, const std::string& case_name, const std::string& p
 /// The benchmark proper (main() reports its exceptions).
 int runBench(int argc, char** argv) {
   const std::string config =
-      argc > 1 ? argv[1]
-               : std::string(SURGICAL_SIM_SCRIPTS_DIR) + "/../config/continuum_robot.yaml";
+      argc > 1 ? argv[1] : surgical_sim::tools::configDir() + "/continuum_robot.yaml";
   const std::string out_dir = argc > 2 ? argv[2] : "report";
   const std::string cases_to_run = argc > 3 ? argv[3] : "all";
   if (cases_to_run != "all" && cases_to_run != "R1" && cases_to_run != "R2") {
@@ -230,6 +239,7 @@ int runBench(int argc, char** argv) {
                                                   tip0 + Eigen::Vector3d(-0.03, 0.09, 0.0)};
     const std::vector<std::string> names = {"rest", "unreachable_axial", "bounds_bind_lateral"};
     for (size_t i = 0; i < special.size(); ++i) {
+      surgical_sim::tools::progress("robot_bench", "R2 cable " + names[i]);
       ss::InverseController controller(*cable.model, ss::InverseControllerSettings{});
       const ss::Stopwatch clock;
       const double cpu0 = threadCpuMs();
@@ -251,17 +261,27 @@ int runBench(int argc, char** argv) {
   std::fclose(csv);
   std::fclose(summary);
   std::fclose(cases);
-  const std::string cmd = std::string("/usr/bin/python3 '") + SURGICAL_SIM_SCRIPTS_DIR +
-                          "/plot_robot.py' '" + out_dir + "'";
-  if (std::system(cmd.c_str()) != 0) std::fprintf(stderr, "plotting failed (%s)\n", cmd.c_str());
+  surgical_sim::tools::runPlotScript("robot_bench", "plot_robot.py", {out_dir});
   return 0;
 }
+
+constexpr const char* kUsage =
+    "usage: robot_bench [robot.yaml [out_dir [R1|R2|all]]]\n"
+    "R1/R2 continuum-robot benchmarks: inverse-control error and time against the full FE plant;\n"
+    "CSV files and plots in out_dir. Progress on stderr.\n"
+    "  robot.yaml  robot descriptions (default: the package's config/continuum_robot.yaml)\n"
+    "  out_dir     output folder (default ./report)\n"
+    "  R1|R2|all   cases to run (default all)\n";
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (surgical_sim::tools::wantsHelp(argc, argv)) {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
   if (argc > 1 && argv[1][0] == '-') {
-    std::fprintf(stderr, "usage: robot_bench [robot.yaml [out_dir [R1|R2|all]]]\n");
+    std::fprintf(stderr, "robot_bench: unknown option %s\n%s", argv[1], kUsage);
     return 2;
   }
   try {

@@ -2,11 +2,11 @@
 //   scene_fuzz --seed S --count N --csv FILE [--scenes DIR]
 // Mutates the shipped scenes (DIR/*.yaml, default config/scenes and config/bench) N (>= 1000)
 // times, taking them in turn, and runs each mutant in a child process (20 s, 4 GB address
-// space): parseSceneConfig(), then a TissueSimulation for mutants that parse and whose first
-// case is estimated at most 256 MB (larger ones are accepted without construction, keeping the
-// campaign bounded). Prints the count of each outcome (accepted, rejected_naming_key,
-// rejected_without_key, crash, hang) and writes FILE, one row per mutant: index, scene,
-// mutation, outcome, constructed, seconds, message. Exit code 1 on any crash or hang.
+// space): parseRuntimeScene() or parseBenchmarkScene(), then a TissueSimulation for mutants that
+// parse and whose first case is estimated at most 256 MB (larger ones are accepted without
+// construction, keeping the campaign bounded). Prints the count of each outcome (accepted,
+// rejected_naming_key, rejected_without_key, crash, hang) and writes FILE, one row per mutant:
+// index, scene, mutation, outcome, constructed, seconds, message. Exit code 1 on any crash or hang.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "fuzz_child.h"
+#include "package_dirs.h"
 #include "surgical_sim/core/scene/scene_fuzz.h"
 
 namespace ss = surgical_sim::core;
@@ -52,11 +53,10 @@ int main(int argc, char** argv) {
   }
   if (!problem.empty()) return usage(problem);
   const std::string csv_path = args.text["--csv"];
-  const fs::path config = fs::path(SURGICAL_SIM_SCRIPTS_DIR).parent_path() / "config";
+  const std::string config = surgical_sim::tools::configDir();
   const std::vector<std::string> scene_dirs =
-      args.text.count("--scenes")
-          ? std::vector<std::string>{args.text["--scenes"]}
-          : std::vector<std::string>{(config / "scenes").string(), (config / "bench").string()};
+      args.text.count("--scenes") ? std::vector<std::string>{args.text["--scenes"]}
+                                  : std::vector<std::string>{config + "/scenes", config + "/bench"};
   std::vector<std::string> scenes;
   for (const std::string& dir : scene_dirs)
     if (fs::is_directory(dir))

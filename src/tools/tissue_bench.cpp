@@ -4,6 +4,7 @@
 #include <fstream>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "bench_cli.h"
 #include "surgical_sim/core/scene/scene_config.h"
@@ -11,9 +12,15 @@
 
 namespace {
 
+constexpr const char* kUsage =
+    "usage: tissue_bench <scene.yaml> [--csv FILE] [--plot FILE]\n"
+    "Runs every case of a benchmark scene's sweep headless and reports its error against run\n"
+    "time (one CSV row per case on stdout).\n"
+    "  --csv FILE   also write the rows to FILE\n"
+    "  --plot FILE  error against ms per step (PNG; needs --csv)\n";
+
 int usage(const char* msg) {
-  std::cerr << "tissue_bench: " << msg << "\n"
-            << "usage: tissue_bench <scene.yaml> [--csv FILE] [--plot FILE]\n";
+  std::cerr << "tissue_bench: " << msg << "\n" << kUsage;
   return 2;
 }
 
@@ -21,6 +28,10 @@ int usage(const char* msg) {
 
 int main(int argc, char** argv) {
   using namespace surgical_sim::core;
+  if (surgical_sim::tools::wantsHelp(argc, argv)) {
+    std::cout << kUsage;
+    return 0;
+  }
   surgical_sim::tools::SceneBenchArgs args;
   const std::string error = surgical_sim::tools::parseSceneBenchArgs(argc, argv, args);
   if (!error.empty()) return usage(error.c_str());
@@ -37,7 +48,13 @@ int main(int argc, char** argv) {
   if (csv) csv << caseCsvHeader() << "\n";
   std::cout << caseCsvHeader() << std::endl;
   int failures = 0;
-  for (const CaseSpec& spec : expandSweep(scene)) {
+  const std::vector<CaseSpec> cases = expandSweep(scene);
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const CaseSpec& spec = cases[i];
+    surgical_sim::tools::progress(
+        "tissue_bench", surgical_sim::tools::caseCounter(i, cases.size()) + modelName(spec.model) +
+                            "/" + integratorName(spec.integrator) + "/" + solverName(spec.solver) +
+                            ", resolution " + std::to_string(spec.resolution.x()));
     try {
       const CaseResult r = runTissueCase(scene, spec);
       const std::string row = caseCsvRow(scene.name, r);

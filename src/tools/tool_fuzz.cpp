@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "bench_cli.h"
+#include "package_dirs.h"
 #include "surgical_sim/core/scene/scene_config.h"
 #include "surgical_sim/core/scene/tool_fuzz.h"
 
@@ -41,7 +42,7 @@ const std::vector<std::string> kStatusColumns = {"ok",         "not_converged", 
                                                  "non_finite", "blow_up",       "contact_limited"};
 
 struct Args {
-  std::string scene = std::string(SURGICAL_SIM_SCRIPTS_DIR) + "/../config/scenes/palpation.yaml";
+  std::string scene = surgical_sim::tools::configDir() + "/scenes/palpation.yaml";
   int sequences = 10;
   int steps = 1000;
   unsigned seed = 1;

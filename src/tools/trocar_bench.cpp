@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "bench_cli.h"
+#include "package_dirs.h"
 #include "surgical_sim/core/common/text_file.h"
 #include "surgical_sim/core/haptics/contact_rate_study.h"
 #include "surgical_sim/core/haptics/haptic_loop.h"
@@ -27,16 +28,24 @@ namespace {
 
 using namespace surgical_sim::core;
 
+constexpr const char* kUsage =
+    "usage: trocar_bench [--seconds S] [--rt-priority P] [--csv FILE] [--plot FILE]\n"
+    "H1 benchmark of the active-trocar haptic loop (no ROS): loop timing, stiff wall with and\n"
+    "without passivity control, rendered-force error against the tissue update rate.\n"
+    "  --seconds S      loop timing duration [s], (0, 3600], default 3\n"
+    "  --rt-priority P  SCHED_FIFO priority of the loop, [0, 99], default 0 (none)\n"
+    "  --csv FILE       rendered-force error rows\n"
+    "  --plot FILE      their plot (PNG; needs --csv)\n";
+
 int usage(const std::string& msg) {
-  std::cerr << "trocar_bench: " << msg << "\n"
-            << "usage: trocar_bench [--seconds S] [--rt-priority P] [--csv FILE] [--plot FILE]\n";
+  std::cerr << "trocar_bench: " << msg << "\n" << kUsage;
   return 2;
 }
 
 void runLoopTiming(double seconds, int rt_priority) {
   HapticRendererConfig config;
   const TrocarUrdf trocar =
-      readTrocarUrdf(readTextFile(std::string(SURGICAL_SIM_URDF_DIR) + "/active_trocar.urdf"),
+      readTrocarUrdf(readTextFile(surgical_sim::tools::packageDir() + "/urdf/active_trocar.urdf"),
                      TrocarUrdfNames::forTrocar("trocar"));
   config.chain = trocar.chain;
   config.device = makeTrocarDeviceConfig(trocar, chendebPrototypeMotors());
@@ -104,6 +113,10 @@ void runStiffWall() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (surgical_sim::tools::wantsHelp(argc, argv)) {
+    std::cout << kUsage;
+    return 0;
+  }
   std::string csv_path, plot_path;
   double seconds = 3.0;
   int rt_priority = 0;
@@ -132,7 +145,9 @@ int main(int argc, char** argv) {
   std::ofstream csv;
   if (!surgical_sim::tools::openCsv("trocar_bench", csv_path, csv)) return 1;
 
+  surgical_sim::tools::progress("trocar_bench", "loop timing, " + std::to_string(seconds) + " s");
   runLoopTiming(seconds, rt_priority);
+  surgical_sim::tools::progress("trocar_bench", "stiff wall without and with passivity control");
   runStiffWall();
 
   const std::string header =
@@ -141,6 +156,10 @@ int main(int argc, char** argv) {
   if (csv) csv << header << "\n";
   for (const double rate : {30.0, 60.0, 120.0, 250.0, 500.0}) {
     for (const bool linear : {false, true}) {
+      surgical_sim::tools::progress("trocar_bench",
+                                    std::string("contact rate study, ") +
+                                        (linear ? "local_linear" : "zero_order_hold") + " at " +
+                                        std::to_string(rate) + " Hz");
       ContactRateStudySettings settings;
       settings.update_rate_hz = rate;
       settings.linear_model = linear;
