@@ -263,6 +263,17 @@ bool TissueSimulatorNode::stepAndPublish(const ros::Time& stamp, bool publish_su
   stats.pieces = static_cast<unsigned>(sim_->numComponents());
   stats.status = core::toString(s.report.status);
   stats.components = sim_->components();
+  stats.real_time_factor = real_time_factor_.add(ros::WallTime::now().toSec(), stats.sim_time);
+  // Realtime mode paces steps at dt: a factor below 0.9 (over a full window) means the machine
+  // cannot keep up with this scene.
+  if (realtime_ && stats.real_time_factor > 0.0 && stats.real_time_factor < 0.9 &&
+      stats.sim_time >= 1.0)
+    ROS_WARN_THROTTLE_NAMED(5.0, "tissue_simulator",
+                            "falling behind real time: real-time factor %.2f (%.0f steps/s "
+                            "against the scene's %.0f Hz); a coarser mesh, a larger time step or "
+                            "a faster solver would keep up",
+                            stats.real_time_factor, stats.real_time_factor / sim_->timeStep(),
+                            1.0 / sim_->timeStep());
   const bool failed = s.report.status == core::StepStatus::SolverFailed ||
                       s.report.status == core::StepStatus::NonFinite ||
                       s.report.status == core::StepStatus::BlowUp;
@@ -400,6 +411,7 @@ bool TissueSimulatorNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Re
   interrupt("reset");
   std::lock_guard<std::mutex> lock(sim_mutex_);  // waits for at most the step in progress
   sim_->reset();
+  real_time_factor_.clear();
   step_count_ = 0;
   if (sync_) sync_->reset();
   burst_open_ = false;
@@ -411,6 +423,10 @@ bool TissueSimulatorNode::onPause(std_srvs::SetBool::Request& req,
                                   std_srvs::SetBool::Response& res) {
   paused_ = req.data;
   interrupt("pause");
+  {
+    std::lock_guard<std::mutex> lock(sim_mutex_);
+    real_time_factor_.clear();  // paused time is not behind real time
+  }
   // Lockstep: finish the interrupted burst and any set completed meanwhile, on the main thread.
   if (sync_ && !req.data)
     resume_timer_ = nh_.createWallTimer(

@@ -23,6 +23,7 @@
 #include "surgical_sim/StepTissue.h"
 #include "surgical_sim/core/scene/tissue_simulation.h"
 #include "surgical_sim/ros/pose_set_sync.h"
+#include "surgical_sim/ros/real_time_factor.h"
 
 namespace surgical_sim::ros_layer {
 
@@ -130,6 +131,7 @@ class TissueSimulatorNode {
   double last_surface_wall_ = -1e9;
   double last_publish_seconds_ = 0.0;
   unsigned step_count_ = 0;
+  RealTimeFactor real_time_factor_{1.0};  ///< over the last second of wall time
 
   std::vector<ToolIo> tools_;
   std::unique_ptr<PoseSetSync> sync_;         ///< lockstep with tools only
