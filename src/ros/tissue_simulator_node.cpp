@@ -263,6 +263,7 @@ bool TissueSimulatorNode::stepAndPublish(const ros::Time& stamp, bool publish_su
   stats.pieces = static_cast<unsigned>(sim_->numComponents());
   stats.status = core::toString(s.report.status);
   stats.components = sim_->components();
+  if (restart_real_time_factor_.exchange(false)) real_time_factor_.clear();
   stats.real_time_factor = real_time_factor_.add(ros::WallTime::now().toSec(), stats.sim_time);
   // Realtime mode paces steps at dt: a factor below 0.9 (over a full window) means the machine
   // cannot keep up with this scene.
@@ -411,7 +412,7 @@ bool TissueSimulatorNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Re
   interrupt("reset");
   std::lock_guard<std::mutex> lock(sim_mutex_);  // waits for at most the step in progress
   sim_->reset();
-  real_time_factor_.clear();
+  restart_real_time_factor_ = true;
   step_count_ = 0;
   if (sync_) sync_->reset();
   burst_open_ = false;
@@ -423,10 +424,7 @@ bool TissueSimulatorNode::onPause(std_srvs::SetBool::Request& req,
                                   std_srvs::SetBool::Response& res) {
   paused_ = req.data;
   interrupt("pause");
-  {
-    std::lock_guard<std::mutex> lock(sim_mutex_);
-    real_time_factor_.clear();  // paused time is not behind real time
-  }
+  restart_real_time_factor_ = true;  // paused time is not behind real time
   // Lockstep: finish the interrupted burst and any set completed meanwhile, on the main thread.
   if (sync_ && !req.data)
     resume_timer_ = nh_.createWallTimer(

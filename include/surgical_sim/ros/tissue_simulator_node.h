@@ -131,7 +131,9 @@ class TissueSimulatorNode {
   double last_surface_wall_ = -1e9;
   double last_publish_seconds_ = 0.0;
   unsigned step_count_ = 0;
-  RealTimeFactor real_time_factor_{1.0};  ///< over the last second of wall time
+  RealTimeFactor real_time_factor_{1.0};  ///< over the last second of wall time (step thread)
+  /// Set by pause / reset (control thread): the next step starts the factor afresh.
+  std::atomic<bool> restart_real_time_factor_{false};
 
   std::vector<ToolIo> tools_;
   std::unique_ptr<PoseSetSync> sync_;         ///< lockstep with tools only
