@@ -73,7 +73,7 @@ std::vector<std::uint8_t> markInsideSamples(const TetMesh& mesh, const Eigen::Ve
 // Offsets of the grid particles around a DOF cell, sorted by distance from the IP at the cell's
 // lowest sub-cell (then by offset), with the 8 corners first. The IP in sub-cell (a, b, c) uses
 // the mirrored offsets.
-std::vector<GridIndex> neighbourOffsets(int neighbours) {
+std::vector<GridIndex> neighbourOffsets() {
   std::vector<GridIndex> offsets;
   for (int k = -2; k <= 3; ++k)
     for (int j = -2; j <= 3; ++j)
@@ -87,7 +87,6 @@ std::vector<GridIndex> neighbourOffsets(int neighbours) {
   };
   std::sort(offsets.begin(), offsets.end(),
             [&](const GridIndex& a, const GridIndex& b) { return key(a) < key(b); });
-  offsets.resize(static_cast<size_t>(neighbours));
   return offsets;
 }
 
@@ -129,12 +128,10 @@ EfgGrid buildEfgGrid(const TetMesh& mesh, const EfgOptions& options) {
   const Eigen::Vector3i samples = s * ip_cells;
   const std::vector<std::uint8_t> inside = markInsideSamples(mesh, grid.origin, d / s, samples);
 
-  const std::vector<GridIndex> offsets = neighbourOffsets(options.neighbours);
-  std::map<GridIndex, int> particle_of;  // grid index -> particle
-  std::vector<Eigen::Vector3d> particles;
+  // Kept cells, then the particles at the corners of their DOF cells.
+  std::vector<GridIndex> kept;
   std::vector<Eigen::Vector3d> points;
   std::vector<double> volumes;
-  std::vector<int> neighbours;
   const double sample_volume = std::pow(d / s, 3);
   for (int k = 0; k < ip_cells.z(); ++k) {
     for (int j = 0; j < ip_cells.y(); ++j) {
@@ -149,20 +146,46 @@ EfgGrid buildEfgGrid(const TetMesh& mesh, const EfgOptions& options) {
         if (count == 0) continue;
         grid.ip_of_cell[static_cast<size_t>(i + ip_cells.x() * (j + ip_cells.y() * k))] =
             static_cast<int>(points.size());
+        kept.push_back({i, j, k});
         points.push_back(grid.origin + d * Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5));
         volumes.push_back(count * sample_volume);
-        const GridIndex cell{i / 2, j / 2, k / 2};
-        const GridIndex sub{i % 2, j % 2, k % 2};
-        for (const GridIndex& o : offsets) {
-          GridIndex g;
-          for (int c = 0; c < 3; ++c) g[c] = cell[c] + (sub[c] == 0 ? o[c] : 1 - o[c]);
-          const auto [it, added] = particle_of.emplace(g, static_cast<int>(particles.size()));
-          if (added) {
-            particles.push_back(grid.origin + 2.0 * d * Eigen::Vector3d(g[0], g[1], g[2]));
-          }
-          neighbours.push_back(it->second);
-        }
       }
+    }
+  }
+  const std::vector<GridIndex> offsets = neighbourOffsets();
+  // Grid index of the particle at `offset` (mirrored by sub-cell) from IP cell `ip`.
+  const auto particleIndex = [](const GridIndex& ip, const GridIndex& offset) {
+    GridIndex g;
+    for (int c = 0; c < 3; ++c) g[c] = ip[c] / 2 + (ip[c] % 2 == 0 ? offset[c] : 1 - offset[c]);
+    return g;
+  };
+  std::map<GridIndex, int> particle_of;  // grid index -> particle
+  std::vector<Eigen::Vector3d> particles;
+  for (const GridIndex& ip : kept) {
+    for (size_t o = 0; o < 8; ++o) {
+      const GridIndex g = particleIndex(ip, offsets[o]);
+      if (particle_of.emplace(g, static_cast<int>(particles.size())).second)
+        particles.push_back(grid.origin + 2.0 * d * Eigen::Vector3d(g[0], g[1], g[2]));
+    }
+  }
+  // Neighbours: the corners, then the nearest other existing particles.
+  std::vector<int> neighbours;
+  for (const GridIndex& ip : kept) {
+    int found = 0;
+    for (size_t o = 0; o < offsets.size() && found < options.neighbours; ++o) {
+      const auto it = particle_of.find(particleIndex(ip, offsets[o]));
+      if (it == particle_of.end()) continue;
+      neighbours.push_back(it->second);
+      ++found;
+    }
+    if (found < options.neighbours) {
+      throw std::invalid_argument(
+          "EfgModel: efg.neighbours = " + std::to_string(options.neighbours) + ": only " +
+          std::to_string(found) +
+          " particles lie near the integration "
+          "point of cell (" +
+          std::to_string(ip[0]) + ", " + std::to_string(ip[1]) + ", " + std::to_string(ip[2]) +
+          ")");
     }
   }
   if (points.empty()) {

@@ -143,6 +143,8 @@ TEST(EfgGrid, RejectsBadOptionsAndMeshesNamingTheKey) {
   EfgOptions support = options(0.1);
   support.kernel_support = 1.0;
   EXPECT_NE(message(support, box).find("efg.kernel_support"), std::string::npos);
+  // One DOF cell has only its 8 corner particles.
+  EXPECT_NE(message(options(0.5, 9), box).find("efg.neighbours"), std::string::npos);
   TetMesh broken = box;
   broken.elements(2, 0) = 99;
   EXPECT_NE(message(options(0.1), broken).find("mesh.elements"), std::string::npos);

@@ -15,9 +15,9 @@ namespace surgical_sim::core {
 /// the grid of side 2 d through the same corner, so each DOF cell holds 2 x 2 x 2 integration
 /// cells. A cell's volume is d^3 times the fraction of its volume_samples^3 regularly spaced
 /// sample points (cell-centred sub-grid) that lie in a tet of the mesh; cells with no sample
-/// inside are dropped. An IP's neighbours are the 8 corners of its DOF cell, then (for
-/// neighbours > 8) the nearest other grid particles, ties broken by grid index. Only particles
-/// that neighbour a kept IP exist; they may lie outside the mesh.
+/// inside are dropped. The particles are the corners of the DOF cells holding a kept IP; they
+/// may lie outside the mesh. An IP's neighbours are the 8 corners of its DOF cell, then (for
+/// neighbours > 8) the nearest other particles, ties broken by grid index.
 struct EfgGrid {
   double spacing = 0.0;                 ///< d [m]
   Eigen::Vector3d origin;               ///< lowest grid corner [m]
@@ -35,7 +35,8 @@ struct EfgGrid {
 /// @throws std::invalid_argument for invalid options (EfgOptions::validate), an empty mesh or
 ///         an element index out of range ("mesh.elements"), more than 8e6 integration cells
 ///         ("efg.spacing" too small) or 5e8 volume samples ("efg.volume_samples") in the bounding
-///         box, or no cell inside the mesh.
+///         box, no cell inside the mesh, or fewer than options.neighbours particles near an IP
+///         ("efg.neighbours").
 EfgGrid buildEfgGrid(const TetMesh& mesh, const EfgOptions& options);
 
 }  // namespace surgical_sim::core
