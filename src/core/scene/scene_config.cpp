@@ -568,7 +568,8 @@ void forEachItem(const KeyReader& r, const std::string& key, Read read) {
 void readEfg(const KeyReader& scene, SceneBase& s) {
   if (!scene.has("efg")) return;
   const KeyReader r = scene.child("efg");
-  r.onlyKeys({"spacing", "neighbours", "kernel_support", "volume_samples", "rotation"});
+  r.onlyKeys({"spacing", "neighbours", "kernel_support", "volume_samples", "rotation",
+              "integration_point"});
   if (r.required("spacing").IsSequence()) {
     s.efg_spacings = r.numbers("spacing");
   } else {
@@ -583,6 +584,8 @@ void readEfg(const KeyReader& scene, SceneBase& s) {
   s.efg.volume_samples =
       r.integer("volume_samples", 1, EfgOptions::kMaxVolumeSamples, s.efg.volume_samples);
   if (r.has("rotation")) s.efg.rotation = readEnum(r, "rotation", kEfgRotationNames);
+  if (r.has("integration_point"))
+    s.efg.ip_at_centroid = r.choice("integration_point", {"centroid", "centre"}) == "centroid";
 }
 
 /// The keys both scene kinds share (mesh geometry without its resolution keys `mesh_keys`).

@@ -137,17 +137,24 @@ EfgGrid buildEfgGrid(const TetMesh& mesh, const EfgOptions& options) {
     for (int j = 0; j < ip_cells.y(); ++j) {
       for (int i = 0; i < ip_cells.x(); ++i) {
         int count = 0;
+        Eigen::Vector3d sum = Eigen::Vector3d::Zero();  // of the inside samples' sub-cell indices
         for (int c = 0; c < s; ++c)
           for (int b = 0; b < s; ++b)
             for (int a = 0; a < s; ++a)
-              count += inside[static_cast<size_t>(
-                  s * i + a +
-                  samples.x() * (s * j + b + static_cast<int64_t>(samples.y()) * (s * k + c)))];
+              if (inside[static_cast<size_t>(
+                      s * i + a +
+                      samples.x() *
+                          (s * j + b + static_cast<int64_t>(samples.y()) * (s * k + c)))]) {
+                ++count;
+                sum += Eigen::Vector3d(a + 0.5, b + 0.5, c + 0.5);
+              }
         if (count == 0) continue;
         grid.ip_of_cell[static_cast<size_t>(i + ip_cells.x() * (j + ip_cells.y() * k))] =
             static_cast<int>(points.size());
         kept.push_back({i, j, k});
-        points.push_back(grid.origin + d * Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5));
+        const Eigen::Vector3d offset = options.ip_at_centroid ? Eigen::Vector3d(sum / (count * s))
+                                                              : Eigen::Vector3d::Constant(0.5);
+        points.push_back(grid.origin + d * (Eigen::Vector3d(i, j, k) + offset));
         volumes.push_back(count * sample_volume);
       }
     }

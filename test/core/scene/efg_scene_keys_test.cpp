@@ -77,6 +77,10 @@ TEST(EfgSceneKeys, ParsedWithDefaults) {
   const BenchmarkScene sm = parseBenchmarkScene(
       replaced(kEfgBench, "rotation: polar", "rotation: shape_matching"), "efg.yaml");
   EXPECT_EQ(sm.efg.rotation, EfgRotation::ShapeMatching);
+  EXPECT_TRUE(d.efg.ip_at_centroid);
+  const BenchmarkScene centre = parseBenchmarkScene(
+      replaced(kEfgBench, "rotation: polar", "integration_point: centre"), "efg.yaml");
+  EXPECT_FALSE(centre.efg.ip_at_centroid);
   const BenchmarkScene per_resolution = parseBenchmarkScene(
       replaced(kEfgBench, "spacing: 0.0025", "spacing: [0.005, 0.0025]"), "efg.yaml");
   EXPECT_EQ(per_resolution.efg_spacings, (std::vector<double>{0.005, 0.0025}));
@@ -98,6 +102,8 @@ TEST(EfgSceneKeys, EveryKeyRejectsBadValuesNamingIt) {
                  {"efg.volume_samples"});
   expectRejected(replaced(kEfgBench, "rotation: polar", "rotation: euler"),
                  {"efg.rotation", "'euler'"});
+  expectRejected(replaced(kEfgBench, "rotation: polar", "integration_point: middle"),
+                 {"efg.integration_point", "'middle'"});
   expectRejected(replaced(kEfgBench, "rotation: polar", "rotation: polar\n  grid: 3"),
                  {"efg", "grid"});
   // Model efg without the efg map.

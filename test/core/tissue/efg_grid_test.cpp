@@ -64,6 +64,32 @@ TEST(EfgGrid, AlignedBoxHasFullCellsOnCornerParticles) {
   }
 }
 
+TEST(EfgGrid, IntegrationPointIsTheCentroidOfTheInsidePart) {
+  // Cells of d = 1/3.5 m over the unit cube: the last layer per axis, [3d, 4d], is cut at 1 m
+  // through its middle, between volume samples (4 per axis), so volumes are exact.
+  const TetMesh box = makeBox(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(),
+                              Eigen::Vector3i(2, 2, 2), ElementType::Tet4);
+  const double d = 1.0 / 3.5;
+  EfgOptions o = options(d);
+  const EfgGrid centroid = buildEfgGrid(box, o);
+  o.ip_at_centroid = false;
+  const EfgGrid centre = buildEfgGrid(box, o);
+  ASSERT_EQ(centroid.integration_points.cols(), 64);
+  EXPECT_NEAR(centroid.volumes.sum(), 1.0, 1e-12);
+  for (int e = 0; e < 64; ++e) {
+    const Eigen::Vector3d c = centre.integration_points.col(e);
+    const Eigen::Vector3d p = centroid.integration_points.col(e);
+    // A cut cell's inside half [3d, 1] has its centroid d/4 below the cell centre 1.
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(p(a), c(a) > 0.99 ? c(a) - d / 4 : c(a), 1e-12);
+  }
+  // First moment exact: sum V_e x_e = V x_centroid of the body.
+  EXPECT_LT(
+      (centroid.integration_points * centroid.volumes - Eigen::Vector3d::Constant(0.5)).norm(),
+      1e-12);
+  EXPECT_GT((centre.integration_points * centre.volumes - Eigen::Vector3d::Constant(0.5)).norm(),
+            1e-2);
+}
+
 TEST(EfgGrid, ExtraNeighboursAreTheNearestOtherParticles) {
   const TetMesh box = makeBox(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(),
                               Eigen::Vector3i(2, 2, 2), ElementType::Tet4);

@@ -11,7 +11,8 @@ namespace surgical_sim::core {
 /// The two superimposed regular grids of the EFG model.
 ///
 /// Integration cells are cubes of side d = options.spacing starting at the lowest corner of the
-/// mesh's bounding box, with one integration point (IP) at each cell centre; DOF particles sit on
+/// mesh's bounding box, with one integration point (IP) each, at the centroid of the cell's inside
+/// volume samples (options.ip_at_centroid) or at the cell centre; DOF particles sit on
 /// the grid of side 2 d through the same corner, so each DOF cell holds 2 x 2 x 2 integration
 /// cells. A cell's volume is d^3 times the fraction of its volume_samples^3 regularly spaced
 /// sample points (cell-centred sub-grid) that lie in a tet of the mesh; cells with no sample
@@ -22,7 +23,7 @@ struct EfgGrid {
   double spacing = 0.0;                 ///< d [m]
   Eigen::Vector3d origin;               ///< lowest grid corner [m]
   Eigen::Matrix3Xd particles;           ///< particle rest positions [m], 3 x n
-  Eigen::Matrix3Xd integration_points;  ///< IP positions (cell centres) [m], 3 x m
+  Eigen::Matrix3Xd integration_points;  ///< IP positions [m], 3 x m
   Eigen::VectorXd volumes;              ///< inside volume per IP [m^3], size m, in (0, d^3]
   Eigen::MatrixXi neighbours;           ///< particle indices, options.neighbours x m
   Eigen::Vector3i cells;                ///< integration cells per axis (kept or not)

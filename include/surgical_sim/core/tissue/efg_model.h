@@ -16,8 +16,8 @@
 namespace surgical_sim::core {
 
 /// Meshless Element-Free Galerkin tissue: co-rotated linear elasticity, total Lagrangian, on the
-/// two regular grids of EfgGrid (DOFs = the grid particles, one-point quadrature at the centre of
-/// each integration cell weighted by its inside volume V_e).
+/// two regular grids of EfgGrid (DOFs = the grid particles, one-point quadrature at each
+/// integration cell's IP weighted by its inside volume V_e).
 ///
 /// Each integration point (IP) e has k = options.neighbours particles with linear-basis MLS shape
 /// functions phi_a and rest gradients g_a = d phi_a / dX (computeMlsShapeFunctions), so

@@ -32,6 +32,11 @@ struct EfgOptions {
   /// Volume samples per axis of an integration cell [-] (samples^3 points), range [1, 8],
   /// default 4.
   int volume_samples = 4;
+  /// Integration point of a cell: the centroid of its inside volume samples (true) or the cell
+  /// centre (false, as in Magnoux's thesis); default true. The centroid integrates linear
+  /// functions exactly over the cell's inside part, which removes the stiffening of cells cut by
+  /// the surface.
+  bool ip_at_centroid = true;
   /// Rotation of the co-rotated elasticity, default Polar.
   EfgRotation rotation = EfgRotation::Polar;
 
