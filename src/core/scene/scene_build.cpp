@@ -38,23 +38,24 @@ TetMesh buildSceneMesh(const MeshSpec& spec, const Eigen::Vector3i& res, Element
   return makeOrganBlob(spec.size, res[0], type);
 }
 
-std::vector<int> regionDofs(const TetMesh& mesh, const Region& region,
+std::vector<int> regionDofs(const Eigen::VectorXd& rest, const Region& region,
                             const Eigen::Vector3i& components) {
   std::vector<int> dofs;
-  for (int n = 0; n < mesh.numNodes(); ++n)
-    if (region.contains(mesh.nodes.col(n)))
+  for (int n = 0; n < static_cast<int>(rest.size() / 3); ++n)
+    if (region.contains(rest.segment<3>(3 * n)))
       for (int c = 0; c < 3; ++c)
         if (components[c]) dofs.push_back(3 * n + c);
   return dofs;
 }
 
-void appendRegionDofs(const TetMesh& mesh, const Region& region, const Eigen::Vector3i& components,
-                      const std::string& key, const std::string& scene_path,
-                      std::vector<bool>& taken, std::vector<int>& dofs) {
-  const std::vector<int> region_dofs = regionDofs(mesh, region, components);
+void appendRegionDofs(const Eigen::VectorXd& rest, const Region& region,
+                      const Eigen::Vector3i& components, const std::string& key,
+                      const std::string& scene_path, std::vector<bool>& taken,
+                      std::vector<int>& dofs) {
+  const std::vector<int> region_dofs = regionDofs(rest, region, components);
   if (region_dofs.empty())
     throw std::invalid_argument("scene " + scene_path + ": key '" + key +
-                                ".region' contains no mesh node");
+                                ".region' contains no model node");
   for (const int d : region_dofs) {
     if (taken[static_cast<std::size_t>(d)]) continue;
     taken[static_cast<std::size_t>(d)] = true;
@@ -62,12 +63,11 @@ void appendRegionDofs(const TetMesh& mesh, const Region& region, const Eigen::Ve
   }
 }
 
-DirichletBc fixedDirichlet(const SceneBase& scene, const TetMesh& mesh,
-                           const Eigen::VectorXd& rest) {
+DirichletBc fixedDirichlet(const SceneBase& scene, const Eigen::VectorXd& rest) {
   DirichletBc bc;
-  std::vector<bool> taken(static_cast<std::size_t>(3 * mesh.numNodes()), false);
+  std::vector<bool> taken(static_cast<std::size_t>(rest.size()), false);
   for (std::size_t i = 0; i < scene.fixed.size(); ++i)
-    appendRegionDofs(mesh, scene.fixed[i].region, scene.fixed[i].components,
+    appendRegionDofs(rest, scene.fixed[i].region, scene.fixed[i].components,
                      "fixed[" + std::to_string(i) + "]", scene.path, taken, bc.dofs);
   bc.positions.resize(static_cast<Eigen::Index>(bc.dofs.size()));
   for (std::size_t i = 0; i < bc.dofs.size(); ++i)

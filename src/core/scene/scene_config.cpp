@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
+#include <algorithm>
 
 #include <cctype>
 #include <cerrno>
@@ -562,6 +563,31 @@ void forEachItem(const KeyReader& r, const std::string& key, Read read) {
   }
 }
 
+/// The optional 'efg' map: EfgModel settings; efg.spacing [m] is one number, or (benchmark
+/// files) a list with one entry per mesh resolution.
+void readEfg(const KeyReader& scene, SceneBase& s) {
+  if (!scene.has("efg")) return;
+  const KeyReader r = scene.child("efg");
+  r.onlyKeys({"spacing", "neighbours", "kernel_support", "volume_samples", "rotation",
+              "integration_point"});
+  if (r.required("spacing").IsSequence()) {
+    s.efg_spacings = r.numbers("spacing");
+  } else {
+    s.efg_spacings = {r.number("spacing")};
+  }
+  for (double d : s.efg_spacings) checkRange(r, "spacing", d, 1e-6, 10.0, "m");
+  s.efg.spacing = s.efg_spacings.front();
+  s.efg.neighbours = r.integer("neighbours", EfgOptions::kMinNeighbours, EfgOptions::kMaxNeighbours,
+                               s.efg.neighbours);
+  s.efg.kernel_support = r.number("kernel_support", s.efg.kernel_support);
+  checkRange(r, "kernel_support", s.efg.kernel_support, 1.1, 10.0, "");
+  s.efg.volume_samples =
+      r.integer("volume_samples", 1, EfgOptions::kMaxVolumeSamples, s.efg.volume_samples);
+  if (r.has("rotation")) s.efg.rotation = readEnum(r, "rotation", kEfgRotationNames);
+  if (r.has("integration_point"))
+    s.efg.ip_at_centroid = r.choice("integration_point", {"centroid", "centre"}) == "centroid";
+}
+
 /// The keys both scene kinds share (mesh geometry without its resolution keys `mesh_keys`).
 void readBase(const KeyReader& r, const std::set<std::string>& mesh_keys, SceneBase& s) {
   s.name = r.text("name");
@@ -623,6 +649,7 @@ void readBase(const KeyReader& r, const std::set<std::string>& mesh_keys, SceneB
   });
   if (s.tools.size() > 4) r.fail("tools", "at most 4 tools are supported");
   if (r.has("tissue_pose")) s.tissue_pose = readPose(r, "tissue_pose");
+  readEfg(r, s);
 }
 
 /// Fills the topics a scene left out (docs/scenes.md): a tool held by trocar T talks on T's
@@ -701,7 +728,7 @@ RuntimeScene parseRuntime(const YAML::Node& root, const std::string& path) {
     rejectForeignKeys(r.child("mesh"), kBenchmarkMeshKeys);
   r.onlyKeys({"name", "description", "mesh", "material", "model", "integrator", "solver",
               "time_step", "gravity", "damping", "newton", "pcg", "fixed", "tools", "trocars",
-              "blades", "robot", "tissue_pose"});
+              "blades", "robot", "tissue_pose", "efg"});
   RuntimeScene s;
   s.path = path;
   readBase(r, {"resolution", "element_type"}, s);
@@ -718,6 +745,9 @@ RuntimeScene parseRuntime(const YAML::Node& root, const std::string& path) {
   s.model = readEnum(r, "model", kModelNames);
   if (linearTetOnly(s.model) && s.element_type == ElementType::Tet10)
     r.fail("model", std::string(modelName(s.model)) + " is defined on tet4 meshes only");
+  if (s.model == ModelKind::Efg && s.efg_spacings.empty())
+    r.fail("efg", "model efg needs 'efg: {spacing: <m>}'");
+  if (s.efg_spacings.size() > 1) r.fail("efg", "a runtime scene takes one efg.spacing, not a list");
   s.integrator = readEnum(r, "integrator", kIntegratorNames);
   s.solver = readEnum(r, "solver", kSolverNames);
 
@@ -757,9 +787,10 @@ BenchmarkScene parseBenchmark(const YAML::Node& root, const std::string& path) {
   rejectForeignKeys(r, kRuntimeKeys);
   if (r.has("mesh") && r.node()["mesh"].IsMap())
     rejectForeignKeys(r.child("mesh"), kRuntimeMeshKeys);
-  r.onlyKeys({"name", "description", "mesh", "material", "models", "integrators", "solvers",
-              "time_step", "steps", "load_factors", "gravity", "damping", "newton", "pcg", "fixed",
-              "prescribed", "measure", "tools", "tissue_pose"});
+  r.onlyKeys({"name",        "description", "mesh",      "material",    "models",
+              "integrators", "solvers",     "time_step", "steps",       "load_factors",
+              "gravity",     "damping",     "newton",    "pcg",         "fixed",
+              "prescribed",  "measure",     "tools",     "tissue_pose", "efg"});
   BenchmarkScene s;
   s.path = path;
   readBase(r, {"resolutions", "element_types"}, s);
@@ -777,6 +808,12 @@ BenchmarkScene parseBenchmark(const YAML::Node& root, const std::string& path) {
   for (const Eigen::Vector3i& res : s.resolutions)
     for (ElementType type : s.element_types) checkBudget(mesh, "resolutions", s.mesh, res, type);
   s.models = readEnums(r, "models", kModelNames);
+  if (std::count(s.models.begin(), s.models.end(), ModelKind::Efg) > 0 && s.efg_spacings.empty())
+    r.fail("efg", "model efg needs 'efg: {spacing: <m>}'");
+  if (s.efg_spacings.size() > 1 && s.efg_spacings.size() != s.resolutions.size())
+    r.fail("efg", "efg.spacing lists " + std::to_string(s.efg_spacings.size()) +
+                      " values: give one, or one per mesh.resolutions entry (" +
+                      std::to_string(s.resolutions.size()) + ")");
   s.integrators = readEnums(r, "integrators", kIntegratorNames);
   s.solvers = readEnums(r, "solvers", kSolverNames);
   s.steps = r.integer("steps", 1, 1000000);

@@ -11,6 +11,7 @@
 #include "surgical_sim/core/mesh/gmsh_reader.h"
 #include "surgical_sim/core/mesh/mesh_check.h"
 #include "surgical_sim/core/scene/scene_build.h"
+#include "surgical_sim/core/tissue/efg_model.h"
 
 namespace surgical_sim::core {
 namespace {
@@ -64,12 +65,42 @@ double analyticTipReference(const BenchmarkScene& scene) {
          q * L * L / (2.0 * s.shear_coefficient * mat.mu() * s.area);
 }
 
-/// Mean displacement component of the measured region's nodes [m].
-double meanRegionDisplacement(const std::vector<int>& dofs, const Eigen::VectorXd& x,
-                              const Eigen::VectorXd& x0) {
-  double sum = 0.0;
-  for (int d : dofs) sum += x[d] - x0[d];
-  return sum / static_cast<double>(dofs.size());
+/// The efg settings of one case: the scene's, with the spacing of the case's resolution when
+/// efg.spacing lists one per resolution.
+EfgOptions caseEfgOptions(const BenchmarkScene& scene, const CaseSpec& spec) {
+  EfgOptions efg = scene.efg;
+  if (scene.efg_spacings.size() > 1) {
+    const auto it = std::find(scene.resolutions.begin(), scene.resolutions.end(), spec.resolution);
+    if (it != scene.resolutions.end())
+      efg.spacing = scene.efg_spacings[static_cast<std::size_t>(it - scene.resolutions.begin())];
+  }
+  return efg;
+}
+
+/// Mean displacement component `component` [m] of the mesh nodes in `region` at model positions
+/// x (rest x0): the nodes' own DOFs for tet models, the model's interpolation at the nodes for
+/// efg. Empty region: NaN.
+double meanRegionDisplacement(const TetMesh& mesh, const TissueModel& model, const Region& region,
+                              int component, const Eigen::VectorXd& x, const Eigen::VectorXd& x0) {
+  const Eigen::Map<const Eigen::VectorXd> nodes(mesh.nodes.data(), mesh.nodes.size());
+  const std::vector<int> dofs = regionDofs(nodes, region, Eigen::Vector3i::Unit(component));
+  if (dofs.empty()) return std::numeric_limits<double>::quiet_NaN();
+  Eigen::VectorXd u(static_cast<Eigen::Index>(dofs.size()));
+  if (const auto* efg = dynamic_cast<const EfgModel*>(&model)) {
+    Eigen::Matrix3Xd points(3, u.size());
+    for (Eigen::Index i = 0; i < u.size(); ++i)
+      points.col(i) = nodes.segment<3>(3 * (dofs[static_cast<std::size_t>(i)] / 3));
+    const Eigen::SparseMatrix<double> W = efg->interpolation(points);
+    const Eigen::VectorXd du = x - x0;
+    u = W * Eigen::Map<const Eigen::VectorXd, 0, Eigen::InnerStride<3>>(du.data() + component,
+                                                                        du.size() / 3);
+  } else {
+    for (Eigen::Index i = 0; i < u.size(); ++i) {
+      const int d = dofs[static_cast<std::size_t>(i)];
+      u(i) = x[d] - x0[d];
+    }
+  }
+  return u.mean();
 }
 
 /// Prescribed part of the Dirichlet set, with rest positions and unit-load displacements.
@@ -92,20 +123,20 @@ CaseSetup setUp(const BenchmarkScene& scene, const CaseSpec& spec) {
   CaseSetup c;
   c.mesh = buildSceneMesh(scene.mesh, spec.resolution, spec.element_type);
   requireValidMesh(c.mesh);
-  c.model = makeTissueModel(spec.model, c.mesh, scene.material);
+  c.model = makeTissueModel(spec.model, c.mesh, scene.material, caseEfgOptions(scene, spec));
   c.problem.model = c.model.get();
   c.problem.external_force = c.model->bodyForce(scene.gravity);
   c.problem.damping.mass_coefficient = scene.damping_mass;
   c.problem.damping.stiffness_coefficient = scene.damping_stiffness;
   const Eigen::VectorXd& rest = c.model->restPositions();
-  c.problem.dirichlet = fixedDirichlet(scene, c.mesh, rest);
+  c.problem.dirichlet = fixedDirichlet(scene, rest);
   c.fixed_dofs = c.problem.dirichlet.dofs.size();
-  std::vector<bool> taken(static_cast<std::size_t>(3 * c.mesh.numNodes()), false);
+  std::vector<bool> taken(static_cast<std::size_t>(rest.size()), false);
   for (const int d : c.problem.dirichlet.dofs) taken[static_cast<std::size_t>(d)] = true;
   for (std::size_t i = 0; i < scene.prescribed.size(); ++i) {
     const PrescribedBc& bc = scene.prescribed[i];
     const std::size_t first = c.prescribed.dofs.size();
-    appendRegionDofs(c.mesh, bc.region, bc.components, "prescribed[" + std::to_string(i) + "]",
+    appendRegionDofs(rest, bc.region, bc.components, "prescribed[" + std::to_string(i) + "]",
                      scene.path, taken, c.prescribed.dofs);
     for (std::size_t k = first; k < c.prescribed.dofs.size(); ++k) {
       const int d = c.prescribed.dofs[k];
@@ -212,6 +243,8 @@ std::vector<CaseSpec> expandSweep(const BenchmarkScene& scene) {
     for (const auto& res : scene.resolutions)
       for (const auto& model : scene.models) {
         if (type != ElementType::Tet4 && linearTetOnly(model)) continue;
+        // efg uses the mesh only for its volume: one element type is enough.
+        if (model == ModelKind::Efg && type != scene.element_types.front()) continue;
         for (const auto& integrator : scene.integrators)
           for (const auto& solver : scene.solvers)
             cases.push_back({res, type, model, integrator, solver});
@@ -227,6 +260,8 @@ RuntimeScene caseScene(const BenchmarkScene& scene, const CaseSpec& spec) {
   one.model = spec.model;
   one.integrator = spec.integrator;
   one.solver = spec.solver;
+  one.efg = caseEfgOptions(scene, spec);
+  if (!scene.efg_spacings.empty()) one.efg_spacings = {one.efg.spacing};
   return one;
 }
 
@@ -234,8 +269,10 @@ CaseResult runTissueCase(const BenchmarkScene& scene, const CaseSpec& spec) {
   CaseSetup c = setUp(scene, spec);
   CaseResult result;
   result.spec = spec;
-  result.nodes = c.mesh.numNodes();
-  result.elements = c.mesh.numElements();
+  const auto* efg = dynamic_cast<const EfgModel*>(c.model.get());
+  result.nodes = c.model->numNodes();
+  result.elements =
+      efg != nullptr ? static_cast<int>(efg->grid().volumes.size()) : c.mesh.numElements();
   result.dofs = 3 * result.nodes;
   result.dt = scene.time_step;
 
@@ -249,11 +286,10 @@ CaseResult runTissueCase(const BenchmarkScene& scene, const CaseSpec& spec) {
   const MeasureSpec& m = scene.measure;
   const Eigen::VectorXd& x0 = c.model->restPositions();
   if (m.type == "tip_displacement") {
-    const auto dofs = regionDofs(c.mesh, m.region, Eigen::Vector3i::Unit(m.component));
-    if (dofs.empty())
+    result.measured = meanRegionDisplacement(c.mesh, *c.model, m.region, m.component, run.x, x0);
+    if (std::isnan(result.measured))
       throw std::invalid_argument("scene " + scene.path +
                                   ": key 'measure.region' contains no mesh node");
-    result.measured = meanRegionDisplacement(dofs, run.x, x0);
     result.reference = analyticTipReference(scene);
     result.error_rel = std::abs(result.measured - result.reference) / std::abs(result.reference);
   } else if (m.type == "uniaxial_svk_force") {

@@ -31,6 +31,11 @@ StepStatus combined(StepStatus integrator, StepStatus contact) {
 }  // namespace
 
 TissueSimulation::TissueSimulation(const RuntimeScene& scene) : scene_(scene) {
+  // Contact, cutting and rendering address the mesh's own nodes; an efg model has other DOFs.
+  if (scene_.model == ModelKind::Efg)
+    throw std::invalid_argument("scene " + scene_.path +
+                                ": key 'model': efg runs in benchmark files (tissue_bench) only; "
+                                "a runtime simulation needs a tet model");
   original_mesh_ = buildSceneMesh(scene_.mesh, scene_.resolution, scene_.element_type);
   requireValidMesh(original_mesh_);
 
@@ -66,7 +71,7 @@ void TissueSimulation::installModel(std::unique_ptr<TissueModel> model) {
   problem_.model = model_.get();
   base_force_ = model_->bodyForce(scene_.gravity);
   problem_.external_force = base_force_;
-  base_dirichlet_ = fixedDirichlet(scene_, mesh_, model_->restPositions());
+  base_dirichlet_ = fixedDirichlet(scene_, model_->restPositions());
   problem_.dirichlet = base_dirichlet_;
 }
 
@@ -87,7 +92,7 @@ void TissueSimulation::reset() {
   cut_faces_.clear();
   mesh_ = original_mesh_;
   surface_ = extractSurface(mesh_);
-  installModel(makeTissueModel(scene_.model, mesh_, scene_.material));
+  installModel(makeTissueModel(scene_.model, mesh_, scene_.material, scene_.efg));
   state_.x = model_->restPositions();
   state_.v = Eigen::VectorXd::Zero(state_.x.size());
   state_.time = 0.0;

@@ -8,6 +8,7 @@
 
 #include "surgical_sim/core/tissue/block_sparsity.h"
 #include "surgical_sim/core/tissue/fe_rest_data.h"
+#include "surgical_sim/core/tissue/point_stiffness.h"
 #include "surgical_sim/core/tissue/tissue_mesh_check.h"
 
 namespace surgical_sim::core {
@@ -46,23 +47,6 @@ template <int NPE>
 void scatterForce(const Eigen::Matrix<double, 3, NPE>& fe, const Eigen::MatrixXi& elements, int e,
                   Eigen::VectorXd& f) {
   for (int a = 0; a < NPE; ++a) f.segment<3>(3 * elements(a, e)) += fe.col(a);
-}
-
-// Ke += w G^T A G with G = d vec(F) / d x_e, i.e. Ke(3a+i, 3b+j) += w sum_kl G(a,k) A(i+3k, j+3l)
-// G(b,l), computed block-wise without forming the 9 x 3NPE matrix G.
-template <int NPE>
-void addPointStiffness(const Matrix9d& A, const Gradients<NPE>& G, double w,
-                       ElementMatrix<NPE>& Ke) {
-  for (int b = 0; b < NPE; ++b) {
-    Eigen::Matrix<double, 9, 3> AG = (w * G(b, 0)) * A.template middleCols<3>(0);
-    AG.noalias() += (w * G(b, 1)) * A.template middleCols<3>(3);
-    AG.noalias() += (w * G(b, 2)) * A.template middleCols<3>(6);
-    for (int a = 0; a < NPE; ++a) {
-      Ke.template block<3, 3>(3 * a, 3 * b) += G(a, 0) * AG.template middleRows<3>(0) +
-                                               G(a, 1) * AG.template middleRows<3>(3) +
-                                               G(a, 2) * AG.template middleRows<3>(6);
-    }
-  }
 }
 
 // Tet4 specialisation of addPointStiffness: with one point and dN_0/dX = -(g1 + g2 + g3), only
@@ -213,7 +197,7 @@ void FeModel::stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::V
         const size_t k = static_cast<size_t>(e) * NQ + q;
         const Gradients<NPE> G(rest_gradients_.data() + k * NPE * 3);
         const double w = weight_det_j_[k];
-        addPointStiffness<NPE>(point_tangent(G, xe * G, w), G, w, Ke);
+        addPointStiffness(point_tangent(G, xe * G, w), G, w, Ke);
       }
     }
     if (f != nullptr) scatterForce<NPE>(fe, elements_, e, *f);
@@ -246,12 +230,7 @@ void FeModel::addInternalForceAndStiffness(const Eigen::VectorXd& x, TangentMode
 
 void FeModel::assemble(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
                        Eigen::SparseMatrix<double>& K, const char* caller) const {
-  if (K.rows() != pattern_.rows() || K.cols() != pattern_.cols() ||
-      K.nonZeros() != pattern_.nonZeros() || !K.isCompressed()) {
-    throw std::invalid_argument(std::string(caller) + ": K must have stiffnessPattern()");
-  }
-  double* values = K.valuePtr();
-  std::fill(values, values + K.nonZeros(), 0.0);
+  double* values = zeroedPatternValues(pattern_, K, caller);
   const auto scatter = [&](int e, const auto& Ke) { scatter_.add(e, Ke, values); };
   if (type_ == ElementType::Tet4) {
     stiffnessImpl<4, 1>(x, mode, f, scatter);

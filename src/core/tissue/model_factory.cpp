@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "surgical_sim/core/tissue/corotational_law.h"
+#include "surgical_sim/core/tissue/efg_model.h"
 #include "surgical_sim/core/tissue/ems_model.h"
 #include "surgical_sim/core/tissue/fe_model.h"
 #include "surgical_sim/core/tissue/mass_spring_model.h"
@@ -12,7 +13,7 @@
 namespace surgical_sim::core {
 
 std::unique_ptr<TissueModel> makeTissueModel(ModelKind kind, const TetMesh& mesh,
-                                             const Material& material) {
+                                             const Material& material, const EfgOptions& efg) {
   switch (kind) {
     case ModelKind::MassSpring:
       return std::make_unique<MassSpringModel>(mesh, material);
@@ -26,6 +27,8 @@ std::unique_ptr<TissueModel> makeTissueModel(ModelKind kind, const TetMesh& mesh
     case ModelKind::NeoHookean:
       return std::make_unique<FeModel>(mesh, material,
                                        std::make_unique<StableNeoHookeanLaw>(material));
+    case ModelKind::Efg:
+      return std::make_unique<EfgModel>(mesh, material, efg);
   }
   throw std::invalid_argument("makeTissueModel: invalid ModelKind");
 }

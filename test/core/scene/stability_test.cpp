@@ -20,8 +20,8 @@ namespace surgical_sim::core {
 namespace {
 
 constexpr double kSide = 0.1;  // cube edge [m]
-const std::vector<std::string> kModels = {"mass_spring", "corotational", "svk", "ems",
-                                          "neo_hookean"};
+const std::vector<std::string> kModels = {"mass_spring", "corotational", "svk",
+                                          "ems",         "neo_hookean",  "efg"};
 const std::vector<std::string> kImplicit = {"implicit_euler_linearized", "implicit_euler_newton",
                                             "quasi_static"};
 
@@ -36,11 +36,13 @@ struct Rig {
   Rig(const std::string& model_name, const std::string& integrator_name, double E, double nu) {
     mesh = makeBox(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(kSide),
                    Eigen::Vector3i::Constant(2), ElementType::Tet4);
+    EfgOptions efg;
+    efg.spacing = kSide / 4.0;  // particles on the mesh's 3 x 3 x 3 node lattice
     model = makeTissueModel(*enumFromName(kModelNames, model_name), mesh,
-                            Material::create(E, nu, 1000.0));
+                            Material::create(E, nu, 1000.0), efg);
     problem.model = model.get();
     problem.external_force = model->bodyForce(Eigen::Vector3d(0, 0, -9.81));
-    problem.dirichlet.dofs = regionDofs(mesh, bottom(), Eigen::Vector3i::Ones());
+    problem.dirichlet.dofs = regionDofs(model->restPositions(), bottom(), Eigen::Vector3i::Ones());
     problem.dirichlet.positions.resize(static_cast<Eigen::Index>(problem.dirichlet.dofs.size()));
     for (std::size_t i = 0; i < problem.dirichlet.dofs.size(); ++i)
       problem.dirichlet.positions[static_cast<Eigen::Index>(i)] =
@@ -114,13 +116,14 @@ TEST(Stability, EveryModelAndImplicitIntegratorOverStiffnessPoissonAndTimeStep) 
 TEST(Stability, ElementInvertedAtStartRecoversForInversionRobustModels) {
   for (const auto& model : kModels)
     for (const auto& integrator : {"implicit_euler_linearized", "implicit_euler_newton"}) {
+      if (model == "efg") continue;  // no tets: the mesh's elements do not follow its particles
       SCOPED_TRACE(model + std::string(" / ") + integrator);
       Rig rig(model, integrator, 1e4, 0.3);
       rig.problem.external_force.setZero();
       rig.problem.damping.mass_coefficient = 5.0;
       // Push the top corner node (0.1, 0.1, 0.1) down through its cell.
       const auto corner = regionDofs(
-          rig.mesh,
+          rig.model->restPositions(),
           Region{Eigen::Vector3d::Constant(kSide - 1e-9), Eigen::Vector3d::Constant(kSide + 1e-9)},
           Eigen::Vector3i(0, 0, 1));
       ASSERT_EQ(corner.size(), 1u);
@@ -148,7 +151,7 @@ TEST(Stability, CrushToTenPercentOfHeight) {
       rig.problem.external_force.setZero();
       Region top;
       top.min.z() = kSide - 1e-9;
-      const auto top_dofs = regionDofs(rig.mesh, top, Eigen::Vector3i(0, 0, 1));
+      const auto top_dofs = regionDofs(rig.model->restPositions(), top, Eigen::Vector3i(0, 0, 1));
       const auto n_fixed = rig.problem.dirichlet.dofs.size();
       rig.problem.dirichlet.dofs.insert(rig.problem.dirichlet.dofs.end(), top_dofs.begin(),
                                         top_dofs.end());
@@ -221,7 +224,7 @@ TEST(Benchmarks, ScaleRobustCantilever) {
     problem.external_force = model->bodyForce(Eigen::Vector3d(0, -9.81, 0));
     Region clamp;
     clamp.max.x() = 1e-9 * s;
-    problem.dirichlet.dofs = regionDofs(mesh, clamp, Eigen::Vector3i::Ones());
+    problem.dirichlet.dofs = regionDofs(model->restPositions(), clamp, Eigen::Vector3i::Ones());
     problem.dirichlet.positions =
         Eigen::VectorXd::Zero(static_cast<Eigen::Index>(problem.dirichlet.dofs.size()));
     for (std::size_t i = 0; i < problem.dirichlet.dofs.size(); ++i)
@@ -236,7 +239,7 @@ TEST(Benchmarks, ScaleRobustCantilever) {
     ASSERT_EQ(integrator->step(problem, 1.0, state).status, StepStatus::Ok);
     Region tip;
     tip.min.x() = 10.0 * s * (1 - 1e-9);
-    const auto dofs = regionDofs(mesh, tip, Eigen::Vector3i(0, 1, 0));
+    const auto dofs = regionDofs(model->restPositions(), tip, Eigen::Vector3i(0, 1, 0));
     double u = 0.0;
     for (int d : dofs) u += (state.x[d] - model->restPositions()[d]) / dofs.size();
     normalised.push_back(u / s);

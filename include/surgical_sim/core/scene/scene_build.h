@@ -19,21 +19,23 @@ namespace surgical_sim::core {
 ///         (meshBudgetProblem()).
 TetMesh buildSceneMesh(const MeshSpec& spec, const Eigen::Vector3i& resolution, ElementType type);
 
-/// Node-major DOF indices of every node in `region` for the set components.
-std::vector<int> regionDofs(const TetMesh& mesh, const Region& region,
+/// Node-major DOF indices of every model node whose rest position (`rest`, size 3n [m]: a tissue
+/// model's restPositions(), the mesh nodes for tet models, the particles for efg) lies in
+/// `region`, for the set components.
+std::vector<int> regionDofs(const Eigen::VectorXd& rest, const Region& region,
                             const Eigen::Vector3i& components);
 
 /// Appends to `dofs` the DOFs of `region` (set components) not yet marked in `taken` (size 3n),
 /// and marks them: the first boundary condition that names a DOF keeps it.
-/// @throws std::invalid_argument "scene <scene_path>: key '<key>.region' contains no mesh node".
-void appendRegionDofs(const TetMesh& mesh, const Region& region, const Eigen::Vector3i& components,
-                      const std::string& key, const std::string& scene_path,
-                      std::vector<bool>& taken, std::vector<int>& dofs);
+/// @throws std::invalid_argument "scene <scene_path>: key '<key>.region' contains no model node".
+void appendRegionDofs(const Eigen::VectorXd& rest, const Region& region,
+                      const Eigen::Vector3i& components, const std::string& key,
+                      const std::string& scene_path, std::vector<bool>& taken,
+                      std::vector<int>& dofs);
 
 /// The scene's fixed DOFs (every `fixed` entry, in order), held at the rest positions `rest`.
 /// @throws std::invalid_argument as appendRegionDofs().
-DirichletBc fixedDirichlet(const SceneBase& scene, const TetMesh& mesh,
-                           const Eigen::VectorXd& rest);
+DirichletBc fixedDirichlet(const SceneBase& scene, const Eigen::VectorXd& rest);
 
 /// The integrator `integrator` with linear solver `solver` and the scene's Newton / PCG settings,
 /// Newton converging at `tolerance` (relative residual).

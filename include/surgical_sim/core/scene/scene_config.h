@@ -11,6 +11,7 @@
 #include "surgical_sim/core/mesh/tet_mesh.h"
 #include "surgical_sim/core/solve/make_integrator.h"
 #include "surgical_sim/core/solve/make_linear_solver.h"
+#include "surgical_sim/core/tissue/efg_options.h"
 #include "surgical_sim/core/tissue/material.h"
 #include "surgical_sim/core/tissue/model_factory.h"
 
@@ -150,6 +151,10 @@ struct SceneBase {
   std::vector<ToolSpec> tools;  ///< empty: no contact structures are built
   /// Pose of the tissue rest frame in the world frame (tf world -> tissue).
   Eigen::Isometry3d tissue_pose = Eigen::Isometry3d::Identity();
+  /// Settings of the efg model (key 'efg'); efg.spacing = efg_spacings.front().
+  EfgOptions efg;
+  /// efg.spacing [m]: empty without an 'efg' key; a benchmark file may give one per resolution.
+  std::vector<double> efg_spacings;
 };
 
 /// The simulation a node runs: one mesh resolution, element type, model, integrator and solver,

@@ -23,8 +23,8 @@ struct CaseSpec {
 /// Measured outcome of one case; one CSV row of tissue_bench.
 struct CaseResult {
   CaseSpec spec;
-  int nodes = 0;
-  int elements = 0;
+  int nodes = 0;     ///< model nodes (efg: particles)
+  int elements = 0;  ///< mesh elements (efg: integration points)
   int dofs = 0;
   double dt = 0.0;                     ///< [s]
   double ms_per_step = 0.0;            ///< mean wall time of one integrator step [ms]

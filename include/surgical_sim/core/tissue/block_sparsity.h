@@ -12,6 +12,12 @@ namespace surgical_sim::core {
 /// @param groups node indices, shape k x g (one group per column), indices in [0, n).
 Eigen::SparseMatrix<double> makeBlockPattern(int num_nodes, const Eigen::MatrixXi& groups);
 
+/// Checks that K has the size and nonzero count of `pattern` and is compressed, zeroes its values
+/// and returns K.valuePtr() (the start of an assembly into the pattern).
+/// @throws std::invalid_argument "<caller>: K must have stiffnessPattern()" otherwise.
+double* zeroedPatternValues(const Eigen::SparseMatrix<double>& pattern,
+                            Eigen::SparseMatrix<double>& K, const char* caller);
+
 /// Group-to-nonzero map for scatter-adding dense group matrices into the values of a pattern from
 /// makeBlockPattern() over the same groups.
 ///
@@ -41,12 +47,14 @@ class BlockScatterMap {
   /// values[entry of (dof(r), dof(c))] += Ke(r, c) for every local row and column of `group`,
   /// where local dof 3 a + i is component i of node groups(a, group). Entries in local
   /// column-major order, so a node repeated in a group sums in the same order as a dense loop.
-  /// @param Ke the group matrix, Size = 3 groupSize().
+  /// @param Ke the group matrix, 3 groupSize() x 3 groupSize() (fixed or dynamic size).
   /// @param values the pattern's valuePtr() (or that of a matrix with the same pattern).
-  template <int Size>
-  void add(int group, const Eigen::Matrix<double, Size, Size>& Ke, double* values) const {
-    static_assert(Size % 3 == 0, "BlockScatterMap::add: Size must be 3 k");
-    constexpr int kNodes = Size / 3;
+  template <int Size, int Options, int MaxSize>
+  void add(int group, const Eigen::Matrix<double, Size, Size, Options, MaxSize, MaxSize>& Ke,
+           double* values) const {
+    static_assert(Size == Eigen::Dynamic || Size % 3 == 0,
+                  "BlockScatterMap::add: Size must be 3 k");
+    const int kNodes = Size == Eigen::Dynamic ? k_ : Size / 3;
     const int* first = map_.data() + static_cast<size_t>(group) * (kNodes * (kNodes + 1));
     const int* len = first + kNodes * kNodes;
     const double* ke = Ke.data();

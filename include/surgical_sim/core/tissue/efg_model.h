@@ -1,0 +1,111 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <string>
+#include <vector>
+
+#include "surgical_sim/core/mesh/tet_mesh.h"
+#include "surgical_sim/core/tissue/block_sparsity.h"
+#include "surgical_sim/core/tissue/corotational_law.h"
+#include "surgical_sim/core/tissue/efg_grid.h"
+#include "surgical_sim/core/tissue/efg_options.h"
+#include "surgical_sim/core/tissue/material.h"
+#include "surgical_sim/core/tissue/tissue_model.h"
+
+namespace surgical_sim::core {
+
+/// Meshless Element-Free Galerkin tissue: co-rotated linear elasticity, total Lagrangian, on the
+/// two regular grids of EfgGrid (DOFs = the grid particles, one-point quadrature at each
+/// integration cell's IP weighted by its inside volume V_e).
+///
+/// Each integration point (IP) e has k = options.neighbours particles with linear-basis MLS shape
+/// functions phi_a and rest gradients g_a = d phi_a / dX (computeMlsShapeFunctions), so
+/// F_e = sum_a x_a g_a^T. With the IP rotation R_e:
+/// - Polar: R = rotation of F (CorotationalLaw): psi = mu |F - R|^2 + lambda/2 tr(R^T F - I)^2,
+///   force = -dE/dx exactly; Exact mode is the exact Hessian, ProjectedSpd the fixed-R tangent.
+/// - ShapeMatching: R = rotation of A = sum_a w_a (x_a - x_c)(X_a - X_c)^T / (tr A_qq / 3), the
+///   kernel-weighted (w_a) shape matching of the neighbour particles; strain
+///   eps = sym(R^T F) - I, P = R (2 mu eps + lambda tr(eps) I), force f_a = -V_e P g_a. The
+///   stiffness (both modes) is the fixed-R tangent R K0 R^T: exact at rest and under rigid
+///   motions; away from them it omits dR/dx, a term proportional to the stress.
+/// Mass: m_e = rho V_e spread to the IP's particles in proportion to phi_a^2 (positive even where
+/// phi_a < 0, sums to rho V_e per IP). bodyForce is consistent: f_a = sum_e rho V_e phi_a(x_e) a.
+/// Dirichlet conditions act on particles (MLS is not interpolating: fixing the particles of a
+/// face clamps it approximately). Energy, force and stiffness evaluation allocate nothing.
+class EfgModel final : public TissueModel {
+ public:
+  /// @param mesh Tet4 or Tet10 mesh [m] of the body (only its corner tets are used, to decide
+  ///        which volume samples are inside).
+  /// @param material validated material (E [Pa], nu [-], rho [kg/m^3]).
+  /// @param options grid and shape-function settings (EfgOptions::validate).
+  /// @throws std::invalid_argument for invalid material / options / mesh (see buildEfgGrid), or
+  ///         when an IP's MLS moment matrix is ill-conditioned (names the IP and the status).
+  EfgModel(const TetMesh& mesh, const Material& material, const EfgOptions& options);
+
+  std::string name() const override { return "efg"; }
+  const Eigen::VectorXd& restPositions() const override { return rest_positions_; }
+  const Eigen::VectorXd& lumpedMass() const override { return lumped_mass_; }
+  Eigen::VectorXd bodyForce(const Eigen::Vector3d& a) const override;
+  double energy(const Eigen::VectorXd& x) const override;
+  void addInternalForce(const Eigen::VectorXd& x, Eigen::VectorXd& f) const override;
+  const Eigen::SparseMatrix<double>& stiffnessPattern() const override { return pattern_; }
+  /// @throws std::invalid_argument if K does not have stiffnessPattern()'s size and nonzero count.
+  void assembleStiffness(const Eigen::VectorXd& x, TangentMode mode,
+                         Eigen::SparseMatrix<double>& K) const override;
+  /// One IP pass for both. @throws as assembleStiffness.
+  void addInternalForceAndStiffness(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd& f,
+                                    Eigen::SparseMatrix<double>& K) const override;
+  /// y = K(x) v [N], y resized to 3n.
+  void applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
+                      Eigen::VectorXd& y) const override;
+
+  const EfgOptions& options() const { return options_; }
+  /// The grids: particles (= restPositions()), IPs, their volumes and neighbours.
+  const EfgGrid& grid() const { return grid_; }
+  /// phi_a(x_e) [-] of IP e's neighbours (grid().neighbours.col(e)), size k.
+  Eigen::Map<const Eigen::VectorXd> shapeValues(int e) const;
+  /// d phi_a / dX at IP e [1/m], k x 3.
+  Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3>> shapeGradients(int e) const;
+  /// MLS weights of rest points (e.g. mesh or surface vertices): point i follows the model as
+  /// sum_a W(i, a) x_a. Each point uses the particles and kernel support of the IP whose cell
+  /// contains it (the nearest IP when that cell was dropped), with the MLS functions evaluated at
+  /// the point, so rows sum to 1 and a linear motion of the particles moves the points exactly.
+  /// Allocates. @param points rest positions [m], 3 x p. @return W, p x n.
+  Eigen::SparseMatrix<double> interpolation(const Eigen::Matrix3Xd& points) const;
+
+ private:
+  template <int K>
+  double energyImpl(const Eigen::VectorXd& x) const;
+  template <int K>
+  void forceImpl(const Eigen::VectorXd& x, Eigen::VectorXd& f) const;
+  /// IP stiffness matrices passed to sink(e, Ke); with a non-null f, also f += the force.
+  template <int K, typename Sink>
+  void stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
+                     Sink&& sink) const;
+  void assemble(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
+                Eigen::SparseMatrix<double>& K, const char* caller) const;
+  /// Shape-matching rotation of IP e at nodal positions xe (3 x k).
+  template <typename Nodes>
+  Eigen::Matrix3d matchingRotation(const Nodes& xe, int e) const;
+  /// Linear stress R (2 mu eps + lambda tr(eps) I) of eps = sym(R^T F) - I [Pa].
+  Eigen::Matrix3d rotatedStress(const Eigen::Matrix3d& F, const Eigen::Matrix3d& R) const;
+
+  EfgOptions options_;
+  CorotationalLaw law_;
+  double mu_;      ///< [Pa]
+  double lambda_;  ///< [Pa]
+  EfgGrid grid_;
+  int k_;                             ///< neighbours per IP
+  Eigen::VectorXd rest_positions_;    ///< 3n [m]
+  Eigen::VectorXd lumped_mass_;       ///< 3n [kg]
+  Eigen::VectorXd body_weight_;       ///< n, sum_e rho V_e phi_a(x_e) [kg]
+  std::vector<double> shape_values_;  ///< per IP: phi, k
+  std::vector<double> gradients_;     ///< per IP: d phi / dX, k x 3 col-major [1/m]
+  std::vector<double> matching_;      ///< per IP: shape-matching weights, k x 3 col-major [1/m]
+  std::vector<double> support_;       ///< per IP: kernel support radius h [m]
+  Eigen::SparseMatrix<double> pattern_;
+  BlockScatterMap scatter_;
+};
+
+}  // namespace surgical_sim::core

@@ -1,0 +1,292 @@
+#include "surgical_sim/core/tissue/efg_model.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+
+#include "surgical_sim/core/tissue/efg_shape_functions.h"
+#include "surgical_sim/core/tissue/point_stiffness.h"
+#include "surgical_sim/core/tissue/signed_svd.h"
+
+namespace surgical_sim::core {
+namespace {
+
+// Compile-time neighbour count K (8) or Eigen::Dynamic (up to EfgOptions::kMaxNeighbours).
+constexpr int maxNeighbours(int K) { return K == Eigen::Dynamic ? EfgOptions::kMaxNeighbours : K; }
+constexpr int dofs(int K) { return K == Eigen::Dynamic ? Eigen::Dynamic : 3 * K; }
+
+template <int K>
+using NodeMatrix = Eigen::Matrix<double, 3, K, Eigen::ColMajor, 3, maxNeighbours(K)>;
+template <int K>
+using GradientMap =
+    Eigen::Map<const Eigen::Matrix<double, K, 3, Eigen::ColMajor, maxNeighbours(K), 3>>;
+template <int K>
+using ElementMatrix = Eigen::Matrix<double, dofs(K), dofs(K), Eigen::ColMajor, 3 * maxNeighbours(K),
+                                    3 * maxNeighbours(K)>;
+
+template <int K>
+NodeMatrix<K> gather(const Eigen::VectorXd& v, const Eigen::MatrixXi& neighbours, int e) {
+  NodeMatrix<K> ve(3, neighbours.rows());
+  for (int a = 0; a < ve.cols(); ++a) ve.col(a) = v.segment<3>(3 * neighbours(a, e));
+  return ve;
+}
+
+template <int K>
+void scatter(const NodeMatrix<K>& fe, const Eigen::MatrixXi& neighbours, int e,
+             Eigen::VectorXd& f) {
+  for (int a = 0; a < fe.cols(); ++a) f.segment<3>(3 * neighbours(a, e)) += fe.col(a);
+}
+
+// Ke = w (mu (h_a . h_b) I + mu h_b h_a^T + lambda h_a h_b^T) with h_a = R grad_a: the fixed-R
+// tangent R K0 R^T of isotropic linear elasticity at one point.
+template <int K>
+void rotatedLinearStiffness(const Eigen::Matrix3d& R, double mu, double lambda,
+                            const GradientMap<K>& grad, double w, ElementMatrix<K>& Ke) {
+  const NodeMatrix<K> H = R * grad.transpose();
+  const double w_mu = w * mu;
+  const double w_lambda = w * lambda;
+  for (int a = 0; a < H.cols(); ++a) {
+    for (int b = a; b < H.cols(); ++b) {
+      Eigen::Matrix3d Kab = (w_mu * H.col(a).dot(H.col(b))) * Eigen::Matrix3d::Identity();
+      Kab.noalias() += w_mu * H.col(b) * H.col(a).transpose();
+      Kab.noalias() += w_lambda * H.col(a) * H.col(b).transpose();
+      Ke.template block<3, 3>(3 * a, 3 * b) = Kab;
+      if (b != a) Ke.template block<3, 3>(3 * b, 3 * a) = Kab.transpose();
+    }
+  }
+}
+
+}  // namespace
+
+EfgModel::EfgModel(const TetMesh& mesh, const Material& material, const EfgOptions& options)
+    : options_(options),
+      law_(Material::create(material.young_modulus, material.poisson_ratio, material.density)),
+      mu_(material.mu()),
+      lambda_(material.lambda()),
+      grid_(buildEfgGrid(mesh, options)),
+      k_(options.neighbours) {
+  const int n = static_cast<int>(grid_.particles.cols());
+  const int m = static_cast<int>(grid_.integration_points.cols());
+  rest_positions_ = Eigen::Map<const Eigen::VectorXd>(grid_.particles.data(), 3 * n);
+  body_weight_ = Eigen::VectorXd::Zero(n);
+  Eigen::VectorXd node_mass = Eigen::VectorXd::Zero(n);
+  shape_values_.resize(static_cast<size_t>(m) * k_);
+  gradients_.resize(static_cast<size_t>(m) * k_ * 3);
+  matching_.resize(static_cast<size_t>(m) * k_ * 3);
+  Eigen::Matrix3Xd points(3, k_);
+  for (int e = 0; e < m; ++e) {
+    const Eigen::Vector3d x_e = grid_.integration_points.col(e);
+    for (int a = 0; a < k_; ++a) points.col(a) = grid_.particles.col(grid_.neighbours(a, e));
+    const Eigen::Matrix3Xd rel = points.colwise() - x_e;
+    const double h = options_.kernel_support * rel.colwise().norm().maxCoeff();  // [m]
+    const MlsShapeFunctions mls = computeMlsShapeFunctions(x_e, points, h);
+    support_.push_back(h);
+    if (mls.status != MlsStatus::Ok) {
+      throw std::invalid_argument("EfgModel: integration point " + std::to_string(e) + " at (" +
+                                  std::to_string(x_e.x()) + ", " + std::to_string(x_e.y()) + ", " +
+                                  std::to_string(x_e.z()) + ") m: MLS moment matrix " +
+                                  toString(mls.status) +
+                                  " (check efg.neighbours and efg.kernel_support)");
+    }
+    Eigen::Map<Eigen::VectorXd>(shape_values_.data() + static_cast<size_t>(e) * k_, k_) = mls.phi;
+    Eigen::Map<Eigen::MatrixXd>(gradients_.data() + static_cast<size_t>(e) * k_ * 3, k_, 3) =
+        mls.grad;
+    // Shape matching: kernel weights, weighted centroid and the normalised moments.
+    Eigen::VectorXd w(k_);
+    for (int a = 0; a < k_; ++a) w(a) = quarticSplineKernel(rel.col(a).norm() / h);
+    w /= w.sum();
+    const Eigen::Matrix3Xd q = points.colwise() - points * w;
+    const double moment = (q * w.asDiagonal() * q.transpose()).trace() / 3.0;  // [m^2]
+    Eigen::Map<Eigen::MatrixXd>(matching_.data() + static_cast<size_t>(e) * k_ * 3, k_, 3) =
+        (q * w.asDiagonal()).transpose() / moment;
+
+    const double mass = material.density * grid_.volumes(e);
+    const double phi2 = mls.phi.squaredNorm();
+    for (int a = 0; a < k_; ++a) {
+      const int node = grid_.neighbours(a, e);
+      body_weight_(node) += mass * mls.phi(a);
+      node_mass(node) += mass * mls.phi(a) * mls.phi(a) / phi2;
+    }
+  }
+  lumped_mass_.resize(3 * n);
+  for (int i = 0; i < n; ++i) lumped_mass_.segment<3>(3 * i).setConstant(node_mass(i));
+  pattern_ = makeBlockPattern(n, grid_.neighbours);
+  scatter_ = BlockScatterMap(pattern_, grid_.neighbours);
+}
+
+Eigen::Map<const Eigen::VectorXd> EfgModel::shapeValues(int e) const {
+  return {shape_values_.data() + static_cast<size_t>(e) * k_, k_};
+}
+
+Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3>> EfgModel::shapeGradients(int e) const {
+  return {gradients_.data() + static_cast<size_t>(e) * k_ * 3, k_, 3};
+}
+
+Eigen::SparseMatrix<double> EfgModel::interpolation(const Eigen::Matrix3Xd& points) const {
+  std::vector<Eigen::Triplet<double>> weights;
+  Eigen::Matrix3Xd neighbours(3, k_);
+  for (int i = 0; i < points.cols(); ++i) {
+    const Eigen::Vector3d p = points.col(i);
+    const Eigen::Vector3d cell = ((p - grid_.origin) / grid_.spacing).array().floor();
+    int e = -1;
+    if (cell.allFinite() && (cell.array() >= 0.0).all() &&
+        (cell.array() < grid_.cells.cast<double>().array()).all()) {
+      const Eigen::Vector3i c = cell.cast<int>();
+      e = grid_.ip_of_cell[static_cast<size_t>(c.x() + grid_.cells.x() *
+                                                           (c.y() + grid_.cells.y() * c.z()))];
+    }
+    if (e < 0) {
+      (grid_.integration_points.colwise() - p).colwise().squaredNorm().minCoeff(&e);
+    }
+    for (int a = 0; a < k_; ++a) neighbours.col(a) = grid_.particles.col(grid_.neighbours(a, e));
+    const MlsShapeFunctions mls =
+        computeMlsShapeFunctions(p, neighbours, support_[static_cast<size_t>(e)]);
+    // A point far outside its IP's support: the IP's own weights.
+    const Eigen::VectorXd phi =
+        mls.status == MlsStatus::Ok ? mls.phi : Eigen::VectorXd(shapeValues(e));
+    for (int a = 0; a < k_; ++a) weights.emplace_back(i, grid_.neighbours(a, e), phi(a));
+  }
+  Eigen::SparseMatrix<double> W(points.cols(), grid_.particles.cols());
+  W.setFromTriplets(weights.begin(), weights.end());
+  return W;
+}
+
+Eigen::VectorXd EfgModel::bodyForce(const Eigen::Vector3d& a) const {
+  Eigen::VectorXd f(rest_positions_.size());
+  for (Eigen::Index i = 0; i < body_weight_.size(); ++i) f.segment<3>(3 * i) = body_weight_(i) * a;
+  return f;
+}
+
+template <typename Nodes>
+Eigen::Matrix3d EfgModel::matchingRotation(const Nodes& xe, int e) const {
+  const Eigen::Map<const Eigen::MatrixXd> weights(
+      matching_.data() + static_cast<size_t>(e) * k_ * 3, k_, 3);
+  return computeSignedRotation(xe * weights);
+}
+
+Eigen::Matrix3d EfgModel::rotatedStress(const Eigen::Matrix3d& F, const Eigen::Matrix3d& R) const {
+  const Eigen::Matrix3d G = R.transpose() * F;
+  const Eigen::Matrix3d eps = 0.5 * (G + G.transpose()) - Eigen::Matrix3d::Identity();
+  return R * (2.0 * mu_ * eps + lambda_ * eps.trace() * Eigen::Matrix3d::Identity());
+}
+
+template <int K>
+double EfgModel::energyImpl(const Eigen::VectorXd& x) const {
+  double energy = 0.0;
+  for (int e = 0; e < grid_.neighbours.cols(); ++e) {
+    const NodeMatrix<K> xe = gather<K>(x, grid_.neighbours, e);
+    const GradientMap<K> G(gradients_.data() + static_cast<size_t>(e) * k_ * 3, k_, 3);
+    const Eigen::Matrix3d F = xe * G;
+    double psi = 0.0;
+    if (options_.rotation == EfgRotation::Polar) {
+      psi = law_.energyDensity(F);
+    } else {
+      const Eigen::Matrix3d RtF = matchingRotation(xe, e).transpose() * F;
+      const Eigen::Matrix3d eps = 0.5 * (RtF + RtF.transpose()) - Eigen::Matrix3d::Identity();
+      psi = mu_ * eps.squaredNorm() + 0.5 * lambda_ * eps.trace() * eps.trace();
+    }
+    energy += grid_.volumes(e) * psi;
+  }
+  return energy;
+}
+
+template <int K>
+void EfgModel::forceImpl(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
+  for (int e = 0; e < grid_.neighbours.cols(); ++e) {
+    const NodeMatrix<K> xe = gather<K>(x, grid_.neighbours, e);
+    const GradientMap<K> G(gradients_.data() + static_cast<size_t>(e) * k_ * 3, k_, 3);
+    const Eigen::Matrix3d F = xe * G;
+    const Eigen::Matrix3d P = options_.rotation == EfgRotation::Polar
+                                  ? law_.firstPiola(F)
+                                  : rotatedStress(F, matchingRotation(xe, e));
+    const NodeMatrix<K> fe = (-grid_.volumes(e) * P) * G.transpose();
+    scatter<K>(fe, grid_.neighbours, e, f);
+  }
+}
+
+template <int K, typename Sink>
+void EfgModel::stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
+                             Sink&& sink) const {
+  ElementMatrix<K> Ke(3 * k_, 3 * k_);
+  for (int e = 0; e < grid_.neighbours.cols(); ++e) {
+    const NodeMatrix<K> xe = gather<K>(x, grid_.neighbours, e);
+    const GradientMap<K> G(gradients_.data() + static_cast<size_t>(e) * k_ * 3, k_, 3);
+    const double w = grid_.volumes(e);
+    const Eigen::Matrix3d F = xe * G;
+    Eigen::Matrix3d P;
+    if (options_.rotation == EfgRotation::ShapeMatching) {
+      const Eigen::Matrix3d R = matchingRotation(xe, e);
+      P = rotatedStress(F, R);
+      rotatedLinearStiffness<K>(R, mu_, lambda_, G, w, Ke);
+    } else if (mode == TangentMode::ProjectedSpd) {
+      const RotatedLinearStressAndTangent point = *law_.rotatedLinearStressAndTangent(F);
+      P = point.P;
+      rotatedLinearStiffness<K>(point.R, point.mu, point.lambda, G, w, Ke);
+    } else {
+      const StressAndTangent point = law_.stressAndTangent(F, mode);
+      P = point.P;
+      Ke.setZero();
+      addPointStiffness(point.dPdF, G, w, Ke);
+    }
+    if (f != nullptr) scatter<K>(NodeMatrix<K>((-w * P) * G.transpose()), grid_.neighbours, e, *f);
+    sink(e, Ke);
+  }
+}
+
+double EfgModel::energy(const Eigen::VectorXd& x) const {
+  return k_ == 8 ? energyImpl<8>(x) : energyImpl<Eigen::Dynamic>(x);
+}
+
+void EfgModel::addInternalForce(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
+  if (k_ == 8) {
+    forceImpl<8>(x, f);
+  } else {
+    forceImpl<Eigen::Dynamic>(x, f);
+  }
+}
+
+void EfgModel::assembleStiffness(const Eigen::VectorXd& x, TangentMode mode,
+                                 Eigen::SparseMatrix<double>& K) const {
+  assemble(x, mode, nullptr, K, "EfgModel::assembleStiffness");
+}
+
+void EfgModel::addInternalForceAndStiffness(const Eigen::VectorXd& x, TangentMode mode,
+                                            Eigen::VectorXd& f,
+                                            Eigen::SparseMatrix<double>& K) const {
+  assemble(x, mode, &f, K, "EfgModel::addInternalForceAndStiffness");
+}
+
+void EfgModel::assemble(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
+                        Eigen::SparseMatrix<double>& K, const char* caller) const {
+  double* values = zeroedPatternValues(pattern_, K, caller);
+  const auto add = [&](int e, const auto& Ke) { scatter_.add(e, Ke, values); };
+  if (k_ == 8) {
+    stiffnessImpl<8>(x, mode, f, add);
+  } else {
+    stiffnessImpl<Eigen::Dynamic>(x, mode, f, add);
+  }
+}
+
+void EfgModel::applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
+                              Eigen::VectorXd& y) const {
+  y.setZero(rest_positions_.size());
+  const auto multiply = [&](int e, const auto& Ke) {
+    constexpr int kSize = std::decay_t<decltype(Ke)>::RowsAtCompileTime;
+    constexpr int kK = kSize == Eigen::Dynamic ? Eigen::Dynamic : kSize / 3;
+    const NodeMatrix<kK> ve = gather<kK>(v, grid_.neighbours, e);
+    const Eigen::Map<const Eigen::Matrix<double, kSize, 1, 0, 3 * maxNeighbours(kK), 1>> vv(
+        ve.data(), 3 * k_);
+    const Eigen::Matrix<double, kSize, 1, 0, 3 * maxNeighbours(kK), 1> ye = Ke * vv;
+    for (int a = 0; a < k_; ++a)
+      y.segment<3>(3 * grid_.neighbours(a, e)) += ye.template segment<3>(3 * a);
+  };
+  if (k_ == 8) {
+    stiffnessImpl<8>(x, mode, nullptr, multiply);
+  } else {
+    stiffnessImpl<Eigen::Dynamic>(x, mode, nullptr, multiply);
+  }
+}
+
+}  // namespace surgical_sim::core
