@@ -61,6 +61,7 @@ class Recorder:
         self.cond = threading.Condition()
         self.stats = []
         self.ends = set()
+        self.received = 0  # wrench and contact-model messages since the last clear()
         self.logs = []
         self.force = {t: {} for t in TOOLS}
         self.model = {t: {} for t in TOOLS}
@@ -88,10 +89,12 @@ class Recorder:
         store, value = args
         with self.cond:
             store[msg.header.stamp.to_nsec()] = value(msg)
+            self.received += 1
+            self.cond.notify_all()
 
     def clear(self):
         with self.cond:
-            self.stats, self.ends = [], set()
+            self.stats, self.ends, self.received = [], set(), 0
             for tool in TOOLS:
                 self.force[tool].clear()
                 self.model[tool].clear()
@@ -100,6 +103,13 @@ class Recorder:
         with self.cond:
             if not self.cond.wait_for(lambda: stamp.to_nsec() in self.ends, timeout):
                 raise AssertionError("no end of a step burst for the set stamped %s" % stamp)
+
+    def wait_outputs(self, steps, timeout=30.0):
+        """Waits for every tool's wrench and contact model of `steps` steps: they travel on other
+        topics than tissue/stats, so a burst's end can arrive before its last step's outputs."""
+        with self.cond:
+            if not self.cond.wait_for(lambda: self.received >= 2 * len(TOOLS) * steps, timeout):
+                raise AssertionError("%d of the outputs of %d steps arrived" % (self.received, steps))
 
     def wait_log(self, fragment, timeout=30.0):
         with self.cond:
@@ -139,6 +149,7 @@ class MultiToolLockstepTest(unittest.TestCase):
             for tool in (TOOLS if k % 2 else TOOLS[::-1]):
                 self.pubs[tool].publish(poses[tool])
             self.rec.wait_end(stamp)
+        self.rec.wait_outputs(SETS * self.steps_per_pose)
         return self.rec.history()
 
     def lockstep_play(self, bag_path):
@@ -147,6 +158,7 @@ class MultiToolLockstepTest(unittest.TestCase):
         code, out = run_node("lockstep_play", [bag_path, "--delay", "0.5"], timeout=600)
         self.assertEqual(code, 0, out)
         self.rec.wait_end(self.sets[-1][0])
+        self.rec.wait_outputs(SETS * self.steps_per_pose)
         with self.rec.cond:
             self.assertEqual(len(self.rec.stats), SETS * self.steps_per_pose)
         return self.rec.history()
