@@ -60,11 +60,17 @@ class SceneLaunch(unittest.TestCase):
             rospy.sleep(0.5)
         return running_nodes()
 
-    def replay(self, bag):
+    def replay(self, bag, sets):
         out = subprocess.run(["rosrun", "surgical_sim", "lockstep_play", bag, "--delay", "1",
                               "--ack-timeout", "60"], capture_output=True, text=True, timeout=900)
         self.assertEqual(out.returncode, 0, out.stdout + out.stderr)
-        rospy.sleep(1.0)  # the last contact models and stats arrive
+        # The last steps' stats and contact models travel on their own topics: wait for them.
+        deadline = rospy.get_time() + 30.0
+        while rospy.get_time() < deadline:
+            with self.cond:
+                if len(self.steps) >= sets and all(len(m) >= sets for m in self.models.values()):
+                    break
+            rospy.sleep(0.1)
         with self.cond:
             steps, models = list(self.steps), {t: dict(m) for t, m in self.models.items()}
             self.steps.clear()
@@ -79,7 +85,7 @@ class SceneLaunch(unittest.TestCase):
         if not bag:
             return
         sets = {m.header.stamp.to_nsec() for _, m, _ in rosbag.Bag(bag).read_messages()}
-        steps, first = self.replay(bag)
+        steps, first = self.replay(bag, len(sets))
         # One step per pose set (steps_per_pose 1): N sets -> N steps, none failed.
         self.assertEqual(len(steps), len(sets))
         self.assertEqual(sorted(s.pose_set_stamp.to_nsec() for s in steps), sorted(sets))
@@ -102,7 +108,7 @@ class SceneLaunch(unittest.TestCase):
             self.assertGreater(peak, 0.0, t)
         # A second replay after reset is bit-identical (tissue side: poses are set per stamp).
         rospy.ServiceProxy("tissue/reset", Empty)()
-        steps2, second = self.replay(bag)
+        steps2, second = self.replay(bag, len(sets))
         self.assertEqual(len(steps2), len(sets))
         self.assertEqual([s.energy for s in steps2], [s.energy for s in steps])
         for t in self.trocars:
