@@ -546,10 +546,17 @@ constexpr ForeignKey kRuntimeMeshKeys[] = {
     {"element_type", "a benchmark file sweeps: use 'element_types: [tet4, ...]'"},
 };
 
-template <std::size_t N>
-void rejectForeignKeys(const KeyReader& r, const ForeignKey (&keys)[N]) {
-  for (const ForeignKey& k : keys)
+/// Rejects the keys of the other scene kind, at the top level (`top`) and under mesh (`mesh`),
+/// naming what to write instead.
+template <std::size_t N, std::size_t M>
+void rejectForeignKeys(const KeyReader& r, const ForeignKey (&top)[N],
+                       const ForeignKey (&mesh)[M]) {
+  for (const ForeignKey& k : top)
     if (r.node()[k.key].IsDefined()) r.fail(k.key, k.hint);
+  if (!r.has("mesh") || !r.node()["mesh"].IsMap()) return;
+  const KeyReader m = r.child("mesh");
+  for (const ForeignKey& k : mesh)
+    if (m.node()[k.key].IsDefined()) m.fail(k.key, k.hint);
 }
 
 /// Calls read(item) for each map in the optional list `key`.
@@ -723,9 +730,7 @@ BladeSpec readBlade(const KeyReader& r, const std::vector<ToolSpec>& tools) {
 
 RuntimeScene parseRuntime(const YAML::Node& root, const std::string& path) {
   const KeyReader r(root, "", path);
-  rejectForeignKeys(r, kBenchmarkKeys);
-  if (r.has("mesh") && r.node()["mesh"].IsMap())
-    rejectForeignKeys(r.child("mesh"), kBenchmarkMeshKeys);
+  rejectForeignKeys(r, kBenchmarkKeys, kBenchmarkMeshKeys);
   r.onlyKeys({"name", "description", "mesh", "material", "model", "integrator", "solver",
               "time_step", "gravity", "damping", "newton", "pcg", "fixed", "tools", "trocars",
               "blades", "robot", "tissue_pose", "efg"});
@@ -784,9 +789,7 @@ RuntimeScene parseRuntime(const YAML::Node& root, const std::string& path) {
 
 BenchmarkScene parseBenchmark(const YAML::Node& root, const std::string& path) {
   const KeyReader r(root, "", path);
-  rejectForeignKeys(r, kRuntimeKeys);
-  if (r.has("mesh") && r.node()["mesh"].IsMap())
-    rejectForeignKeys(r.child("mesh"), kRuntimeMeshKeys);
+  rejectForeignKeys(r, kRuntimeKeys, kRuntimeMeshKeys);
   r.onlyKeys({"name",        "description", "mesh",      "material",    "models",
               "integrators", "solvers",     "time_step", "steps",       "load_factors",
               "gravity",     "damping",     "newton",    "pcg",         "fixed",
