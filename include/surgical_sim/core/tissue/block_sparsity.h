@@ -12,12 +12,6 @@ namespace surgical_sim::core {
 /// @param groups node indices, shape k x g (one group per column), indices in [0, n).
 Eigen::SparseMatrix<double> makeBlockPattern(int num_nodes, const Eigen::MatrixXi& groups);
 
-/// Checks that K has the size and nonzero count of `pattern` and is compressed, zeroes its values
-/// and returns K.valuePtr() (the start of an assembly into the pattern).
-/// @throws std::invalid_argument "<caller>: K must have stiffnessPattern()" otherwise.
-double* zeroedPatternValues(const Eigen::SparseMatrix<double>& pattern,
-                            Eigen::SparseMatrix<double>& K, const char* caller);
-
 /// Group-to-nonzero map for scatter-adding dense group matrices into the values of a pattern from
 /// makeBlockPattern() over the same groups.
 ///
