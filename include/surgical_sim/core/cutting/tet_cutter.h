@@ -78,6 +78,14 @@ enum class CutUpdateMode {
 /// them to themselves and new nodes to the node they split from. The connected components and
 /// the embedded cut surface are derived on demand. Element removal (and CutUpdateMode::Rebuild)
 /// rebuilds everything in O(m) time (m original elements).
+///
+/// A cut runs four phases, each a separate function:
+///  1. detection: detectBladeEdgeCrossings() marks the uncut edges the blade sweep crosses;
+///  2. element splitting: splitElement() gives the fragments of each element at those edges;
+///  3. node classification: the slots (copy, corner) glued across faces form the node classes,
+///     around the changed corners (incremental) or everywhere (rebuild);
+///  4. derived-data refresh: masses, faces, surface and edge representatives of the changed
+///     nodes and elements (the same functions refresh everything in a rebuild).
 class TetCutter {
  public:
   /// @param rest_mesh Tet4 mesh [m] passing requireValidMesh().
