@@ -639,7 +639,7 @@ void readBase(const KeyReader& r, const std::set<std::string>& mesh_keys, SceneB
   if (r.has("pcg")) {
     const KeyReader p = r.child("pcg");
     p.onlyKeys({"max_iterations", "tolerance", "refresh_interval"});
-    s.pcg_max_iterations = p.integer("max_iterations", 1, 100000, s.pcg_max_iterations);
+    if (p.has("max_iterations")) s.pcg_max_iterations = p.integer("max_iterations", 1, 100000);
     s.pcg_tolerance = p.number("tolerance", s.pcg_tolerance);
     checkRange(p, "tolerance", s.pcg_tolerance, 1e-15, 1.0, "");
     s.pcg_refresh_interval = p.integer("refresh_interval", 1, 100000, s.pcg_refresh_interval);

@@ -144,7 +144,8 @@ struct SceneBase {
   double damping_stiffness = 0.0;                     ///< Rayleigh beta [s]
   int newton_max_iterations = 20;
   double newton_tolerance = 1e-8;  ///< relative residual [-]
-  int pcg_max_iterations = 500;
+  /// CG iteration limit [-]; unset: sized from the problem (pcgIterationCap).
+  std::optional<int> pcg_max_iterations;
   double pcg_tolerance = 1e-6;    ///< relative residual [-]
   int pcg_refresh_interval = 10;  ///< steps between preconditioner refreshes
   std::vector<FixedBc> fixed;

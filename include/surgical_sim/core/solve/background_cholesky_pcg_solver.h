@@ -44,7 +44,7 @@ namespace surgical_sim::core {
 /// factorization) factorize() factorizes synchronously.
 ///
 /// Accuracy: same tolerance semantics as PcgSolver. If PCG fails (not converged within
-/// min(max_iterations, kFallbackIterations), breakdown) with a factor of other values than the
+/// min(pcgIterationCap, kFallbackIterations), breakdown) with a factor of other values than the
 /// current matrix, solve() factorizes the current matrix synchronously and solves again from the
 /// last iterate (reported iterations: both solves), so a result is as accurate as with the other
 /// solvers; a non-SPD or non-finite matrix gives a failed report. While old factors keep failing
@@ -146,6 +146,7 @@ class BackgroundCholeskyPcgSolver final : public LinearSolver {
   FactorSlot& current() { return slots_[static_cast<size_t>(current_)]; }
 
   PcgSettings settings_;
+  int max_iterations_ = 0;              ///< pcgIterationCap of the analysed pattern
   Eigen::SparseMatrix<double> matrix_;  ///< analysed pattern, values of the last factorize()
   std::uint64_t pattern_ = 0;           ///< generation of matrix_'s pattern
   std::uint64_t values_ = 0;            ///< number of factorize() calls (matrix_ values stamp)
