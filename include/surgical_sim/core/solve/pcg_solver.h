@@ -20,7 +20,7 @@ enum class PcgPreconditioner {
   BlockJacobi,         ///< inverted 3x3 node blocks of the diagonal ("pcg_block_jacobi")
   IncompleteCholesky,  ///< Eigen::IncompleteCholesky with AMD ordering ("pcg_ichol")
   /// CHOLMOD factor of an earlier matrix, refreshed every refresh_interval factorize() calls
-  /// ("pcg_cholesky_reuse"): the real-time strategy (a triangular solve is ~40x cheaper than a
+  /// ("pcg_cholesky_reuse"): the real-time strategy (a triangular solve is far cheaper than a
   /// refactorization, and the stiffness changes little between steps). Applied through a
   /// single-precision copy (CholmodPreconditioning::SinglePrecision): a fresh factor then needs 2
   /// iterations instead of 1 to reach 1e-10, an older one as many as with the double factor.
