@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""ROS-side robustness campaign (issue 14): real-time tool fuzz, service abuse and soak.
+"""ROS-side robustness campaign: real-time tool fuzz, service abuse and soak.
 Each part starts its own master (roscore on a free port) and the nodes it needs with roslaunch,
 writes CSVs into --out and prints one line of counts per outcome. Needs the workspace sourced
 (source <workspace>/devel/setup.bash); scripts/robustness and scripts/soak do that.

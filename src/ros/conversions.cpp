@@ -17,20 +17,26 @@ Eigen::Isometry3d toEigen(const geometry_msgs::Pose& pose) {
   return t;
 }
 
-geometry_msgs::Point toPointMsg(const Eigen::Vector3d& p) {
-  geometry_msgs::Point m;
-  m.x = p.x();
-  m.y = p.y();
-  m.z = p.z();
-  return m;
-}
+namespace {
 
-geometry_msgs::Vector3 toVector3Msg(const Eigen::Vector3d& v) {
-  geometry_msgs::Vector3 m;
+/// A message with fields x, y, z (Point, Vector3) holding v.
+template <typename Msg>
+Msg xyzMsg(const Eigen::Vector3d& v) {
+  Msg m;
   m.x = v.x();
   m.y = v.y();
   m.z = v.z();
   return m;
+}
+
+}  // namespace
+
+geometry_msgs::Point toPointMsg(const Eigen::Vector3d& p) {
+  return xyzMsg<geometry_msgs::Point>(p);
+}
+
+geometry_msgs::Vector3 toVector3Msg(const Eigen::Vector3d& v) {
+  return xyzMsg<geometry_msgs::Vector3>(v);
 }
 
 geometry_msgs::Pose toPoseMsg(const Eigen::Isometry3d& pose) {

@@ -99,7 +99,7 @@ class PalpationTest(unittest.TestCase):
 
     def test_contact_model_predicts_small_extra_indentation(self):
         """At the deepest press, after settling, f0 + K dx predicts the force after one more step
-        with the tool 0.5 mm deeper to within 10 % of the force change (issue 3)."""
+        with the tool 0.5 mm deeper to within 10 % of the force change."""
         self.reset()
         self.collector.clear()
         deepest = min(p.pose.position.z for p in self.poses)

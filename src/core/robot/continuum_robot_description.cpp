@@ -24,7 +24,7 @@ void validateContinuumRobotDescription(const ContinuumRobotDescription& d) {
                  "m");
   requireInRange(p + "outer_radius_tip", d.outer_radius_tip, d.inner_radius * (1.0 + 1e-9), 10.0,
                  "m");
-  Material::create(d.material.young_modulus, d.material.poisson_ratio, d.material.density);
+  Material::validated(d.material);
   requireNonNegative(p + "vertebra_mass", d.vertebra_mass, "kg");
   requireInRange(p + "mesh.radial_layers", d.mesh.radial_layers, 1, 16, "");
   requireInRange(p + "mesh.circumferential_segments", d.mesh.circumferential_segments, 6, 128, "");

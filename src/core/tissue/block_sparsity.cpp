@@ -96,15 +96,4 @@ BlockScatterMap::BlockScatterMap(const Eigen::SparseMatrix<double>& pattern,
   }
 }
 
-double* zeroedPatternValues(const Eigen::SparseMatrix<double>& pattern,
-                            Eigen::SparseMatrix<double>& K, const char* caller) {
-  if (K.rows() != pattern.rows() || K.cols() != pattern.cols() ||
-      K.nonZeros() != pattern.nonZeros() || !K.isCompressed()) {
-    throw std::invalid_argument(std::string(caller) + ": K must have stiffnessPattern()");
-  }
-  double* values = K.valuePtr();
-  std::fill(values, values + K.nonZeros(), 0.0);
-  return values;
-}
-
 }  // namespace surgical_sim::core

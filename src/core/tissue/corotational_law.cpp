@@ -23,8 +23,7 @@ double traceStrain(const Eigen::Matrix3d& F, const Eigen::Matrix3d& R) {
 }  // namespace
 
 CorotationalLaw::CorotationalLaw(const Material& material) {
-  const Material m =
-      Material::create(material.young_modulus, material.poisson_ratio, material.density);
+  const Material m = Material::validated(material);
   mu_ = m.mu();
   lambda_ = m.lambda();
 }

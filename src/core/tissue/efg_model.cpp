@@ -62,7 +62,7 @@ void rotatedLinearStiffness(const Eigen::Matrix3d& R, double mu, double lambda,
 
 EfgModel::EfgModel(const TetMesh& mesh, const Material& material, const EfgOptions& options)
     : options_(options),
-      law_(Material::create(material.young_modulus, material.poisson_ratio, material.density)),
+      law_(Material::validated(material)),
       mu_(material.mu()),
       lambda_(material.lambda()),
       grid_(buildEfgGrid(mesh, options)),
@@ -112,8 +112,7 @@ EfgModel::EfgModel(const TetMesh& mesh, const Material& material, const EfgOptio
   }
   lumped_mass_.resize(3 * n);
   for (int i = 0; i < n; ++i) lumped_mass_.segment<3>(3 * i).setConstant(node_mass(i));
-  pattern_ = makeBlockPattern(n, grid_.neighbours);
-  scatter_ = BlockScatterMap(pattern_, grid_.neighbours);
+  setGroups(n, grid_.neighbours);
 }
 
 Eigen::Map<const Eigen::VectorXd> EfgModel::shapeValues(int e) const {
@@ -247,25 +246,13 @@ void EfgModel::addInternalForce(const Eigen::VectorXd& x, Eigen::VectorXd& f) co
   }
 }
 
-void EfgModel::assembleStiffness(const Eigen::VectorXd& x, TangentMode mode,
-                                 Eigen::SparseMatrix<double>& K) const {
-  assemble(x, mode, nullptr, K, "EfgModel::assembleStiffness");
-}
-
-void EfgModel::addInternalForceAndStiffness(const Eigen::VectorXd& x, TangentMode mode,
-                                            Eigen::VectorXd& f,
-                                            Eigen::SparseMatrix<double>& K) const {
-  assemble(x, mode, &f, K, "EfgModel::addInternalForceAndStiffness");
-}
-
-void EfgModel::assemble(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
-                        Eigen::SparseMatrix<double>& K, const char* caller) const {
-  double* values = zeroedPatternValues(pattern_, K, caller);
-  const auto add = [&](int e, const auto& Ke) { scatter_.add(e, Ke, values); };
+void EfgModel::addGroupStiffness(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
+                                 double* values) const {
+  const auto sink = [&](int e, const auto& Ke) { scatterGroup(e, Ke, values); };
   if (k_ == 8) {
-    stiffnessImpl<8>(x, mode, f, add);
+    stiffnessImpl<8>(x, mode, f, sink);
   } else {
-    stiffnessImpl<Eigen::Dynamic>(x, mode, f, add);
+    stiffnessImpl<Eigen::Dynamic>(x, mode, f, sink);
   }
 }
 

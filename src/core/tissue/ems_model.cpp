@@ -66,8 +66,7 @@ Eigen::Matrix<double, 6, 4> edgeDerivative(int k) {
 }  // namespace
 
 EmsModel::EmsModel(const TetMesh& mesh, const Material& material) {
-  const Material mat =
-      Material::create(material.young_modulus, material.poisson_ratio, material.density);
+  const Material mat = Material::validated(material);
   checkTissueMesh(mesh, "ems", /*allow_tet10=*/false);
   const double lambda = mat.lambda();
   const double mu = mat.mu();
@@ -108,8 +107,7 @@ EmsModel::EmsModel(const TetMesh& mesh, const Material& material) {
       lumped_mass_.segment<3>(3 * elements_(a, e)).array() += mat.density * tet.volume / 4.0;
     }
   }
-  pattern_ = makeBlockPattern(n, elements_);
-  scatter_ = BlockScatterMap(pattern_, elements_);
+  setGroups(n, elements_);
 }
 
 Eigen::VectorXd EmsModel::bodyForce(const Eigen::Vector3d& a) const {
@@ -176,17 +174,10 @@ EmsModel::Matrix12d EmsModel::elementStiffness(const Eigen::VectorXd& x, int e,
   return H;
 }
 
-void EmsModel::assembleStiffness(const Eigen::VectorXd& x, TangentMode mode,
-                                 Eigen::SparseMatrix<double>& K) const {
-  if (K.rows() != pattern_.rows() || K.cols() != pattern_.cols() ||
-      K.nonZeros() != pattern_.nonZeros() || !K.isCompressed()) {
-    throw std::invalid_argument("EmsModel::assembleStiffness: K must have stiffnessPattern()");
-  }
-  double* values = K.valuePtr();
-  std::fill(values, values + K.nonZeros(), 0.0);
-  for (int e = 0; e < elements_.cols(); ++e) {
-    scatter_.add(e, elementStiffness(x, e, mode), values);
-  }
+void EmsModel::addGroupStiffness(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
+                                 double* values) const {
+  if (f != nullptr) addInternalForce(x, *f);
+  for (int e = 0; e < elements_.cols(); ++e) scatterGroup(e, elementStiffness(x, e, mode), values);
 }
 
 void EmsModel::applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,

@@ -110,8 +110,7 @@ FeModel::FeModel(const TetMesh& mesh, const Material& material,
                  std::unique_ptr<HyperelasticLaw> law)
     : type_(mesh.type), law_(std::move(law)) {
   if (!law_) throw std::invalid_argument("FeModel: law must not be null");
-  const Material mat =
-      Material::create(material.young_modulus, material.poisson_ratio, material.density);
+  const Material mat = Material::validated(material);
   checkTissueMesh(mesh, law_->name(), /*allow_tet10=*/true);
 
   FeRestData rest = computeFeRestData(mesh, mat.density);
@@ -124,8 +123,7 @@ FeModel::FeModel(const TetMesh& mesh, const Material& material,
   weight_det_j_ = std::move(rest.weight_det_j);
   body_weight_ = std::move(rest.body_weight);
   lumped_mass_ = std::move(rest.lumped_mass);
-  pattern_ = makeBlockPattern(n, elements_);
-  scatter_ = BlockScatterMap(pattern_, elements_);
+  setGroups(n, elements_);
 }
 
 Eigen::VectorXd FeModel::bodyForce(const Eigen::Vector3d& a) const {
@@ -217,25 +215,13 @@ void FeModel::addInternalForce(const Eigen::VectorXd& x, Eigen::VectorXd& f) con
   }
 }
 
-void FeModel::assembleStiffness(const Eigen::VectorXd& x, TangentMode mode,
-                                Eigen::SparseMatrix<double>& K) const {
-  assemble(x, mode, nullptr, K, "FeModel::assembleStiffness");
-}
-
-void FeModel::addInternalForceAndStiffness(const Eigen::VectorXd& x, TangentMode mode,
-                                           Eigen::VectorXd& f,
-                                           Eigen::SparseMatrix<double>& K) const {
-  assemble(x, mode, &f, K, "FeModel::addInternalForceAndStiffness");
-}
-
-void FeModel::assemble(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
-                       Eigen::SparseMatrix<double>& K, const char* caller) const {
-  double* values = zeroedPatternValues(pattern_, K, caller);
-  const auto scatter = [&](int e, const auto& Ke) { scatter_.add(e, Ke, values); };
+void FeModel::addGroupStiffness(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
+                                double* values) const {
+  const auto sink = [&](int e, const auto& Ke) { scatterGroup(e, Ke, values); };
   if (type_ == ElementType::Tet4) {
-    stiffnessImpl<4, 1>(x, mode, f, scatter);
+    stiffnessImpl<4, 1>(x, mode, f, sink);
   } else {
-    stiffnessImpl<10, 4>(x, mode, f, scatter);
+    stiffnessImpl<10, 4>(x, mode, f, sink);
   }
 }
 

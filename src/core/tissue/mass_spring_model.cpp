@@ -15,8 +15,7 @@ constexpr int kTetEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {2, 3}, {1, 3}}
 }  // namespace
 
 MassSpringModel::MassSpringModel(const TetMesh& mesh, const Material& material) {
-  const Material mat =
-      Material::create(material.young_modulus, material.poisson_ratio, material.density);
+  const Material mat = Material::validated(material);
   checkTissueMesh(mesh, "mass_spring", /*allow_tet10=*/false);
   const int n = mesh.numNodes();
   rest_positions_ = Eigen::Map<const Eigen::VectorXd>(mesh.nodes.data(), 3 * n);
@@ -57,9 +56,7 @@ MassSpringModel::MassSpringModel(const TetMesh& mesh, const Material& material) 
     rest_length_(j) = length;
     stiffness_(j) = mat.young_modulus * volume_sum[j] / (length * length);  // Chendeb eq. 2.7
   }
-  const Eigen::MatrixXi groups = springs_;
-  pattern_ = makeBlockPattern(n, groups);
-  scatter_ = BlockScatterMap(pattern_, groups);
+  setGroups(n, springs_);
 }
 
 Eigen::VectorXd MassSpringModel::bodyForce(const Eigen::Vector3d& a) const {
@@ -100,20 +97,14 @@ Eigen::Matrix3d MassSpringModel::springBlock(const Eigen::VectorXd& x, int j,
   return stiffness_(j) * (transverse * Eigen::Matrix3d::Identity() + ratio * n * n.transpose());
 }
 
-void MassSpringModel::assembleStiffness(const Eigen::VectorXd& x, TangentMode mode,
-                                        Eigen::SparseMatrix<double>& K) const {
-  if (K.rows() != pattern_.rows() || K.cols() != pattern_.cols() ||
-      K.nonZeros() != pattern_.nonZeros() || !K.isCompressed()) {
-    throw std::invalid_argument(
-        "MassSpringModel::assembleStiffness: K must have stiffnessPattern()");
-  }
-  double* values = K.valuePtr();
-  std::fill(values, values + K.nonZeros(), 0.0);
+void MassSpringModel::addGroupStiffness(const Eigen::VectorXd& x, TangentMode mode,
+                                        Eigen::VectorXd* f, double* values) const {
+  if (f != nullptr) addInternalForce(x, *f);
   for (int j = 0; j < springs_.cols(); ++j) {
     const Eigen::Matrix3d H = springBlock(x, j, mode);
     Eigen::Matrix<double, 6, 6> Ke;  // [H -H; -H H]
     Ke << H, -H, -H, H;
-    scatter_.add(j, Ke, values);
+    scatterGroup(j, Ke, values);
   }
 }
 

@@ -15,6 +15,10 @@ Material Material::create(double young_modulus_pa, double poisson_ratio, double 
   return m;
 }
 
+Material Material::validated(const Material& m) {
+  return create(m.young_modulus, m.poisson_ratio, m.density);
+}
+
 double Material::lambda() const {
   return young_modulus * poisson_ratio / ((1.0 + poisson_ratio) * (1.0 - 2.0 * poisson_ratio));
 }

@@ -5,8 +5,7 @@
 namespace surgical_sim::core {
 
 StVenantKirchhoffLaw::StVenantKirchhoffLaw(const Material& material) {
-  const Material m =
-      Material::create(material.young_modulus, material.poisson_ratio, material.density);
+  const Material m = Material::validated(material);
   mu_ = m.mu();
   lambda_ = m.lambda();
 }

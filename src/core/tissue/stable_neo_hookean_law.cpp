@@ -17,8 +17,7 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& a) {
 }  // namespace
 
 StableNeoHookeanLaw::StableNeoHookeanLaw(const Material& material) {
-  const Material m =
-      Material::create(material.young_modulus, material.poisson_ratio, material.density);
+  const Material m = Material::validated(material);
   mu_ = m.mu();
   lambda_shift_ = m.lambda() + m.mu();
 }

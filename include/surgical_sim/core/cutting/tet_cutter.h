@@ -6,10 +6,13 @@
 #include <vector>
 
 #include "surgical_sim/core/cutting/blade_sweep.h"
+#include "surgical_sim/core/cutting/element_split.h"
 #include "surgical_sim/core/mesh/surface.h"
 #include "surgical_sim/core/mesh/tet_mesh.h"
 
 namespace surgical_sim::core {
+
+class UnionFind;
 
 /// Result of one topology update of a TetCutter.
 struct CutUpdate {
@@ -75,6 +78,14 @@ enum class CutUpdateMode {
 /// them to themselves and new nodes to the node they split from. The connected components and
 /// the embedded cut surface are derived on demand. Element removal (and CutUpdateMode::Rebuild)
 /// rebuilds everything in O(m) time (m original elements).
+///
+/// A cut runs four phases, each a separate function:
+///  1. detection: detectBladeEdgeCrossings() marks the uncut edges the blade sweep crosses;
+///  2. element splitting: splitElement() gives the fragments of each element at those edges;
+///  3. node classification: the slots (copy, corner) glued across faces form the node classes,
+///     around the changed corners (incremental) or everywhere (rebuild);
+///  4. derived-data refresh: masses, faces, surface and edge representatives of the changed
+///     nodes and elements (the same functions refresh everything in a rebuild).
 class TetCutter {
  public:
   /// @param rest_mesh Tet4 mesh [m] passing requireValidMesh().
@@ -109,7 +120,7 @@ class TetCutter {
   /// Original element of each current element.
   const std::vector<int>& elementOrigin() const { return element_origin_; }
   /// Real corners of current element c (bit i = local corner i; 0xF for an unsplit element).
-  int realCorners(int c) const { return copies_[static_cast<std::size_t>(c)].mask; }
+  int realCorners(int c) const;
   /// Material fraction of each current element [-].
   const std::vector<double>& elementFraction() const { return element_fraction_; }
   /// Node-major vector (size 3 n_old, e.g. positions or velocities) of the mesh before the last
@@ -152,13 +163,12 @@ class TetCutter {
     bool whole = false;
     std::array<bool, 3> corner{};
   };
-
-  void rebuild();
-  bool updateIncrementally(const std::vector<int>& new_cut_edges);
-  int partition(int element, std::array<int, 4>& masks) const;
-  std::array<double, 6> localCutParameters(int element) const;
-  FaceGlue glue(int copy, int local_face, int copy2, const std::array<int, 3>& corners2) const;
-  std::array<int, 3> neighbourCorners(int element, int local_face) const;
+  /// Copies and their corner nodes before a full rebuild (to find the new nodes' parents).
+  struct Topology {
+    std::vector<Copy> copies;
+    std::vector<CopyList> element_copies;
+    Eigen::MatrixXi elements;
+  };
   /// Node classes of the slots (copy, corner at an original node) around that node.
   struct StarClasses {
     std::vector<std::array<int, 2>> slots;  ///< (copy, local corner)
@@ -167,12 +177,90 @@ class TetCutter {
     std::vector<int> class_parent;  ///< for a new node: the node it splits from
     std::vector<int> vanished;      ///< nodes no class keeps (merged into others)
   };
-  /// Classes around original node v under the current copies and the nodes they get.
+
+  // Construction: connectivity of the original mesh.
+  void buildEdges();
+  void buildStars();
+  void buildFaceNeighbours();
+
+  // Element splitting.
+  /// Fragments of original element e under the edges cut so far (splitElement()).
+  ElementSplit splitOriginal(int element) const;
+  /// Cut parameter of each local edge of an original element, from its lower local corner.
+  std::array<double, 6> localCutParameters(int element) const;
+  /// Topology update of a cut that crossed new_cut_edges (per mode_); true if it changed.
+  bool applyCutEdges(const std::vector<int>& new_cut_edges);
+
+  // Full rebuild: every element split, every node classified, everything derived refreshed.
+  void rebuild();
+  /// Rebuild phase 1: copies_ and element_copies_ from the split of every remaining element.
+  void splitAllElements();
+  /// Rebuild phase 2a: unites the slots (4 copy + corner) glued across every interior face.
+  void glueAllSlots(UnionFind& slots) const;
+  /// Rebuild phase 2b: node of each slot class and node_origin_. The first class of each
+  /// original node (in copy order) keeps the original index, the others are numbered after
+  /// them; indices of original nodes that lost all their elements are closed up, keeping the
+  /// order (an uncut mesh keeps its numbering). Returns the node of every slot.
+  std::vector<int> numberSlotClasses(UnionFind& slots);
+  /// Rebuild phase 2c: mesh_ elements and rest nodes, element data, origin_nodes_ and the
+  /// parents (from the old copy containing each fragment) of the numbered slots.
+  void assignNodes(const std::vector<int>& slot_node, const Topology& old);
+  /// Old copy holding the fragment of `copy` (else one overlapping it), or -1 on construction.
+  int parentCopy(const Topology& old, const Copy& copy) const;
+
+  // Incremental update: only the split elements, the nodes around them and their faces.
+  bool updateIncrementally(const std::vector<int>& new_cut_edges);
+  /// Splitting: new fragments of one element; a fragment reuses the copy it comes from (the
+  /// first fragment of it) or is appended to copies_ (with (new copy, copy whose nodes it
+  /// starts from) in appended). False if the element's fragments did not change.
+  bool resplitElement(int element, std::vector<std::array<int, 2>>& appended);
+  /// Classification: node classes around every corner of the changed elements (all computed
+  /// before any is applied), then the nodes that vanished are closed up. Returns the original
+  /// nodes whose current nodes changed.
+  std::vector<int> reclassifyStars(const std::vector<int>& changed);
+  /// Refresh: rest positions, element data, masses, faces, surface and edge representatives
+  /// around the given original nodes.
+  void refreshAround(const std::vector<int>& origins, const std::vector<int>& changed);
+
+  // Node classification around one original node v (its star).
+  /// Classes around v under the current copies and the nodes they get.
   void starClasses(int v, StarClasses& out);
+  /// Collects the slots of v's star into out.slots and unites those glued across its faces.
+  UnionFind glueStarSlots(int v, StarClasses& out);
+  /// Class of each slot; per class the (lowest) node of its slots in unchanged copies (or -1)
+  /// and the node its first slot carries.
+  void labelStarClasses(UnionFind& classes, StarClasses& out, std::vector<int>& kept_by,
+                        std::vector<int>& carried) const;
+  /// Classes with unchanged slots claim their node first, then the others the carried one; a
+  /// class whose node is taken gets a new node split from it. Nodes of the star left unclaimed
+  /// vanish (the change merged them into others).
+  void claimStarNodes(const std::vector<int>& kept_by, const std::vector<int>& carried,
+                      StarClasses& out) const;
   void applyStarClasses(int v, const StarClasses& star);
   /// Removes an unused node by moving the last node into its index; returns the moved node's
   /// origin (its star has to be refreshed).
   int removeNode(int node);
+
+  // Gluing across faces.
+  FaceGlue glue(int copy, int local_face, int copy2, const std::array<int, 3>& corners2) const;
+  std::array<int, 3> neighbourCorners(int element, int local_face) const;
+  /// True if a copy of the neighbour across the copy's local face continues the material.
+  bool continuesAcross(int copy, int local_face) const;
+  /// Calls visit(i, j, glue) for copy i of element and copy j of its neighbour across
+  /// local_face (an interior face).
+  template <class Visit>
+  void forEachCopyPair(int element, int local_face, Visit&& visit) const;
+  /// Calls visit(copy, corner) for every copy of every element around original node v, with
+  /// corner the local corner at v.
+  template <class Visit>
+  void forEachStarCopy(int v, Visit&& visit) const;
+
+  // Derived-data refresh (the same functions for the full rebuild and the incremental update).
+  /// Empties masses, surface and edge representatives before refreshing everything.
+  void resetDerived();
+  /// Masses of the nodes of origins, faces and edge representatives of elements, then the
+  /// surface.
+  void refreshDerived(const std::vector<int>& origins, const std::vector<int>& elements);
   void refreshFaces(const std::vector<int>& elements);
   void refreshEdgeRepresentatives(const std::vector<int>& elements);
   void recomputeMasses(const std::vector<int>& origins);
@@ -226,17 +314,20 @@ class TetCutter {
   SurfaceMesh surface_;
   std::vector<bool> cut_faces_;
   int old_num_nodes_ = 0;
-  // Scratch of updateIncrementally() / relabelStar() (stamps avoid clearing per update).
+  // Scratch of updateIncrementally() / starClasses() (stamps avoid clearing per update).
   mutable int stamp_ = 0;
   mutable std::vector<int> element_stamp_, origin_stamp_, changed_stamp_;
   std::vector<int> copy_slot_;
-  std::vector<std::uint8_t> outcode_;  ///< cut(): per node, sides of the blade's box it stays on
+  std::vector<std::uint8_t> outcode_;  ///< cut(): detectBladeEdgeCrossings() scratch
   // Derived on demand (cached until the next topology change).
   mutable bool derived_valid_ = false;
   mutable std::vector<int> node_component_;
   mutable int num_components_ = 0;
   mutable std::vector<std::array<EmbeddedCutPoint, 3>> cut_triangles_;
   void derive() const;
+  void deriveComponents() const;
+  /// Appends the embedded cut triangles of a split copy to cut_triangles_.
+  void deriveCutTriangles(int copy) const;
 };
 
 }  // namespace surgical_sim::core

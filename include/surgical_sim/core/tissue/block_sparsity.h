@@ -12,12 +12,6 @@ namespace surgical_sim::core {
 /// @param groups node indices, shape k x g (one group per column), indices in [0, n).
 Eigen::SparseMatrix<double> makeBlockPattern(int num_nodes, const Eigen::MatrixXi& groups);
 
-/// Checks that K has the size and nonzero count of `pattern` and is compressed, zeroes its values
-/// and returns K.valuePtr() (the start of an assembly into the pattern).
-/// @throws std::invalid_argument "<caller>: K must have stiffnessPattern()" otherwise.
-double* zeroedPatternValues(const Eigen::SparseMatrix<double>& pattern,
-                            Eigen::SparseMatrix<double>& K, const char* caller);
-
 /// Group-to-nonzero map for scatter-adding dense group matrices into the values of a pattern from
 /// makeBlockPattern() over the same groups.
 ///
@@ -26,11 +20,7 @@ double* zeroedPatternValues(const Eigen::SparseMatrix<double>& pattern,
 /// value index first(a, b) + c len(a) + r, where first(a, b) is the index of row 3 node_b in
 /// column 3 node_a and len(a) the length of that column. Per group the map stores the k^2 values
 /// first(a, b) (at a k + b) followed by the k values len(a): k (k + 1) ints (20 per Tet4 element,
-/// 110 per Tet10, 6 per spring) instead of (3k)^2 for one index per entry. For the 10,368-element
-/// Tet4 organ (makeOrganBlob at 12 cells; shared 2-core VM, medians) the map is 0.83 MB and builds
-/// in 0.34 ms (0.86 ms into fresh pages), the corotational FeModel in 6.1 ms; a per-entry map was
-/// 6.0 MB, 1.15 ms (4.6 ms fresh) and the model 11.8 ms. Projected addInternalForceAndStiffness,
-/// streaming 7x less map, takes 4.4 ms instead of 5.0 ms.
+/// 110 per Tet10, 6 per spring) instead of (3k)^2 for one index per entry.
 class BlockScatterMap {
  public:
   BlockScatterMap() = default;

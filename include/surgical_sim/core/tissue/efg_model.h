@@ -6,12 +6,11 @@
 #include <vector>
 
 #include "surgical_sim/core/mesh/tet_mesh.h"
-#include "surgical_sim/core/tissue/block_sparsity.h"
 #include "surgical_sim/core/tissue/corotational_law.h"
 #include "surgical_sim/core/tissue/efg_grid.h"
 #include "surgical_sim/core/tissue/efg_options.h"
+#include "surgical_sim/core/tissue/group_assembled_model.h"
 #include "surgical_sim/core/tissue/material.h"
-#include "surgical_sim/core/tissue/tissue_model.h"
 
 namespace surgical_sim::core {
 
@@ -33,7 +32,7 @@ namespace surgical_sim::core {
 /// phi_a < 0, sums to rho V_e per IP). bodyForce is consistent: f_a = sum_e rho V_e phi_a(x_e) a.
 /// Dirichlet conditions act on particles (MLS is not interpolating: fixing the particles of a
 /// face clamps it approximately). Energy, force and stiffness evaluation allocate nothing.
-class EfgModel final : public TissueModel {
+class EfgModel final : public GroupAssembledModel {
  public:
   /// @param mesh Tet4 or Tet10 mesh [m] of the body (only its corner tets are used, to decide
   ///        which volume samples are inside).
@@ -44,18 +43,9 @@ class EfgModel final : public TissueModel {
   EfgModel(const TetMesh& mesh, const Material& material, const EfgOptions& options);
 
   std::string name() const override { return "efg"; }
-  const Eigen::VectorXd& restPositions() const override { return rest_positions_; }
-  const Eigen::VectorXd& lumpedMass() const override { return lumped_mass_; }
   Eigen::VectorXd bodyForce(const Eigen::Vector3d& a) const override;
   double energy(const Eigen::VectorXd& x) const override;
   void addInternalForce(const Eigen::VectorXd& x, Eigen::VectorXd& f) const override;
-  const Eigen::SparseMatrix<double>& stiffnessPattern() const override { return pattern_; }
-  /// @throws std::invalid_argument if K does not have stiffnessPattern()'s size and nonzero count.
-  void assembleStiffness(const Eigen::VectorXd& x, TangentMode mode,
-                         Eigen::SparseMatrix<double>& K) const override;
-  /// One IP pass for both. @throws as assembleStiffness.
-  void addInternalForceAndStiffness(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd& f,
-                                    Eigen::SparseMatrix<double>& K) const override;
   /// y = K(x) v [N], y resized to 3n.
   void applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
                       Eigen::VectorXd& y) const override;
@@ -83,8 +73,9 @@ class EfgModel final : public TissueModel {
   template <int K, typename Sink>
   void stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
                      Sink&& sink) const;
-  void assemble(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
-                Eigen::SparseMatrix<double>& K, const char* caller) const;
+  /// One IP pass for the stiffness and, with f, the force.
+  void addGroupStiffness(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
+                         double* values) const override;
   /// Shape-matching rotation of IP e at nodal positions xe (3 x k).
   template <typename Nodes>
   Eigen::Matrix3d matchingRotation(const Nodes& xe, int e) const;
@@ -97,15 +88,11 @@ class EfgModel final : public TissueModel {
   double lambda_;  ///< [Pa]
   EfgGrid grid_;
   int k_;                             ///< neighbours per IP
-  Eigen::VectorXd rest_positions_;    ///< 3n [m]
-  Eigen::VectorXd lumped_mass_;       ///< 3n [kg]
   Eigen::VectorXd body_weight_;       ///< n, sum_e rho V_e phi_a(x_e) [kg]
   std::vector<double> shape_values_;  ///< per IP: phi, k
   std::vector<double> gradients_;     ///< per IP: d phi / dX, k x 3 col-major [1/m]
   std::vector<double> matching_;      ///< per IP: shape-matching weights, k x 3 col-major [1/m]
   std::vector<double> support_;       ///< per IP: kernel support radius h [m]
-  Eigen::SparseMatrix<double> pattern_;
-  BlockScatterMap scatter_;
 };
 
 }  // namespace surgical_sim::core

@@ -6,9 +6,8 @@
 #include <vector>
 
 #include "surgical_sim/core/mesh/tet_mesh.h"
-#include "surgical_sim/core/tissue/block_sparsity.h"
+#include "surgical_sim/core/tissue/group_assembled_model.h"
 #include "surgical_sim/core/tissue/material.h"
-#include "surgical_sim/core/tissue/tissue_model.h"
 
 namespace surgical_sim::core {
 
@@ -25,27 +24,23 @@ namespace surgical_sim::core {
 /// Exact stiffness: the Hessian of the quartic W, 2 vol0 J^T MW J + sum_i w_i d2L_i/dx2 with
 /// J = dL/dx (6 x 12) and w = 2 vol0 MW dL; ProjectedSpd eigen-clamps each 12 x 12 element block.
 /// Masses rho V/4 per node per tet.
-class EmsModel final : public TissueModel {
+class EmsModel final : public GroupAssembledModel {
  public:
   /// @throws std::invalid_argument for Tet10 meshes, invalid material, degenerate / inverted
   ///         rest elements (names "mesh.elements" and the element).
   EmsModel(const TetMesh& mesh, const Material& material);
 
   std::string name() const override { return "ems"; }
-  const Eigen::VectorXd& restPositions() const override { return rest_positions_; }
-  const Eigen::VectorXd& lumpedMass() const override { return lumped_mass_; }
   Eigen::VectorXd bodyForce(const Eigen::Vector3d& a) const override;
   double energy(const Eigen::VectorXd& x) const override;
   void addInternalForce(const Eigen::VectorXd& x, Eigen::VectorXd& f) const override;
-  const Eigen::SparseMatrix<double>& stiffnessPattern() const override { return pattern_; }
-  /// @throws std::invalid_argument if K does not have stiffnessPattern()'s size and nonzero count.
-  void assembleStiffness(const Eigen::VectorXd& x, TangentMode mode,
-                         Eigen::SparseMatrix<double>& K) const override;
   /// y = K(x) v [N], y resized to 3n.
   void applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
                       Eigen::VectorXd& y) const override;
 
  private:
+  void addGroupStiffness(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
+                         double* values) const override;
   using Matrix6d = Eigen::Matrix<double, 6, 6>;
   using Matrix64d = Eigen::Matrix<double, 6, 4>;
   using Matrix12d = Eigen::Matrix<double, 12, 12>;
@@ -64,10 +59,6 @@ class EmsModel final : public TissueModel {
 
   Eigen::MatrixXi elements_;  ///< 4 x m
   std::vector<Tet> tets_;
-  Eigen::VectorXd rest_positions_;
-  Eigen::VectorXd lumped_mass_;
-  Eigen::SparseMatrix<double> pattern_;
-  BlockScatterMap scatter_;
 };
 
 }  // namespace surgical_sim::core

@@ -7,10 +7,9 @@
 #include <vector>
 
 #include "surgical_sim/core/mesh/tet_mesh.h"
-#include "surgical_sim/core/tissue/block_sparsity.h"
+#include "surgical_sim/core/tissue/group_assembled_model.h"
 #include "surgical_sim/core/tissue/hyperelastic_law.h"
 #include "surgical_sim/core/tissue/material.h"
-#include "surgical_sim/core/tissue/tissue_model.h"
 
 namespace surgical_sim::core {
 
@@ -28,7 +27,7 @@ namespace surgical_sim::core {
 /// Masses: Tet4 rho V / 4 per node; Tet10 HRZ lumping (diagonal of the consistent mass scaled to
 /// the element mass, all positive). bodyForce is the consistent integral of rho N_a a (Tet10
 /// corner nodes get negative weights -rho V / 20 on affine elements, which is correct).
-class FeModel final : public TissueModel {
+class FeModel final : public GroupAssembledModel {
  public:
   /// @param mesh Tet4 or Tet10 mesh [m], corner tets positively oriented.
   /// @param material validated material (E [Pa], nu [-], rho [kg/m^3]); only rho is used here,
@@ -39,19 +38,9 @@ class FeModel final : public TissueModel {
   FeModel(const TetMesh& mesh, const Material& material, std::unique_ptr<HyperelasticLaw> law);
 
   std::string name() const override { return law_->name(); }
-  const Eigen::VectorXd& restPositions() const override { return rest_positions_; }
-  const Eigen::VectorXd& lumpedMass() const override { return lumped_mass_; }
   Eigen::VectorXd bodyForce(const Eigen::Vector3d& a) const override;
   double energy(const Eigen::VectorXd& x) const override;
   void addInternalForce(const Eigen::VectorXd& x, Eigen::VectorXd& f) const override;
-  const Eigen::SparseMatrix<double>& stiffnessPattern() const override { return pattern_; }
-  /// @throws std::invalid_argument if K does not have stiffnessPattern()'s size and nonzero count.
-  void assembleStiffness(const Eigen::VectorXd& x, TangentMode mode,
-                         Eigen::SparseMatrix<double>& K) const override;
-  /// One element pass: the law's stress and tangent together (HyperelasticLaw::stressAndTangent).
-  /// @throws std::invalid_argument if K does not have stiffnessPattern()'s size and nonzero count.
-  void addInternalForceAndStiffness(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd& f,
-                                    Eigen::SparseMatrix<double>& K) const override;
   /// y = K(x) v [N], y resized to 3n.
   void applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
                       Eigen::VectorXd& y) const override;
@@ -70,22 +59,18 @@ class FeModel final : public TissueModel {
   template <int NPE, int NQ, typename Sink>
   void stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
                      Sink&& sink) const;
-  /// Writes K (and f += the force when f is not null); `caller` names the function in errors.
-  void assemble(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
-                Eigen::SparseMatrix<double>& K, const char* caller) const;
+  /// One element pass for the stiffness and, with f, the force.
+  void addGroupStiffness(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
+                         double* values) const override;
 
   ElementType type_;
   int nodes_per_element_;
   int points_per_element_;
   std::unique_ptr<HyperelasticLaw> law_;
   Eigen::MatrixXi elements_;            ///< nodes_per_element x m
-  Eigen::VectorXd rest_positions_;      ///< 3n [m]
-  Eigen::VectorXd lumped_mass_;         ///< 3n [kg]
   Eigen::VectorXd body_weight_;         ///< n, integral(rho N_a dV) [kg]
   std::vector<double> rest_gradients_;  ///< per (element, point): dN/dX, npe x 3 col-major [1/m]
   std::vector<double> weight_det_j_;    ///< per (element, point): w detJ [m^3]
-  Eigen::SparseMatrix<double> pattern_;
-  BlockScatterMap scatter_;
 };
 
 }  // namespace surgical_sim::core

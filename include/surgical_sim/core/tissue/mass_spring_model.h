@@ -5,9 +5,8 @@
 #include <string>
 
 #include "surgical_sim/core/mesh/tet_mesh.h"
-#include "surgical_sim/core/tissue/block_sparsity.h"
+#include "surgical_sim/core/tissue/group_assembled_model.h"
 #include "surgical_sim/core/tissue/material.h"
-#include "surgical_sim/core/tissue/tissue_model.h"
 
 namespace surgical_sim::core {
 
@@ -18,22 +17,16 @@ namespace surgical_sim::core {
 /// Spring energy 1/2 k (l - L0)^2; exact Hessian block k [(1 - L0/l) I + (L0/l) n n^T], n the unit
 /// edge direction; ProjectedSpd clamps (1 - L0/l) at >= 0. Masses rho sum(V_e)/4 per node.
 /// Note: the model has no Poisson effect (it ignores nu) and its apparent E is mesh dependent.
-class MassSpringModel final : public TissueModel {
+class MassSpringModel final : public GroupAssembledModel {
  public:
   /// @throws std::invalid_argument for Tet10 meshes, invalid material, degenerate / inverted
   ///         rest elements (names "mesh.elements" and the element).
   MassSpringModel(const TetMesh& mesh, const Material& material);
 
   std::string name() const override { return "mass_spring"; }
-  const Eigen::VectorXd& restPositions() const override { return rest_positions_; }
-  const Eigen::VectorXd& lumpedMass() const override { return lumped_mass_; }
   Eigen::VectorXd bodyForce(const Eigen::Vector3d& a) const override;
   double energy(const Eigen::VectorXd& x) const override;
   void addInternalForce(const Eigen::VectorXd& x, Eigen::VectorXd& f) const override;
-  const Eigen::SparseMatrix<double>& stiffnessPattern() const override { return pattern_; }
-  /// @throws std::invalid_argument if K does not have stiffnessPattern()'s size and nonzero count.
-  void assembleStiffness(const Eigen::VectorXd& x, TangentMode mode,
-                         Eigen::SparseMatrix<double>& K) const override;
   /// y = K(x) v [N], y resized to 3n.
   void applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
                       Eigen::VectorXd& y) const override;
@@ -46,16 +39,14 @@ class MassSpringModel final : public TissueModel {
   const Eigen::VectorXd& restLength() const { return rest_length_; }
 
  private:
+  void addGroupStiffness(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
+                         double* values) const override;
   /// 3 x 3 block H of spring j at x (the 6 x 6 spring Hessian is [H -H; -H H]).
   Eigen::Matrix3d springBlock(const Eigen::VectorXd& x, int j, TangentMode mode) const;
 
   Eigen::Matrix2Xi springs_;
   Eigen::VectorXd stiffness_;
   Eigen::VectorXd rest_length_;
-  Eigen::VectorXd rest_positions_;
-  Eigen::VectorXd lumped_mass_;
-  Eigen::SparseMatrix<double> pattern_;
-  BlockScatterMap scatter_;
 };
 
 }  // namespace surgical_sim::core

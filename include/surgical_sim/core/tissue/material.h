@@ -10,6 +10,8 @@ struct Material {
 
   /// @throws std::invalid_argument naming "material.young_modulus" etc. when out of range.
   static Material create(double young_modulus_pa, double poisson_ratio, double density_kg_m3);
+  /// create() applied to the fields of m (a copy, validated).
+  static Material validated(const Material& m);
 
   /// Lame's first parameter lambda = E nu / ((1 + nu)(1 - 2 nu)) [Pa].
   double lambda() const;

@@ -1,0 +1,34 @@
+#include "surgical_sim/core/tissue/group_assembled_model.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace surgical_sim::core {
+
+void GroupAssembledModel::assembleStiffness(const Eigen::VectorXd& x, TangentMode mode,
+                                            Eigen::SparseMatrix<double>& K) const {
+  addGroupStiffness(x, mode, nullptr, zeroedValues(K));
+}
+
+void GroupAssembledModel::addInternalForceAndStiffness(const Eigen::VectorXd& x, TangentMode mode,
+                                                       Eigen::VectorXd& f,
+                                                       Eigen::SparseMatrix<double>& K) const {
+  addGroupStiffness(x, mode, &f, zeroedValues(K));
+}
+
+void GroupAssembledModel::setGroups(int num_nodes, const Eigen::MatrixXi& groups) {
+  pattern_ = makeBlockPattern(num_nodes, groups);
+  scatter_ = BlockScatterMap(pattern_, groups);
+}
+
+double* GroupAssembledModel::zeroedValues(Eigen::SparseMatrix<double>& K) const {
+  if (K.rows() != pattern_.rows() || K.cols() != pattern_.cols() ||
+      K.nonZeros() != pattern_.nonZeros() || !K.isCompressed()) {
+    throw std::invalid_argument(name() + " model: K must have stiffnessPattern()");
+  }
+  double* values = K.valuePtr();
+  std::fill(values, values + K.nonZeros(), 0.0);
+  return values;
+}
+
+}  // namespace surgical_sim::core
