@@ -427,6 +427,12 @@ TEST(Generators, ValidatorsNameTheParameter) {
                         "makeOrganBlob: cells_per_axis = 0 must be >= 1");
   expectInvalidArgument([&] { makeBeam(1.0, 0.1, 0.1, cells, static_cast<ElementType>(3)); },
                         "makeBeam: type = 3 is not a known ElementType");
+  expectInvalidArgument(
+      [&] {
+        makeBox(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), cells, ElementType::Tet4,
+                static_cast<CellSplit>(7));
+      },
+      "makeBox: split = 7 is not a known CellSplit");
 }
 
 }  // namespace
