@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "surgical_sim/core/contact/contact_phase.h"
+#include "surgical_sim/core/mesh/generators.h"
 #include "surgical_sim/core/mesh/tet_mesh.h"
 #include "surgical_sim/core/solve/make_integrator.h"
 #include "surgical_sim/core/solve/make_linear_solver.h"
@@ -34,6 +35,7 @@ struct MeshSpec {
   // box / beam / organ_blob
   Eigen::Vector3d size = Eigen::Vector3d::Zero();    ///< box/beam edge lengths, blob semi-axes [m]
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  ///< box min corner [m]
+  CellSplit split = CellSplit::Symmetric;            ///< box / beam cell split (mesh.split)
   // hex_beam
   double hex_side = 0.0;    ///< side of the regular hexagon [m]
   double hex_length = 0.0;  ///< beam length along x [m]
