@@ -46,17 +46,19 @@ StepStatus NewtonIntegratorBase::solveNewton(const DynamicsProblem& problem, Eig
   double reference = 0.0;
   double previous_norm = 0.0;
   bool use_exact = false;
+  // |r| over |r_0| raised to the round-off floor over the tolerance: converged iff <= tol.
+  const auto relativeResidual = [&](double norm, double terms) {
+    const double denominator =
+        std::max(reference, kNewtonResidualRoundOff * terms / settings_.relative_tolerance);
+    return denominator > 0.0 ? norm / denominator : 0.0;
+  };
   for (int iteration = 0;; ++iteration) {
     double terms = 0.0;
     const double norm = computeResidual(problem, x, &terms);
     if (!std::isfinite(norm)) return StepStatus::NonFinite;
     if (iteration == 0) reference = norm;
-    // |r_0| raised to the round-off floor over the tolerance: converged iff relative <= tol.
-    const double denominator =
-        std::max(reference, kNewtonResidualRoundOff * terms / settings_.relative_tolerance);
-    const double relative = denominator > 0.0 ? norm / denominator : 0.0;
-    report.residual = relative;
-    if (relative <= settings_.relative_tolerance) return StepStatus::Ok;
+    report.residual = relativeResidual(norm, terms);
+    if (report.residual <= settings_.relative_tolerance) return StepStatus::Ok;
     if (iteration == settings_.max_iterations) return StepStatus::NotConverged;
     if (iteration > 0 && norm > kNewtonStallRatio * previous_norm) use_exact = true;
     previous_norm = norm;
@@ -76,7 +78,15 @@ StepStatus NewtonIntegratorBase::solveNewton(const DynamicsProblem& problem, Eig
           double unused_scale = 0.0;
           return merit(problem, trial_, &unused_scale);
         });
-    if (!search.accepted) return StepStatus::NotConverged;
+    if (!search.accepted) {
+      // The test above ran before this iteration's stiffness round-off was known; with it, x may
+      // already be at round-off (e.g. a body at rest), where no line search makes progress.
+      double terms_now = 0.0;
+      const double norm_now = computeResidual(problem, x, &terms_now);
+      report.residual = relativeResidual(norm_now, terms_now);
+      return report.residual <= settings_.relative_tolerance ? StepStatus::Ok
+                                                             : StepStatus::NotConverged;
+    }
     x = trial_;
   }
 }
