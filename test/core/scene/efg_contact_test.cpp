@@ -28,7 +28,7 @@ material: {young_modulus: 5.0e3, poisson_ratio: 0.45, density: 1000.0}
 model: )" +
          model + R"(
 efg: {spacing: 0.0025}
-integrator: quasi_static_newton
+integrator: quasi_static
 solver: cholmod
 time_step: 0.01
 gravity: [0.0, 0.0, 0.0]
@@ -59,7 +59,7 @@ constexpr double kRadius = 0.0025;  // tool radius [m]
 /// Settled upward force on the tool with its lowest point `depth` [m] below the top.
 double pressForce(TissueSimulation& sim, double depth) {
   sim.setToolPose(0, toolAt(Eigen::Vector3d(0.0, 0.0, kTop + kRadius - depth)));
-  for (int k = 0; k < 30; ++k) sim.step();
+  for (int k = 0; k < 12; ++k) sim.step();
   return sim.toolContact(0).f0_S.z();
 }
 
@@ -69,27 +69,27 @@ RuntimeScene parsed(const std::string& model, const std::string& type, int resol
 
 TEST(EfgContact, PressForceLiesBetweenTheTetAnswersOfTheSameBlock) {
   constexpr double kDepth = 0.003;
-  TissueSimulation tet4(parsed("corotational", "tet4", 12));
-  TissueSimulation tet10(parsed("corotational", "tet10", 12));
-  TissueSimulation efg(parsed("efg", "tet4", 12));
+  TissueSimulation tet4(parsed("corotational", "tet4", 8));
+  TissueSimulation tet10(parsed("corotational", "tet10", 8));
+  TissueSimulation efg(parsed("efg", "tet4", 8));
   const double f4 = pressForce(tet4, kDepth);
   const double f10 = pressForce(tet10, kDepth);
   const double fe = pressForce(efg, kDepth);
   RecordProperty("force_tet4_N", std::to_string(f4));
   RecordProperty("force_tet10_N", std::to_string(f10));
   RecordProperty("force_efg_N", std::to_string(fe));
+  // A 5 mm tool on 7.5 mm elements: the linear tets are much too stiff, the tet10 answer is the
+  // better one; the EFG answer (particles every 5 mm) lies between them.
   ASSERT_GT(f10, 0.0);
-  // The stiffer linear tets overestimate; the EFG answer (particles every 5 mm) lies within
-  // 25 % of the tet10 answer and below 1.1 x the tet4 one.
   EXPECT_LT(f10, f4);
-  EXPECT_NEAR(fe, f10, 0.25 * f10) << "tet4 " << f4 << " N, tet10 " << f10 << " N";
-  EXPECT_LT(fe, 1.1 * f4);
+  EXPECT_GT(fe, f10) << "tet4 " << f4 << " N, tet10 " << f10 << " N";
+  EXPECT_LT(fe, f4) << "tet4 " << f4 << " N, tet10 " << f10 << " N";
   // The haptic contact model: pushing deeper (-z) raises the upward force, and the force of one
-  // more step 0.2 mm deeper follows the prediction f0 + K dp.
+  // more step 0.05 mm deeper follows the prediction f0 + K dp.
   const ContactLinearization c = efg.toolContact(0);
   ASSERT_TRUE(c.in_contact);
   EXPECT_LT(c.K_S(2, 2), 0.0);
-  const double dz = -2e-4;
+  const double dz = -5e-5;
   efg.setToolPose(0, toolAt(c.p0_S + Eigen::Vector3d(0.0, 0.0, dz)));
   efg.step();
   const double change = efg.toolContact(0).f0_S.z() - c.f0_S.z();
