@@ -78,12 +78,13 @@ TEST(EfgContact, PressForceLiesBetweenTheTetAnswersOfTheSameBlock) {
   RecordProperty("force_tet4_N", std::to_string(f4));
   RecordProperty("force_tet10_N", std::to_string(f10));
   RecordProperty("force_efg_N", std::to_string(fe));
-  // A 5 mm tool on 7.5 mm elements: the linear tets are much too stiff, the tet10 answer is the
-  // better one; the EFG answer (particles every 5 mm) lies between them.
+  // A 5 mm tool on 7.5 mm elements: the linear tets are three times too stiff, the tet10
+  // answer is the better one; the EFG answer (particles every 5 mm) lies between them, within
+  // 15 % of tet10.
   ASSERT_GT(f10, 0.0);
   EXPECT_LT(f10, f4);
   EXPECT_GT(fe, f10) << "tet4 " << f4 << " N, tet10 " << f10 << " N";
-  EXPECT_LT(fe, f4) << "tet4 " << f4 << " N, tet10 " << f10 << " N";
+  EXPECT_LT(fe, 1.15 * f10) << "tet4 " << f4 << " N, tet10 " << f10 << " N";
   // The haptic contact model: pushing deeper (-z) raises the upward force, and the force of one
   // more step 0.05 mm deeper follows the prediction f0 + K dp.
   const ContactLinearization c = efg.toolContact(0);
