@@ -150,7 +150,7 @@ def scene_info(path):
     """(tissue box (lo, hi) in world [m], tool specs) of an organ_blob/box scene."""
     with open(path) as f:
         scene = yaml.safe_load(f)
-    semi = scene["mesh"].get("size", [0.075, 0.05, 0.03])
+    semi = scene["mesh"].get("size", [0.075, 0.05, 0.024])
     origin = scene.get("tissue_pose", {}).get("position", [0.0, 0.0, 0.0])
     lo = [origin[k] - semi[k] for k in range(3)]
     hi = [origin[k] + semi[k] for k in range(3)]

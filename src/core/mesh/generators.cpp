@@ -60,17 +60,72 @@ void setOrientedElements(TetMesh& mesh, const std::vector<std::array<int, 4>>& t
   }
 }
 
-/// Direction of the main diagonal that each hexahedral cell is split around.
-enum class CellDiagonal {
-  Uniform,         ///< +x+y+z in every cell
-  AwayFromCentre,  ///< mirrored about the box centre: the diagonal of each cell points away
-                   ///< from the centre along each axis (conforming too, since the direction
-                   ///< along an axis depends only on the cell's index along that axis)
+/// How boxTet4() splits each hexahedral cell.
+enum class GridSplit {
+  Alternating5,  ///< 5 tets: the central tet on the 4 corners whose grid indices sum to an even
+                 ///< number, one corner tet at each of the other 4 corners
+  KuhnUniform,   ///< 6 tets around the main diagonal +x+y+z in every cell
+  KuhnAwayFromCentre,  ///< 6 tets around a diagonal mirrored about the box centre: it points
+                       ///< away from the centre along each axis (conforming too, since its
+                       ///< direction along an axis depends only on the cell's index along that
+                       ///< axis)
 };
+
+/// The 5 tets of the cell with min corner `cell`, as grid points (`node` numbers them).
+template <class NodeIndex>
+void appendAlternating5(const std::array<int, 3>& cell, const NodeIndex& node,
+                        std::vector<std::array<int, 4>>& tets) {
+  // Cell corners c = (a, b, d), a, b, d in {0, 1}; `even` holds those with an even index sum.
+  std::array<int, 4> even{};
+  int num_even = 0;
+  for (int c = 0; c < 8; ++c) {
+    const std::array<int, 3> g{cell[0] + (c & 1), cell[1] + ((c >> 1) & 1), cell[2] + (c >> 2)};
+    if ((g[0] + g[1] + g[2]) % 2 != 0) {
+      // Corner tet: the odd corner and its 3 edge neighbours (all even).
+      std::array<int, 4> tet{node(g), 0, 0, 0};
+      for (int a = 0; a < 3; ++a) {
+        std::array<int, 3> neighbour = g;
+        neighbour[a] += (c >> a) & 1 ? -1 : 1;
+        tet[a + 1] = node(neighbour);
+      }
+      tets.push_back(tet);
+    } else {
+      even[num_even++] = node(g);
+    }
+  }
+  tets.push_back(even);
+}
+
+/// The 6 Kuhn tets of the cell with min corner `cell`: one per axis order (a, b, c), walking from
+/// one end of the cell's main diagonal along the a, b and c edges to the other end.
+template <class NodeIndex>
+void appendKuhn6(const std::array<int, 3>& cell, const Eigen::Vector3i& cells, GridSplit split,
+                 const NodeIndex& node, std::vector<std::array<int, 4>>& tets) {
+  constexpr std::array<std::array<int, 3>, 6> kAxisOrders{
+      {{{0, 1, 2}}, {{0, 2, 1}}, {{1, 0, 2}}, {{1, 2, 0}}, {{2, 0, 1}}, {{2, 1, 0}}}};
+  std::array<int, 3> start = cell;
+  std::array<int, 3> step{1, 1, 1};
+  for (int a = 0; a < 3; ++a) {
+    if (split == GridSplit::KuhnAwayFromCentre && 2 * cell[a] + 1 < cells[a]) {
+      start[a] = cell[a] + 1;
+      step[a] = -1;
+    }
+  }
+  for (const auto& order : kAxisOrders) {
+    std::array<int, 3> corner = start;
+    std::array<int, 4> tet{};
+    tet[0] = node(corner);
+    for (int s = 0; s < 3; ++s) {
+      corner[order[s]] += step[order[s]];
+      tet[s + 1] = node(corner);
+    }
+    tets.push_back(tet);
+  }
+}
 
 /// Tet4 grid of a box, without argument checks.
 TetMesh boxTet4(const Eigen::Vector3d& min_corner, const Eigen::Vector3d& size,
-                const Eigen::Vector3i& cells, CellDiagonal diagonal) {
+                const Eigen::Vector3i& cells, GridSplit split) {
   const int nx = cells.x() + 1;
   const int ny = cells.y() + 1;
   const int nz = cells.z() + 1;
@@ -90,39 +145,32 @@ TetMesh boxTet4(const Eigen::Vector3d& min_corner, const Eigen::Vector3d& size,
       }
     }
   }
-  // Kuhn split: one tet per axis order (a, b, c), walking from one end of the cell's main
-  // diagonal along the a, b and c edges to the other end.
-  constexpr std::array<std::array<int, 3>, 6> kAxisOrders{
-      {{{0, 1, 2}}, {{0, 2, 1}}, {{1, 0, 2}}, {{1, 2, 0}}, {{2, 0, 1}}, {{2, 1, 0}}}};
   std::vector<std::array<int, 4>> tets;
   tets.reserve(6 * static_cast<std::size_t>(cells.prod()));
   for (int k = 0; k < cells.z(); ++k) {
     for (int j = 0; j < cells.y(); ++j) {
       for (int i = 0; i < cells.x(); ++i) {
-        const std::array<int, 3> cell{i, j, k};
-        std::array<int, 3> start = cell;
-        std::array<int, 3> step{1, 1, 1};
-        for (int a = 0; a < 3; ++a) {
-          if (diagonal == CellDiagonal::AwayFromCentre && 2 * cell[a] + 1 < cells[a]) {
-            start[a] = cell[a] + 1;
-            step[a] = -1;
-          }
-        }
-        for (const auto& order : kAxisOrders) {
-          std::array<int, 3> corner = start;
-          std::array<int, 4> tet{};
-          tet[0] = node(corner);
-          for (int s = 0; s < 3; ++s) {
-            corner[order[s]] += step[order[s]];
-            tet[s + 1] = node(corner);
-          }
-          tets.push_back(tet);
+        if (split == GridSplit::Alternating5) {
+          appendAlternating5({i, j, k}, node, tets);
+        } else {
+          appendKuhn6({i, j, k}, cells, split, node, tets);
         }
       }
     }
   }
   setOrientedElements(mesh, tets);
   return mesh;
+}
+
+GridSplit gridSplit(const std::string& function, CellSplit split) {
+  switch (split) {
+    case CellSplit::Symmetric:
+      return GridSplit::Alternating5;
+    case CellSplit::Diagonal:
+      return GridSplit::KuhnUniform;
+  }
+  throw std::invalid_argument(function + ": split = " + std::to_string(static_cast<int>(split)) +
+                              " is not a known CellSplit (expected Symmetric or Diagonal)");
 }
 
 TetMesh withElementType(const TetMesh& tet4, ElementType type) {
@@ -166,6 +214,9 @@ HexagonSection hexagonSection(double side, int rings) {
   return section;
 }
 
+/// Thickness taper t of makeOrganBlob: z is scaled by 1 - t u_x^2.
+constexpr double kOrganTaper = 0.25;
+
 /// Smooth cube-to-sphere map, applied to a point q of the cube surface (max-norm 1): the point
 /// of the unit sphere q_x sqrt(1 - q_y^2/2 - q_z^2/2 + q_y^2 q_z^2/3) (and cyclic).
 Eigen::Vector3d cubeSurfaceToSphere(const Eigen::Vector3d& q) {
@@ -175,18 +226,18 @@ Eigen::Vector3d cubeSurfaceToSphere(const Eigen::Vector3d& q) {
           q.z() * std::sqrt(1.0 - q2.x() / 2.0 - q2.y() / 2.0 + q2.x() * q2.y() / 3.0)};
 }
 
-/// Cube [-1,1]^3 onto the unit ball, then the lobe-like shape of makeOrganBlob (unscaled).
+/// Cube [-1,1]^3 onto the unit ball, then the tapered shape of makeOrganBlob (unscaled).
 Eigen::Vector3d organShape(const Eigen::Vector3d& p) {
   const double r = p.cwiseAbs().maxCoeff();
   const Eigen::Vector3d u =
       r > 0.0 ? Eigen::Vector3d(r * cubeSurfaceToSphere(p / r)) : Eigen::Vector3d::Zero();
-  return {u.x(), u.y() + 0.1 * u.x() * u.x(), (0.8 - 0.2 * u.x()) * u.z()};
+  return {u.x(), u.y(), (1.0 - kOrganTaper * u.x() * u.x()) * u.z()};
 }
 
 }  // namespace
 
 TetMesh makeBox(const Eigen::Vector3d& min_corner, const Eigen::Vector3d& size,
-                const Eigen::Vector3i& cells, ElementType type) {
+                const Eigen::Vector3i& cells, ElementType type, CellSplit split) {
   const char* axes[3] = {"x", "y", "z"};
   for (int a = 0; a < 3; ++a) {
     requireFinite(std::string("makeBox: min_corner.") + axes[a], min_corner[a], "m");
@@ -194,20 +245,20 @@ TetMesh makeBox(const Eigen::Vector3d& min_corner, const Eigen::Vector3d& size,
   requirePositiveVector("makeBox: size", size);
   requireCells("makeBox", cells);
   requireElementType("makeBox", type);
-  return withElementType(boxTet4(min_corner, size, cells, CellDiagonal::Uniform), type);
+  return withElementType(boxTet4(min_corner, size, cells, gridSplit("makeBox", split)), type);
 }
 
 TetMesh makeBeam(double length, double width, double height, const Eigen::Vector3i& cells,
-                 ElementType type) {
+                 ElementType type, CellSplit split) {
   requirePositive("makeBeam: length", length, "m");
   requirePositive("makeBeam: width", width, "m");
   requirePositive("makeBeam: height", height, "m");
   requireCells("makeBeam", cells);
   requireElementType("makeBeam", type);
   const Eigen::Vector3d min_corner(0.0, -width / 2.0, -height / 2.0);
-  return withElementType(
-      boxTet4(min_corner, Eigen::Vector3d(length, width, height), cells, CellDiagonal::Uniform),
-      type);
+  return withElementType(boxTet4(min_corner, Eigen::Vector3d(length, width, height), cells,
+                                 gridSplit("makeBeam", split)),
+                         type);
 }
 
 TetMesh makeHexagonalBeam(double side, double length, int cells_along, int rings,
@@ -254,7 +305,7 @@ TetMesh makeOrganBlob(const Eigen::Vector3d& semi_axes, int cells_per_axis, Elem
   // below has kinks, faces between tets instead of cutting through them.
   TetMesh mesh = withElementType(
       boxTet4(Eigen::Vector3d::Constant(-1.0), Eigen::Vector3d::Constant(2.0),
-              Eigen::Vector3i::Constant(cells_per_axis), CellDiagonal::AwayFromCentre),
+              Eigen::Vector3i::Constant(cells_per_axis), GridSplit::KuhnAwayFromCentre),
       type);
   for (int i = 0; i < mesh.numNodes(); ++i) {
     mesh.nodes.col(i) = organShape(mesh.nodes.col(i)).cwiseProduct(semi_axes);

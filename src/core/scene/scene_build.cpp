@@ -30,9 +30,9 @@ TetMesh buildSceneMesh(const MeshSpec& spec, const Eigen::Vector3i& res, Element
     if (type == ElementType::Tet10 && mesh.type == ElementType::Tet4) return promoteToTet10(mesh);
     return mesh;
   }
-  if (spec.generator == "box") return makeBox(spec.origin, spec.size, res, type);
+  if (spec.generator == "box") return makeBox(spec.origin, spec.size, res, type, spec.split);
   if (spec.generator == "beam")
-    return makeBeam(spec.size[0], spec.size[1], spec.size[2], res, type);
+    return makeBeam(spec.size[0], spec.size[1], spec.size[2], res, type, spec.split);
   if (spec.generator == "hex_beam")
     return makeHexagonalBeam(spec.hex_side, spec.hex_length, res[0], res[1], type);
   return makeOrganBlob(spec.size, res[0], type);

@@ -253,14 +253,35 @@ Eigen::Vector3i readComponents(const KeyReader& r) {
   return c;
 }
 
+/// The names of an enum's table, as a set for KeyReader::choice().
+template <class Enum, std::size_t N>
+std::set<std::string> nameSet(const std::array<EnumName<Enum>, N>& table) {
+  std::set<std::string> names;
+  for (const auto& e : table) names.insert(e.name);
+  return names;
+}
+
+/// One choice from an enum's name table.
+template <class Enum, std::size_t N>
+Enum readEnum(const KeyReader& r, const std::string& key,
+              const std::array<EnumName<Enum>, N>& table) {
+  return *enumFromName(table, r.choice(key, nameSet(table)));
+}
+
 /// The mesh geometry (no resolution); `extra` are the resolution keys of the scene kind.
 MeshSpec readMesh(const KeyReader& scene, const std::set<std::string>& extra) {
   const KeyReader r = scene.child("mesh");
-  std::set<std::string> known = {"generator", "size", "origin", "side", "length", "file", "unit"};
+  std::set<std::string> known = {"generator", "size",  "origin", "side",
+                                 "length",    "split", "file",   "unit"};
   known.insert(extra.begin(), extra.end());
   r.onlyKeys(known);
   MeshSpec m;
   m.generator = r.choice("generator", {"box", "beam", "hex_beam", "organ_blob", "file"});
+  if (r.has("split")) {
+    if (m.generator != "box" && m.generator != "beam")
+      r.fail("split", "the cell split applies to the box and beam generators only");
+    m.split = readEnum(r, "split", kCellSplitNames);
+  }
   if (m.generator == "file" || r.has("unit")) {
     try {
       m.metres_per_unit = lengthUnitToMetres(r.text("unit"));
@@ -310,21 +331,6 @@ void checkBudget(const KeyReader& mesh, const std::string& key, const MeshSpec& 
                  const Eigen::Vector3i& resolution, ElementType type) {
   const std::string problem = meshBudgetProblem(m, resolution, type);
   if (!problem.empty()) mesh.fail(key, problem);
-}
-
-/// The names of an enum's table, as a set for KeyReader::choice().
-template <class Enum, std::size_t N>
-std::set<std::string> nameSet(const std::array<EnumName<Enum>, N>& table) {
-  std::set<std::string> names;
-  for (const auto& e : table) names.insert(e.name);
-  return names;
-}
-
-/// One choice from an enum's name table.
-template <class Enum, std::size_t N>
-Enum readEnum(const KeyReader& r, const std::string& key,
-              const std::array<EnumName<Enum>, N>& table) {
-  return *enumFromName(table, r.choice(key, nameSet(table)));
 }
 
 /// One name or a non-empty list of names from an enum's name table (a sweep).
@@ -639,7 +645,7 @@ void readBase(const KeyReader& r, const std::set<std::string>& mesh_keys, SceneB
   if (r.has("pcg")) {
     const KeyReader p = r.child("pcg");
     p.onlyKeys({"max_iterations", "tolerance", "refresh_interval"});
-    s.pcg_max_iterations = p.integer("max_iterations", 1, 100000, s.pcg_max_iterations);
+    if (p.has("max_iterations")) s.pcg_max_iterations = p.integer("max_iterations", 1, 100000);
     s.pcg_tolerance = p.number("tolerance", s.pcg_tolerance);
     checkRange(p, "tolerance", s.pcg_tolerance, 1e-15, 1.0, "");
     s.pcg_refresh_interval = p.integer("refresh_interval", 1, 100000, s.pcg_refresh_interval);

@@ -82,6 +82,7 @@ void BackgroundCholeskyPcgSolver::analyzePattern(const Eigen::SparseMatrix<doubl
   if (pattern.rows() < matrix_.rows()) first_usable_values_ = values_ + 1;
   matrix_ = std::move(pattern);
   ++pattern_;
+  max_iterations_ = pcgIterationCap(settings_, matrix_.rows());
   work_.resize(matrix_.rows());
 }
 
@@ -189,8 +190,7 @@ LinearSolveReport BackgroundCholeskyPcgSolver::solve(const Eigen::VectorXd& b, E
     return applyPreconditioner(r, z);
   };
   const bool exact = current().values == values_;
-  const int budget =
-      exact ? settings_.max_iterations : std::min(settings_.max_iterations, kFallbackIterations);
+  const int budget = exact ? max_iterations_ : std::min(max_iterations_, kFallbackIterations);
   LinearSolveReport report = preconditionedConjugateGradient(
       matrix_, b, x, budget, settings_.relative_tolerance, precondition, work_);
   if (report.ok || exact) {
@@ -207,7 +207,7 @@ LinearSolveReport BackgroundCholeskyPcgSolver::solve(const Eigen::VectorXd& b, E
   factorized_ = factorizeSynchronously();
   if (!factorized_) return report;
   buildInterim();
-  report = preconditionedConjugateGradient(matrix_, b, x, settings_.max_iterations,
+  report = preconditionedConjugateGradient(matrix_, b, x, max_iterations_,
                                            settings_.relative_tolerance, precondition, work_);
   report.iterations += first_iterations;
   return report;

@@ -76,6 +76,7 @@ LinearSolveReport preconditionedConjugateGradient(const Eigen::SparseMatrix<doub
     rz = rz_next;
     work.direction = work.preconditioned + beta * work.direction;
   }
+  report.capped = true;
   return report;
 }
 

@@ -1,46 +1,21 @@
 #include "surgical_sim/core/solve/implicit_euler_linearized.h"
 
 #include <cmath>
-#include <stdexcept>
 
 #include "surgical_sim/core/solve/dirichlet_projection.h"
-#include "surgical_sim/core/solve/dynamics_problem_check.h"
 #include "surgical_sim/core/solve/mechanical_energy.h"
 
 namespace surgical_sim::core {
 
 ImplicitEulerLinearized::ImplicitEulerLinearized(std::unique_ptr<LinearSolver> linear_solver,
                                                  int max_halvings)
-    : solver_(std::move(linear_solver)), max_halvings_(max_halvings) {
-  if (!solver_) {
-    throw std::invalid_argument("solver: implicit_euler_linearized needs a linear solver (null)");
+    : ImplicitIntegratorBase(std::move(linear_solver), "implicit_euler_linearized"),
+      max_halvings_(max_halvings) {}
+
+void ImplicitEulerLinearized::resizeWorkspace(Eigen::Index size) {
+  for (Eigen::VectorXd* v : {&rhs_, &dv_, &product_, &start_, &direction_, &offset_}) {
+    v->setZero(size);
   }
-}
-
-std::string ImplicitEulerLinearized::name() const { return "implicit_euler_linearized"; }
-
-void ImplicitEulerLinearized::reset() {
-  model_ = nullptr;
-  compliance_.invalidate();
-}
-
-void ImplicitEulerLinearized::setUp(const TissueModel& model) {
-  const Eigen::SparseMatrix<double>& pattern = model.stiffnessPattern();
-  const Eigen::Index size = pattern.rows();
-  model_ = &model;
-  stiffness_ = pattern;
-  stiffness_.makeCompressed();
-  system_.setPattern(stiffness_);
-  solver_->analyzePattern(system_.matrix());
-  mask_.assign(static_cast<size_t>(size), 0);
-  x0_.setZero(size);
-  v0_.setZero(size);
-  rhs_.setZero(size);
-  dv_.setZero(size);
-  product_.setZero(size);
-  start_.setZero(size);
-  direction_.setZero(size);
-  offset_.setZero(size);
   last_x_.resize(0);
 }
 
@@ -64,26 +39,12 @@ double ImplicitEulerLinearized::incrementalPotential(const DynamicsProblem& prob
 StepReport ImplicitEulerLinearized::step(const DynamicsProblem& problem, double dt,
                                          SimulationState& state) {
   StepReport report;
-  compliance_.invalidate();
-  if (findProblemError(problem, state) != nullptr || !std::isfinite(dt) || !(dt > 0.0)) {
-    report.status = StepStatus::SolverFailed;
-    return report;
-  }
+  if (!beginStep(problem, dt, true, state)) return failedStart(report);
   const TissueModel& model = *problem.model;
-  if (model_ != &model || !system_.matchesPattern(model.stiffnessPattern())) setUp(model);
   const Eigen::VectorXd& mass = model.lumpedMass();
   const DirichletBc& bc = problem.dirichlet;
   const double alpha = problem.damping.mass_coefficient;
   const double beta = problem.damping.stiffness_coefficient;
-  markDirichletDofs(bc.dofs, mask_);
-  x0_ = state.x;
-  v0_ = state.v;
-  auto fail = [&](StepStatus status) {
-    state.x = x0_;
-    state.v = v0_;
-    report.status = status;
-    return report;
-  };
 
   for (size_t k = 0; k < bc.dofs.size(); ++k) {
     const int d = bc.dofs[k];
@@ -98,8 +59,9 @@ StepReport ImplicitEulerLinearized::step(const DynamicsProblem& problem, double 
   zeroDirichletEntries(bc.dofs, rhs_);
   system_.assemble(mass, 1.0 + dt * alpha, stiffness_, dt * dt + dt * beta);
   system_.projectDirichlet(mask_);
-  if (!rhs_.allFinite()) return fail(StepStatus::NonFinite);
-  if (!solver_->factorize(system_.matrix())) return fail(StepStatus::SolverFailed);
+  if (!rhs_.allFinite()) return restoreState(state, StepStatus::NonFinite, report);
+  if (!solver_->factorize(system_.matrix()))
+    return restoreState(state, StepStatus::SolverFailed, report);
   dv_.setZero();
   const LinearSolveReport solve = solver_->solve(rhs_, dv_);
   report.linear_iterations = solve.iterations;
@@ -107,7 +69,7 @@ StepReport ImplicitEulerLinearized::step(const DynamicsProblem& problem, double 
   // CG iterate reduces the energy-norm error; the energy safeguard below catches overshoot):
   // keep it and report NotConverged. Only non-finite results fail.
   if (!solve.ok) {
-    if (!dv_.allFinite()) return fail(StepStatus::NonFinite);
+    if (!dv_.allFinite()) return restoreState(state, StepStatus::NonFinite, report);
     report.status = StepStatus::NotConverged;
   }
 
@@ -128,7 +90,7 @@ StepReport ImplicitEulerLinearized::step(const DynamicsProblem& problem, double 
     state.x = start_ + step_length * direction_;
     w_new = model.energy(state.x);
     const double phi = incrementalPotential(problem, dt, state.x, w_new);
-    if (!std::isfinite(phi)) return fail(StepStatus::NonFinite);
+    if (!std::isfinite(phi)) return restoreState(state, StepStatus::NonFinite, report);
     if (phi <= phi_start + 1e-12 * (std::abs(phi_start) + std::abs(phi))) break;
     if (halving >= max_halvings_) {
       report.status = StepStatus::NotConverged;
@@ -139,7 +101,7 @@ StepReport ImplicitEulerLinearized::step(const DynamicsProblem& problem, double 
   state.v = (state.x - x0_) / dt;
   const double energy = kineticEnergy(mass, state.v) + w_new - problem.external_force.dot(state.x);
   if (!state.x.allFinite() || !state.v.allFinite() || !std::isfinite(energy)) {
-    return fail(StepStatus::NonFinite);
+    return restoreState(state, StepStatus::NonFinite, report);
   }
   last_x_ = state.x;
   last_elastic_energy_ = w_new;
@@ -149,11 +111,6 @@ StepReport ImplicitEulerLinearized::step(const DynamicsProblem& problem, double 
   report.residual = solve.relative_residual;
   report.energy = energy;
   return report;
-}
-
-bool ImplicitEulerLinearized::applyStepCompliance(const Eigen::VectorXd& f, Eigen::VectorXd& dx) {
-  // The step itself factorized A, so the compliance is never stale.
-  return compliance_.apply(*solver_, mask_, f, dx, [] { return false; });
 }
 
 }  // namespace surgical_sim::core

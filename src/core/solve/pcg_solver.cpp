@@ -10,10 +10,18 @@ namespace surgical_sim::core {
 
 void validatePcgSettings(const PcgSettings& settings) {
   const double int_max = std::numeric_limits<int>::max();
-  requireInRange("solver.max_iterations", settings.max_iterations, 1, int_max, "");
+  if (settings.max_iterations) {
+    requireInRange("solver.max_iterations", *settings.max_iterations, 1, int_max, "");
+  }
   requireInHalfOpenRange("solver.relative_tolerance", settings.relative_tolerance,
                          std::numeric_limits<double>::min(), 1.0, "");
   requireInRange("solver.refresh_interval", settings.refresh_interval, 1, int_max, "");
+}
+
+int pcgIterationCap(const PcgSettings& settings, Eigen::Index n) {
+  if (settings.max_iterations) return *settings.max_iterations;
+  return static_cast<int>(std::min<Eigen::Index>(std::max<Eigen::Index>(kMinSizedPcgIterations, n),
+                                                 std::numeric_limits<int>::max()));
 }
 
 PcgSolver::PcgSolver(PcgPreconditioner preconditioner, const PcgSettings& settings)
@@ -39,6 +47,7 @@ void PcgSolver::analyzePattern(const Eigen::SparseMatrix<double>& A) {
   matrix_ = A;
   matrix_.makeCompressed();
   const Eigen::Index n = A.rows();
+  max_iterations_ = pcgIterationCap(settings_, n);
   work_.resize(n);
   scratch_.setZero(n);
   inverse_diagonal_.resize(0);
@@ -148,7 +157,7 @@ bool PcgSolver::applyPreconditioner(const Eigen::VectorXd& r, Eigen::VectorXd& z
 LinearSolveReport PcgSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   if (!factorized_) return {};
   return preconditionedConjugateGradient(
-      matrix_, b, x, settings_.max_iterations, settings_.relative_tolerance,
+      matrix_, b, x, max_iterations_, settings_.relative_tolerance,
       [this](const Eigen::VectorXd& r, Eigen::VectorXd& z) { return applyPreconditioner(r, z); },
       work_);
 }

@@ -219,6 +219,24 @@ TEST(BenchmarkScene, MeshUnitIsCheckedForGeneratedMeshes) {
       replaced(kValidScene, "  generator: box\n", "  generator: box\n  unit: m\n"), "test.yaml"));
 }
 
+TEST(BenchmarkScene, MeshSplitIsAChoiceForBoxAndBeam) {
+  EXPECT_EQ(parseBenchmarkScene(kValidScene, "test.yaml").mesh.split, CellSplit::Symmetric);
+  const auto with_split = [](const std::string& split) {
+    return replaced(kValidScene, "  generator: box\n",
+                    "  generator: box\n  split: " + split + "\n");
+  };
+  EXPECT_EQ(parseBenchmarkScene(with_split("diagonal"), "test.yaml").mesh.split,
+            CellSplit::Diagonal);
+  EXPECT_EQ(parseBenchmarkScene(with_split("symmetric"), "test.yaml").mesh.split,
+            CellSplit::Symmetric);
+  expectRejected(with_split("kuhn"),
+                 {"key 'mesh.split'", "'kuhn' is not one of", "diagonal", "symmetric"});
+  const std::string blob = replaced(
+      replaced(kValidScene, "  generator: box\n", "  generator: organ_blob\n  split: diagonal\n"),
+      "[[1, 1, 1]]", "[[2, 0, 0]]");
+  expectRejected(blob, {"key 'mesh.split'", "box and beam generators only"});
+}
+
 TEST(BenchmarkScene, TissuePoseIsBounded) {
   const std::string scene = std::string(kValidScene) + "tissue_pose: {position: P, rpy: R}\n";
   const auto pose = [&](const std::string& p, const std::string& r) {

@@ -19,8 +19,7 @@ TetMesh ballMesh(double r, int cells) {
   TetMesh mesh = makeOrganBlob(Eigen::Vector3d::Ones(), cells, ElementType::Tet4);
   for (int i = 0; i < mesh.numNodes(); ++i) {
     const Eigen::Vector3d v = mesh.nodes.col(i);
-    mesh.nodes.col(i) =
-        r * Eigen::Vector3d(v.x(), v.y() - 0.1 * v.x() * v.x(), v.z() / (0.8 - 0.2 * v.x()));
+    mesh.nodes.col(i) = r * Eigen::Vector3d(v.x(), v.y(), v.z() / (1.0 - 0.25 * v.x() * v.x()));
   }
   return mesh;
 }

@@ -24,8 +24,15 @@ struct StepReport {
   StepStatus status = StepStatus::Ok;
   int newton_iterations = 0;  ///< nonlinear iterations taken (0 for explicit schemes)
   int linear_iterations = 0;  ///< summed linear-solver iterations (1 per direct solve)
-  double residual = 0.0;      ///< final relative residual of the nonlinear problem [-]
-  double energy = 0.0;        ///< kinetic + elastic - external work potential after the step [J]
+  /// Relative residual of the step's solve [-], normalised so that the solve converged exactly
+  /// when residual <= its relative tolerance. Newton schemes (implicit_euler_newton,
+  /// quasi_static): |r| / max(|r_0|, round-off floor of r / tolerance) (NewtonIntegratorBase), so
+  /// an Ok step reports <= integrator.relative_tolerance (a step converged by round-off included)
+  /// and a NotConverged one more; quasi_static: the largest over its load increments.
+  /// implicit_euler_linearized: |b - A x| / |b| of its linear solve (<= the solver's tolerance
+  /// when that solve converged). symplectic_euler: 0 (no solve).
+  double residual = 0.0;
+  double energy = 0.0;  ///< kinetic + elastic - external work potential after the step [J]
 };
 
 }  // namespace surgical_sim::core

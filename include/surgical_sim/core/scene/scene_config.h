@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "surgical_sim/core/contact/contact_phase.h"
+#include "surgical_sim/core/mesh/generators.h"
 #include "surgical_sim/core/mesh/tet_mesh.h"
 #include "surgical_sim/core/solve/make_integrator.h"
 #include "surgical_sim/core/solve/make_linear_solver.h"
@@ -34,6 +35,7 @@ struct MeshSpec {
   // box / beam / organ_blob
   Eigen::Vector3d size = Eigen::Vector3d::Zero();    ///< box/beam edge lengths, blob semi-axes [m]
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  ///< box min corner [m]
+  CellSplit split = CellSplit::Symmetric;            ///< box / beam cell split (mesh.split)
   // hex_beam
   double hex_side = 0.0;    ///< side of the regular hexagon [m]
   double hex_length = 0.0;  ///< beam length along x [m]
@@ -144,7 +146,8 @@ struct SceneBase {
   double damping_stiffness = 0.0;                     ///< Rayleigh beta [s]
   int newton_max_iterations = 20;
   double newton_tolerance = 1e-8;  ///< relative residual [-]
-  int pcg_max_iterations = 500;
+  /// CG iteration limit [-]; unset: sized from the problem (pcgIterationCap).
+  std::optional<int> pcg_max_iterations;
   double pcg_tolerance = 1e-6;    ///< relative residual [-]
   int pcg_refresh_interval = 10;  ///< steps between preconditioner refreshes
   std::vector<FixedBc> fixed;

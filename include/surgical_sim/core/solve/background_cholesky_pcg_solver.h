@@ -44,7 +44,7 @@ namespace surgical_sim::core {
 /// factorization) factorize() factorizes synchronously.
 ///
 /// Accuracy: same tolerance semantics as PcgSolver. If PCG fails (not converged within
-/// min(max_iterations, kFallbackIterations), breakdown) with a factor of other values than the
+/// min(pcgIterationCap, kFallbackIterations), breakdown) with a factor of other values than the
 /// current matrix, solve() factorizes the current matrix synchronously and solves again from the
 /// last iterate (reported iterations: both solves), so a result is as accurate as with the other
 /// solvers; a non-SPD or non-finite matrix gives a failed report. While old factors keep failing
@@ -63,18 +63,13 @@ class BackgroundCholeskyPcgSolver final : public LinearSolver {
   /// product plus two triangular solves).
   static constexpr int kRefreshIterations = 4;
   /// Iteration budget of a solve preconditioned by a factor of other values (older or interim)
-  /// before the synchronous fallback: about the cost of one analysis plus refactorization
-  /// (measured at 6.6k unknowns while cutting: analysis ~20 ms, factorization ~45 ms, an
-  /// iteration ~1.5 ms). Beyond it, the matrix has changed too much for the old factor (e.g. a
-  /// large cut) and iterating on costs more than refactorizing.
+  /// before the synchronous fallback: about the cost of one analysis plus refactorization of a
+  /// tissue matrix (docs/models.md, solver design notes). Beyond it, the matrix has changed too
+  /// much for the old factor (e.g. a large cut) and iterating on costs more than refactorizing.
   static constexpr int kFallbackIterations = 50;
-  /// Rings of pattern neighbours added around the changed unknowns of the interim preconditioner.
-  /// Organ at 6.6k unknowns while a blade cuts 1 mm per step (factor 2-5 steps old, applied in
-  /// double precision at the time of this measurement), per step
-  /// that changed the topology: no ring ~260 local unknowns, 8.4 PCG iterations, 0.8 ms local
-  /// analysis + factorization; one ring ~680, 5.6 iterations, 1.8 ms; two rings ~1,290, 4.6
-  /// iterations, 4.3 ms, and each iteration's two local solves cost more. Integration took
-  /// 33.8 / 26.7 / 31.1 ms: one ring costs least.
+  /// Rings of pattern neighbours added around the changed unknowns of the interim preconditioner
+  /// (more rings: fewer PCG iterations, dearer local solves; one ring costs least while cutting,
+  /// docs/models.md).
   static constexpr int kLocalRings = 1;
 
   /// Starts the worker thread (idle until a refresh is due).
@@ -146,6 +141,7 @@ class BackgroundCholeskyPcgSolver final : public LinearSolver {
   FactorSlot& current() { return slots_[static_cast<size_t>(current_)]; }
 
   PcgSettings settings_;
+  int max_iterations_ = 0;              ///< pcgIterationCap of the analysed pattern
   Eigen::SparseMatrix<double> matrix_;  ///< analysed pattern, values of the last factorize()
   std::uint64_t pattern_ = 0;           ///< generation of matrix_'s pattern
   std::uint64_t values_ = 0;            ///< number of factorize() calls (matrix_ values stamp)

@@ -13,9 +13,8 @@ namespace surgical_sim::core {
 
 /// Fill-reducing ordering of a CholmodSolver.
 enum class CholmodOrdering {
-  /// METIS nested dissection. On the 6.6k-unknown tet organ: 1.48 M factor entries and 5.3e8
-  /// factorization flops against AMD's 1.85 M and 9.1e8 (triangular solves ~20 % faster), for an
-  /// analysis ~2.5x longer (~20 ms). For 3D tissue meshes.
+  /// METIS nested dissection: less fill and fewer factorization flops than AMD on 3D tissue
+  /// meshes, for a longer analysis. For 3D tissue meshes.
   Metis,
   /// AMD only: the cheapest analysis, for small or slab-like matrices analysed often (the local
   /// correction of a cut; CHOLMOD's own default would also try METIS when AMD fills much).
@@ -25,8 +24,9 @@ enum class CholmodOrdering {
 /// What CholmodSolver::precondition() solves with.
 enum class CholmodPreconditioning {
   Double,  ///< the CHOLMOD factor (solveWithFactor)
-  /// A SinglePrecisionCholesky copy made by every factorize() (~2.5 ms at 6.6k unknowns, so best
-  /// on a thread that factorizes in the background); the double factor if it cannot be copied.
+  /// A SinglePrecisionCholesky copy made by every factorize() (an extra pass over the factor, so
+  /// best on a thread that factorizes in the background); the double factor if it cannot be
+  /// copied.
   SinglePrecision,
 };
 

@@ -30,7 +30,8 @@ using PreconditionerApply = std::function<bool(const Eigen::VectorXd& r, Eigen::
 /// initial guess x (size n; replaced by 0 if not finite). ok when the relative residual
 /// |b - A x| / |b| reaches relative_tolerance within max_iterations (b = 0 gives x = 0, ok).
 /// Fails (ok = false) on size mismatch, non-finite b, breakdown (p^T A p <= 0, NaN) or a failed
-/// preconditioner application; iterations and relative_residual report the last iterate.
+/// preconditioner application; iterations and relative_residual report the last iterate, capped
+/// is set when max_iterations ran out without breakdown.
 LinearSolveReport preconditionedConjugateGradient(const Eigen::SparseMatrix<double>& A,
                                                   const Eigen::VectorXd& b, Eigen::VectorXd& x,
                                                   int max_iterations, double relative_tolerance,

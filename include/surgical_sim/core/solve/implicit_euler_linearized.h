@@ -1,16 +1,9 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <Eigen/SparseCore>
-#include <cstdint>
 #include <memory>
-#include <string>
-#include <vector>
 
-#include "surgical_sim/core/solve/integrator.h"
-#include "surgical_sim/core/solve/linear_solver.h"
-#include "surgical_sim/core/solve/step_compliance.h"
-#include "surgical_sim/core/solve/system_matrix.h"
+#include "surgical_sim/core/solve/implicit_integrator_base.h"
 
 namespace surgical_sim::core {
 
@@ -28,43 +21,33 @@ namespace surgical_sim::core {
 /// times; then the smallest step is kept and NotConverged returned). This keeps the scheme from
 /// creating energy; in ordinary steps the full step passes and costs one energy evaluation,
 /// which is reused for the report.
-class ImplicitEulerLinearized final : public Integrator {
+class ImplicitEulerLinearized final : public ImplicitIntegratorBase {
  public:
   /// @throws std::invalid_argument naming "solver" if linear_solver is null
   /// @param max_halvings energy-safeguard halvings per step [-], >= 0
   ImplicitEulerLinearized(std::unique_ptr<LinearSolver> linear_solver, int max_halvings);
 
-  /// Returns "implicit_euler_linearized".
-  std::string name() const override;
   /// One step of dt [s] (> 0). Never throws. SolverFailed (state restored) if the problem is
-  /// inconsistent or the linear solve fails; NonFinite (state restored) on NaN/Inf.
+  /// inconsistent or the factorization fails; NonFinite (state restored) on NaN/Inf.
   /// Report: newton_iterations = 1, residual = relative residual of the linear solve.
+  /// name() "implicit_euler_linearized". applyStepCompliance: dx = dt^2 A^-1 f with the last
+  /// step's projected system matrix A = M + dt C + dt^2 K(x_n) (its factorization is reused: one
+  /// solve, no assembly), 0 on the last step's Dirichlet DOFs; when the energy safeguard
+  /// shortened the last step, the response of the full step.
   StepReport step(const DynamicsProblem& problem, double dt, SimulationState& state) override;
-  /// Forgets the pattern and buffers (next step re-analyses).
-  void reset() override;
-  /// dx = dt^2 A^-1 f with the last step's projected system matrix A = M + dt C + dt^2 K(x_n)
-  /// (its factorization is reused: one solve, no assembly). 0 on the last step's Dirichlet DOFs.
-  /// When the energy safeguard shortened the last step, this is the response of the full step.
-  bool applyStepCompliance(const Eigen::VectorXd& f, Eigen::VectorXd& dx) override;
 
  private:
-  void setUp(const TissueModel& model);
+  void resizeWorkspace(Eigen::Index size) override;
   /// Phi at `x` (see the class comment), given W(x) [J].
   double incrementalPotential(const DynamicsProblem& problem, double dt, const Eigen::VectorXd& x,
                               double elastic_energy);
 
-  std::unique_ptr<LinearSolver> solver_;
-  const TissueModel* model_ = nullptr;
-  SystemMatrix system_;
-  Eigen::SparseMatrix<double> stiffness_;
-  std::vector<std::uint8_t> mask_;
   int max_halvings_;
-  Eigen::VectorXd x0_, v0_, rhs_, dv_, product_, start_, direction_, offset_;
+  Eigen::VectorXd rhs_, dv_, product_, start_, direction_, offset_;
   /// W at the end of the last step and where it was evaluated (reused when the next step starts
   /// from the same positions, i.e. nothing moved the state in between).
   Eigen::VectorXd last_x_;
   double last_elastic_energy_ = 0.0;
-  StepCompliance compliance_;  ///< dt^2 A^-1 of the last successful step (factorized by it)
 };
 
 }  // namespace surgical_sim::core

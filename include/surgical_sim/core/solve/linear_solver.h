@@ -8,9 +8,12 @@ namespace surgical_sim::core {
 
 /// Result of one linear solve.
 struct LinearSolveReport {
-  bool ok = false;
+  bool ok = false;                 ///< solved: x finite, relative_residual within the tolerance
   int iterations = 0;              ///< 1 for a direct solve
   double relative_residual = 0.0;  ///< |b - A x| / |b|
+  /// An iterative solve stopped at its iteration cap without breakdown: x is the last (finite)
+  /// iterate, an inexact solution; ok is false.
+  bool capped = false;
 };
 
 /// Symmetric positive-definite sparse solver. Usage per topology: analyzePattern once; then per

@@ -23,9 +23,8 @@ std::vector<int> changedPatternUnknowns(const Eigen::SparseMatrix<double>& A,
 ///   z = A_LL^-1 r_L;  z += G (r - A z);  z += A_LL^-1 (r - A z)_L,
 /// a symmetric positive-definite preconditioner for SPD A and G. When G is the factor of an
 /// older matrix that differs from A only near L (a stale factor after a cut, where L is the
-/// changed region plus a ring), the local solves remove the error G makes there: measured on the
-/// 6.6k-unknown organ after 1-8 cut steps, PCG needed 8-11 iterations to 1e-6 instead of 100-370
-/// with G alone.
+/// changed region plus a ring), the local solves remove the error G makes there, so PCG needs a
+/// few iterations where G alone needs hundreds.
 ///
 /// setUnknowns() fixes L and A's pattern and analyses A_LL's pattern (CHOLMOD); factorize() then
 /// copies A_LL's values and factorizes them. apply() allocates

@@ -4,6 +4,7 @@
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCore>
+#include <optional>
 #include <string>
 
 #include "surgical_sim/core/solve/block_jacobi.h"
@@ -19,7 +20,7 @@ enum class PcgPreconditioner {
   BlockJacobi,         ///< inverted 3x3 node blocks of the diagonal ("pcg_block_jacobi")
   IncompleteCholesky,  ///< Eigen::IncompleteCholesky with AMD ordering ("pcg_ichol")
   /// CHOLMOD factor of an earlier matrix, refreshed every refresh_interval factorize() calls
-  /// ("pcg_cholesky_reuse"): the real-time strategy (a triangular solve is ~40x cheaper than a
+  /// ("pcg_cholesky_reuse"): the real-time strategy (a triangular solve is far cheaper than a
   /// refactorization, and the stiffness changes little between steps). Applied through a
   /// single-precision copy (CholmodPreconditioning::SinglePrecision): a fresh factor then needs 2
   /// iterations instead of 1 to reach 1e-10, an older one as many as with the double factor.
@@ -28,10 +29,19 @@ enum class PcgPreconditioner {
 
 /// Settings of PcgSolver (numerical, not physical: the defaults are documented choices).
 struct PcgSettings {
-  int max_iterations = 1000;          ///< CG iteration limit [-], >= 1
+  /// CG iteration limit [-], >= 1. Unset: sized from the problem, pcgIterationCap().
+  std::optional<int> max_iterations;
   double relative_tolerance = 1e-10;  ///< stop when |b - A x| <= tol |b| [-], in (0, 1)
   int refresh_interval = 10;  ///< CholeskyReuse: refactorize every this many calls [-], >= 1
 };
+
+/// kMinSizedPcgIterations [-]: the smallest iteration limit pcgIterationCap() gives.
+inline constexpr int kMinSizedPcgIterations = 1000;
+
+/// The iteration limit of a CG solve of an n x n system: settings.max_iterations if set, else
+/// max(kMinSizedPcgIterations, n) (in exact arithmetic CG ends within n iterations; the floor
+/// leaves room for round-off on small, ill-conditioned systems).
+int pcgIterationCap(const PcgSettings& settings, Eigen::Index n);
 
 /// Throws std::invalid_argument naming "solver.max_iterations", "solver.relative_tolerance" or
 /// "solver.refresh_interval" with its range if a setting is out of range.
@@ -59,7 +69,8 @@ class PcgSolver final : public LinearSolver {
   /// (block) diagonal is not positive definite or the preconditioner factorization failed.
   bool factorize(const Eigen::SparseMatrix<double>& A) override;
   /// CG iterations on A x = b from the initial guess x (size n). ok when the relative residual
-  /// reaches relative_tolerance within max_iterations; false on breakdown (p^T A p <= 0, NaN).
+  /// reaches relative_tolerance within pcgIterationCap(settings, n) iterations; false on breakdown
+  /// (p^T A p <= 0, NaN) or at the cap (then capped).
   LinearSolveReport solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
 
  private:
@@ -71,6 +82,7 @@ class PcgSolver final : public LinearSolver {
 
   PcgPreconditioner preconditioner_;
   PcgSettings settings_;
+  int max_iterations_ = 0;  ///< pcgIterationCap of the analysed pattern
   Eigen::SparseMatrix<double> matrix_;
   CgWorkspace work_;
   Eigen::VectorXd scratch_;
