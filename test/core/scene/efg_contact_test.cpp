@@ -106,9 +106,8 @@ TEST(EfgContact, PressForceLiesBetweenTheTetAnswersOfTheSameBlock) {
   RecordProperty("prediction_error_tet4", std::to_string(e4));
   RecordProperty("prediction_error_tet10", std::to_string(e10));
   RecordProperty("prediction_error_efg", std::to_string(ee));
-  // Within 10 % of the next step, as the palpation rostest asks; at this 1 mm press the tets
-  // predict within 0.2 %, EFG within 1 % (the EFG tangent omits a stress-proportional term:
-  // at a 3 mm press its prediction is 11 % off).
+  // Within 10 % of the next step, as the palpation rostest asks. At this 1 mm press the tets
+  // predict within 0.2 %, EFG within 1 %; the EFG error grows with the press (11 % at 3 mm).
   EXPECT_LT(e4, 0.1);
   EXPECT_LT(e10, 0.1);
   EXPECT_LT(ee, 0.1);
