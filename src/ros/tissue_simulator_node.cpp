@@ -320,7 +320,7 @@ void TissueSimulatorNode::publishTool(int tool, const ros::Time& stamp) {
 void TissueSimulatorNode::publishSurface(const ros::Time& stamp) {
   if (surface_pub_.getNumSubscribers() == 0 && step_count_ > 1) return;
   const core::SurfaceMesh& surface = sim_->surface();
-  const Eigen::VectorXd& x = sim_->state().x;
+  const Eigen::VectorXd& x = sim_->surfacePositions();
   // Reused members: no allocation per publish once the surface size is known.
   std::vector<char>& in_contact = contact_flags_;
   in_contact.assign(static_cast<std::size_t>(sim_->mesh().numNodes()), 0);
@@ -338,7 +338,7 @@ void TissueSimulatorNode::publishSurface(const ros::Time& stamp) {
   const auto n_tri = static_cast<std::size_t>(surface.triangles.cols());
   m.points.resize(3 * n_tri);
   m.colors.resize(3 * n_tri);
-  const Eigen::VectorXd& x0 = sim_->model().restPositions();
+  const Eigen::Matrix3Xd& x0 = sim_->mesh().nodes;
   const std::vector<bool>& cut = sim_->cutFaces();
   for (std::size_t t = 0; t < n_tri; ++t)
     for (int c = 0; c < 3; ++c) {
@@ -346,7 +346,7 @@ void TissueSimulatorNode::publishSurface(const ros::Time& stamp) {
       const Eigen::Vector3d p = x.segment<3>(3 * node);
       m.points[3 * t + c] = toPointMsg(p);
       // Tissue pink, darkening with displacement; contact nodes red; cut faces dark red.
-      const double d = std::min(1.0, (p - x0.segment<3>(3 * node)).norm() / 0.02);
+      const double d = std::min(1.0, (p - x0.col(node)).norm() / 0.02);
       auto& col = m.colors[3 * t + c];
       col.a = 1.0;
       if (in_contact[static_cast<std::size_t>(node)]) {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <string>
+#include <utility>
 
 #include "surgical_sim/core/common/stopwatch.h"
 #include "surgical_sim/core/common/validate.h"
@@ -37,6 +39,17 @@ std::vector<ToolCoupling> toolCouplings(const ContactPhaseSettings& settings) {
   return couplings;
 }
 
+Eigen::VectorXd mappedRest(const SurfaceMapping& mapping, const Eigen::VectorXd& rest) {
+  if (rest.size() != 3 * mapping.numNodes()) {
+    throw std::invalid_argument("contact.rest: " + std::to_string(rest.size()) +
+                                " rest coordinates for a surface mapping of " +
+                                std::to_string(mapping.numNodes()) + " model nodes");
+  }
+  Eigen::VectorXd x_s;
+  mapping.apply(rest, x_s);
+  return x_s;
+}
+
 int checkedToolCount(const ContactPhaseSettings& settings) {
   if (settings.tools.empty()) {
     throw std::invalid_argument(
@@ -48,12 +61,15 @@ int checkedToolCount(const ContactPhaseSettings& settings) {
 
 }  // namespace
 
-ContactPhase::ContactPhase(const SurfaceMesh& surface, const Eigen::VectorXd& rest,
-                           const ContactPhaseSettings& settings, bool update_velocity)
+ContactPhase::ContactPhase(const SurfaceMesh& surface, SurfaceMapping mapping,
+                           const Eigen::VectorXd& rest, const ContactPhaseSettings& settings,
+                           bool update_velocity)
     : triangles_(surface.triangles),
-      surface_nodes_(surface.nodes),
+      mapping_(std::move(mapping)),
+      surface_x_(mappedRest(mapping_, rest)),
       update_velocity_(update_velocity),
-      bvh_(surface.triangles, rest, kFatMarginPerEdge * meanEdgeLength(surface.triangles, rest)),
+      bvh_(surface.triangles, surface_x_,
+           kFatMarginPerEdge * meanEdgeLength(surface.triangles, surface_x_)),
       detector_(settings.detector),
       solver_(settings.solver, checkedToolCount(settings) * settings.detector.max_contacts,
               toolCouplings(settings)) {
@@ -107,7 +123,7 @@ void ContactPhase::prepareStep(const Eigen::VectorXd& x, const Eigen::VectorXd& 
   for (Tool& tool : tools_) {
     if (!tool.grasp) continue;
     tool.grasp->update(tool.grasp_requested && tool.posed && !tool.slipped, tool.capsule.pose(),
-                       surface_nodes_, x, fixed_mask_);
+                       mapping_, x, fixed_mask_);
     tool.grasp->appendDofs(dirichlet.dofs);
   }
   const auto total = static_cast<Eigen::Index>(dirichlet.dofs.size());
@@ -129,7 +145,7 @@ void ContactPhase::prepareStep(const Eigen::VectorXd& x, const Eigen::VectorXd& 
   }
   proxy_force_.setZero(base_force.size());
   for (const Tool& tool : tools_) {
-    if (tool.proxy) tool.proxy->addTissueForce(proxy_force_);
+    if (tool.proxy) tool.proxy->addTissueForce(mapping_, proxy_force_);
   }
   external_force += proxy_force_;
 }
@@ -147,7 +163,7 @@ bool ContactPhase::slipOverloadedGrasps(const TissueModel& model, const Eigen::V
   for (Tool& tool : tools_) {
     if (!tool.grasping()) continue;
     if (!step_failed && tool.grasp->toolForce(internal_force_).norm() <= tool.max_force) continue;
-    tool.grasp->update(false, tool.capsule.pose(), surface_nodes_, x, fixed_mask_);
+    tool.grasp->update(false, tool.capsule.pose(), mapping_, x, fixed_mask_);
     tool.slipped = true;
     slipped = true;
   }
@@ -163,25 +179,29 @@ Eigen::VectorXd ContactPhase::appliedForce() const {
 StepStatus ContactPhase::finishStep(Integrator& integrator, const TissueModel& model, double dt,
                                     SimulationState& state) {
   Stopwatch watch;
-  bvh_.refit(state.x);
+  mapping_.apply(state.x, surface_x_);
+  bvh_.refit(surface_x_);
   contacts_.clear();
   for (size_t t = 0; t < tools_.size(); ++t) {
     if (tools_[t].posed && tools_[t].response == ContactResponse::Constraint &&
         !tools_[t].grasping()) {
-      detector_.detect(static_cast<int>(t), tools_[t].capsule, triangles_, state.x, bvh_,
+      detector_.detect(static_cast<int>(t), tools_[t].capsule, triangles_, surface_x_, bvh_,
                        contacts_);
     }
   }
   timings_.collision_ms = watch.milliseconds();
   watch.restart();
   StepStatus status =
-      solver_.solve(integrator, contacts_, applied_force_, dt, update_velocity_, state);
+      solver_.solve(integrator, mapping_, contacts_, applied_force_, dt, update_velocity_, state);
+  // The proxies follow the corrected surface.
+  if (std::any_of(tools_.begin(), tools_.end(), [](const Tool& t) { return t.proxy && t.posed; }))
+    mapping_.apply(state.x, surface_x_);
   bool grasping = false;
   for (size_t t = 0; t < tools_.size(); ++t) {
     Tool& tool = tools_[t];
     if (tool.proxy && !tool.posed) continue;
     if (tool.proxy) {
-      tool.proxy->update(tool.capsule.tip(), tool.capsule.radius(), triangles_, state.x, bvh_);
+      tool.proxy->update(tool.capsule.tip(), tool.capsule.radius(), triangles_, surface_x_, bvh_);
       tool.linearization = tool.proxy->linearization();
       if (tool.proxy->limited() &&
           (status == StepStatus::Ok || status == StepStatus::NotConverged)) {

@@ -73,26 +73,29 @@ void ContactSolver::resize(Eigen::Index size) {
   }
 }
 
-double ContactSolver::rowDot(const ContactPoint& contact, const Eigen::VectorXd& v) const {
+double ContactSolver::rowDot(const SurfaceMapping& mapping, const ContactPoint& contact,
+                             const Eigen::VectorXd& v) {
   double sum = 0.0;
   for (int k = 0; k < 3; ++k) {
-    sum += contact.weights[k] * contact.n_S.dot(v.segment<3>(3 * contact.nodes[k]));
+    sum += contact.weights[k] * contact.n_S.dot(mapping.vertexValue(contact.nodes[k], v));
   }
   return sum;
 }
 
-void ContactSolver::addColumn(const ContactPoint& contact, double scale, Eigen::VectorXd& v) {
+void ContactSolver::addColumn(const SurfaceMapping& mapping, const ContactPoint& contact,
+                              double scale, Eigen::VectorXd& v) {
   for (int k = 0; k < 3; ++k) {
-    v.segment<3>(3 * contact.nodes[k]) += (scale * contact.weights[k]) * contact.n_S;
+    mapping.addVertexForce(contact.nodes[k], (scale * contact.weights[k]) * contact.n_S, v);
   }
 }
 
-StepStatus ContactSolver::solve(Integrator& integrator, const std::vector<ContactPoint>& contacts,
+StepStatus ContactSolver::solve(Integrator& integrator, const SurfaceMapping& mapping,
+                                const std::vector<ContactPoint>& contacts,
                                 const Eigen::VectorXd& applied_force, double dt,
                                 bool update_velocity, SimulationState& state) {
   updateCompliances(dt);
   const StepStatus status =
-      solveContacts(integrator, contacts, applied_force, dt, update_velocity, state);
+      solveContacts(integrator, mapping, contacts, applied_force, dt, update_velocity, state);
   updateBodyOffsets(dt);
   return status;
 }
@@ -117,7 +120,7 @@ const Eigen::Vector3d& ContactSolver::bodyOffset(int tool) const {
       std::clamp(tool, 0, static_cast<int>(couplings_.size()) - 1))];
 }
 
-StepStatus ContactSolver::solveContacts(Integrator& integrator,
+StepStatus ContactSolver::solveContacts(Integrator& integrator, const SurfaceMapping& mapping,
                                         const std::vector<ContactPoint>& contacts,
                                         const Eigen::VectorXd& applied_force, double dt,
                                         bool update_velocity, SimulationState& state) {
@@ -126,11 +129,13 @@ StepStatus ContactSolver::solveContacts(Integrator& integrator,
   count_ = 0;
   tissue_force_.setZero();
   std::fill(force_scale_.begin(), force_scale_.end(), 1.0);
-  if (contacts.size() > static_cast<size_t>(max_contacts_) || applied_force.size() != size) {
+  if (contacts.size() > static_cast<size_t>(max_contacts_) || applied_force.size() != size ||
+      3 * mapping.numNodes() != size) {
     return StepStatus::SolverFailed;
   }
   for (const ContactPoint& contact : contacts) {
-    if (contact.tool < 0 || static_cast<size_t>(contact.tool) >= couplings_.size()) {
+    if (contact.tool < 0 || static_cast<size_t>(contact.tool) >= couplings_.size() ||
+        contact.nodes.minCoeff() < 0 || contact.nodes.maxCoeff() >= mapping.numSlots()) {
       return StepStatus::SolverFailed;
     }
   }
@@ -149,7 +154,7 @@ StepStatus ContactSolver::solveContacts(Integrator& integrator,
     const auto tool = static_cast<size_t>(contact.tool);
     // The damper's memory: the body lags at its previous offset d_t,prev (step 2 above).
     q_[i] =
-        contact.gap - rowDot(contact, carried_) -
+        contact.gap - rowDot(mapping, contact, carried_) -
         compliance_[tool] * (couplings_[tool].damping / dt) * contact.n_S.dot(body_offset_[tool]);
     q_scale = std::max(q_scale, std::abs(q_[i]));
     tools_[static_cast<size_t>(i)] = contact.tool;
@@ -160,17 +165,19 @@ StepStatus ContactSolver::solveContacts(Integrator& integrator,
   if (coupling_.size() < static_cast<size_t>(m * m)) coupling_.resize(static_cast<size_t>(m * m));
   for (Eigen::Index j = 0; j < m; ++j) {
     const ContactPoint& contact = contacts[static_cast<size_t>(j)];
-    addColumn(contact, 1.0, column_);
+    addColumn(mapping, contact, 1.0, column_);
     const bool ok = integrator.applyStepCompliance(column_, response_);
-    addColumn(contact, -1.0, column_);
-    for (int k = 0; k < 3; ++k) column_.segment<3>(3 * contact.nodes[k]).setZero();
+    for (int k = 0; k < 3; ++k) {
+      const SurfaceMapping::Row support = mapping.row(contact.nodes[k]);
+      for (int a = 0; a < support.size; ++a) column_.segment<3>(3 * support.nodes[a]).setZero();
+    }
     if (!ok) return StepStatus::SolverFailed;
     for (Eigen::Index i = 0; i < m; ++i) {
       const ContactPoint& row = contacts[static_cast<size_t>(i)];
-      W_(i, j) = rowDot(row, response_);
+      W_(i, j) = rowDot(mapping, row, response_);
       Eigen::Matrix<double, 9, 1>& coupling = coupling_[static_cast<size_t>(i * m + j)];
       for (int k = 0; k < 3; ++k)
-        coupling.segment<3>(3 * k) = response_.segment<3>(3 * row.nodes[k]);
+        coupling.segment<3>(3 * k) = mapping.vertexValue(row.nodes[k], response_);
     }
   }
   auto W = W_.topLeftCorner(m, m);
@@ -200,7 +207,7 @@ StepStatus ContactSolver::solveContacts(Integrator& integrator,
   }
   const bool capped = capToolForces();
   for (Eigen::Index i = 0; i < m; ++i) {
-    addColumn(contacts[static_cast<size_t>(i)], lambda[i], tissue_force_);
+    addColumn(mapping, contacts[static_cast<size_t>(i)], lambda[i], tissue_force_);
   }
   correction_ = tissue_force_ - applied_force;
   if (correction_.squaredNorm() > 0.0) {

@@ -1,5 +1,7 @@
 #include "surgical_sim/core/contact/grasp_constraint.h"
 
+#include <algorithm>
+
 #include "surgical_sim/core/common/validate.h"
 
 namespace surgical_sim::core {
@@ -9,7 +11,7 @@ GraspConstraint::GraspConstraint(double grasp_radius) : grasp_radius_(grasp_radi
 }
 
 void GraspConstraint::update(bool closed, const Eigen::Isometry3d& X_ST,
-                             const std::vector<int>& surface_nodes, const Eigen::VectorXd& x,
+                             const SurfaceMapping& mapping, const Eigen::VectorXd& x,
                              const std::vector<std::uint8_t>& fixed_mask) {
   if (closed == closed_) return;
   closed_ = closed;
@@ -18,13 +20,19 @@ void GraspConstraint::update(bool closed, const Eigen::Isometry3d& X_ST,
   if (!closed) return;
   const Eigen::Isometry3d X_TS = X_ST.inverse();
   const double radius_squared = grasp_radius_ * grasp_radius_;
-  for (const int node : surface_nodes) {
-    const Eigen::Vector3d p_SN = x.segment<3>(3 * node);
-    if ((p_SN - X_ST.translation()).squaredNorm() > radius_squared) continue;
-    const auto d = static_cast<size_t>(3 * node);
-    if (fixed_mask[d] != 0 || fixed_mask[d + 1] != 0 || fixed_mask[d + 2] != 0) continue;
-    nodes_.push_back(node);
-    p_TN_.push_back(X_TS * p_SN);
+  for (const int vertex : mapping.vertices()) {
+    if ((mapping.vertexValue(vertex, x) - X_ST.translation()).squaredNorm() > radius_squared)
+      continue;
+    const SurfaceMapping::Row row = mapping.row(vertex);
+    for (int j = 0; j < row.size; ++j) {
+      const int node = row.nodes[j];
+      const auto d = static_cast<size_t>(3 * node);
+      if (row.weights[j] == 0.0 || fixed_mask[d] != 0 || fixed_mask[d + 1] != 0 ||
+          fixed_mask[d + 2] != 0 || std::find(nodes_.begin(), nodes_.end(), node) != nodes_.end())
+        continue;
+      nodes_.push_back(node);
+      p_TN_.push_back(X_TS * x.segment<3>(3 * node));
+    }
   }
 }
 

@@ -92,10 +92,10 @@ bool ProxyContact::moveToClosestSurfacePoint(double radius, const Eigen::Matrix3
   return found;
 }
 
-void ProxyContact::addTissueForce(Eigen::VectorXd& f_ext) const {
+void ProxyContact::addTissueForce(const SurfaceMapping& mapping, Eigen::VectorXd& f_ext) const {
   if (!in_contact_) return;
   const Eigen::Vector3d force = -toolForce();
-  for (int k = 0; k < 3; ++k) f_ext.segment<3>(3 * nodes_[k]) += weights_[k] * force;
+  for (int k = 0; k < 3; ++k) mapping.addVertexForce(nodes_[k], weights_[k] * force, f_ext);
 }
 
 Eigen::Vector3d ProxyContact::toolForce() const {

@@ -9,6 +9,7 @@
 #include "surgical_sim/core/mesh/mesh_check.h"
 #include "surgical_sim/core/scene/scene_build.h"
 #include "surgical_sim/core/tissue/model_factory.h"
+#include "surgical_sim/core/tissue/surface_mapping.h"
 
 namespace surgical_sim::core {
 namespace {
@@ -28,14 +29,17 @@ StepStatus combined(StepStatus integrator, StepStatus contact) {
   return StepStatus::Ok;
 }
 
+/// Cutting splits the mesh's tets; a meshless model cannot be cut yet.
+std::invalid_argument efgCutError(const std::string& path) {
+  return std::invalid_argument("scene " + path +
+                               ": key 'blades': cutting needs a tet model; model efg cannot be "
+                               "cut (remove 'blades' or choose a tet model)");
+}
+
 }  // namespace
 
 TissueSimulation::TissueSimulation(const RuntimeScene& scene) : scene_(scene) {
-  // Contact, cutting and rendering address the mesh's own nodes; an efg model has other DOFs.
-  if (scene_.model == ModelKind::Efg)
-    throw std::invalid_argument("scene " + scene_.path +
-                                ": key 'model': efg runs in benchmark files (tissue_bench) only; "
-                                "a runtime simulation needs a tet model");
+  if (scene_.model == ModelKind::Efg && !scene_.blades.empty()) throw efgCutError(scene_.path);
   original_mesh_ = buildSceneMesh(scene_.mesh, scene_.resolution, scene_.element_type);
   requireValidMesh(original_mesh_);
 
@@ -76,7 +80,7 @@ void TissueSimulation::installModel(std::unique_ptr<TissueModel> model) {
 }
 
 std::unique_ptr<ContactPhase> TissueSimulation::makeContact(const Eigen::VectorXd& rest) const {
-  auto contact = std::make_unique<ContactPhase>(surface_, rest, contact_settings_,
+  auto contact = std::make_unique<ContactPhase>(surface_, mapping_, rest, contact_settings_,
                                                 scene_.integrator != IntegratorKind::QuasiStatic);
   for (std::size_t i = 0; i < tool_poses_.size(); ++i)
     if (tool_poses_[i]) contact->setToolPose(static_cast<int>(i), *tool_poses_[i]);
@@ -93,7 +97,9 @@ void TissueSimulation::reset() {
   mesh_ = original_mesh_;
   surface_ = extractSurface(mesh_);
   installModel(makeTissueModel(scene_.model, mesh_, scene_.material, scene_.efg));
+  mapping_ = makeSurfaceMapping(*model_, mesh_, surface_);
   state_.x = model_->restPositions();
+  mapping_.apply(state_.x, surface_x_);
   state_.v = Eigen::VectorXd::Zero(state_.x.size());
   state_.time = 0.0;
   x_previous_ = state_.x;
@@ -123,6 +129,7 @@ void TissueSimulation::setGrasp(int tool, bool closed) {
 }
 
 void TissueSimulation::requestCut(const BladeSweep& sweep) {
+  if (scene_.model == ModelKind::Efg) throw efgCutError(scene_.path);
   validateBladeSweep(sweep);
   if (!cutter_) cutter_ = std::make_unique<TetCutter>(mesh_, scene_.material.density);
   pending_cuts_.push_back(sweep);
@@ -142,8 +149,10 @@ bool TissueSimulation::applyCuts() {
   mesh_ = cutter_->mesh();
   surface_ = cutter_->surface();
   cut_faces_ = cutter_->cutFaces();
-  // The contact structures depend only on the surface and the rest positions (the cutter's
-  // nodes): built on a second thread while the model is built.
+  // The contact structures depend only on the surface, its mapping (a cut tet model's DOFs are
+  // the cutter's nodes: the selection) and the rest positions: built on a second thread while
+  // the model is built.
+  mapping_ = SurfaceMapping::selection(mesh_.numNodes(), surface_.nodes);
   const Eigen::VectorXd rest =
       Eigen::Map<const Eigen::VectorXd>(mesh_.nodes.data(), 3 * mesh_.numNodes());
   std::future<std::unique_ptr<ContactPhase>> contact;
@@ -197,6 +206,7 @@ SimulationStepStats TissueSimulation::step() {
     restoreStart(time_previous);
     stats.report.status = StepStatus::NonFinite;
   }
+  mapping_.apply(state_.x, surface_x_);
   stats.step_seconds = step_watch.seconds();
   return stats;
 }

@@ -58,8 +58,9 @@ struct Palpation {
     settings.tools.push_back(tool);
     settings.solver.max_iterations = 5000;
     settings.solver.relative_tolerance = 1e-6;
-    contact =
-        std::make_unique<ContactPhase>(surface, rest, settings, integrator_name != "quasi_static");
+    contact = std::make_unique<ContactPhase>(
+        surface, SurfaceMapping::selection(mesh.numNodes(), surface.nodes), rest, settings,
+        integrator_name != "quasi_static");
   }
 
   static IntegratorSettings newtonSettings() {
@@ -366,13 +367,16 @@ TEST(ContactValidators, RejectOutOfRangeSettings) {
   expectNaming([] { ContactSolver({}, 8, {{1e4, std::nan("")}}); }, "tool.max_force");
   const TetMesh mesh = makeBox({0, 0, 0}, {1, 1, 1}, {1, 1, 1}, ElementType::Tet4);
   const Eigen::VectorXd rest = Eigen::Map<const Eigen::VectorXd>(mesh.nodes.data(), 24);
-  expectNaming([&] { ContactPhase(extractSurface(mesh), rest, {}, true); }, "contact.tools");
+  const SurfaceMesh surface = extractSurface(mesh);
+  const SurfaceMapping mapping = SurfaceMapping::selection(8, surface.nodes);
+  expectNaming([&] { ContactPhase(surface, mapping, rest, {}, true); }, "contact.tools");
   ContactPhaseSettings missing_radius;
   missing_radius.tools.emplace_back();
   missing_radius.tools.back().coupling_stiffness = 1e4;
   missing_radius.tools.back().max_force = 20.0;
-  expectNaming([&] { ContactPhase(extractSurface(mesh), rest, missing_radius, true); },
-               "tool.radius");
+  expectNaming([&] { ContactPhase(surface, mapping, rest, missing_radius, true); }, "tool.radius");
+  expectNaming([&] { ContactPhase(surface, mapping, rest.head(21), missing_radius, true); },
+               "contact.rest");
 }
 
 }  // namespace

@@ -33,6 +33,12 @@ class FixedCompliance : public Integrator {
   Eigen::MatrixXd S_;
 };
 
+/// The identity mapping of the 8 nodes (every node a surface vertex).
+const SurfaceMapping& eightNodes() {
+  static const SurfaceMapping mapping = SurfaceMapping::selection(8, {0, 1, 2, 3, 4, 5, 6, 7});
+  return mapping;
+}
+
 /// Contact of tool `tool` on node `node` alone (weight 1), normal n (normalized), gap [m].
 ContactPoint contactOnNode(int node, const Eigen::Vector3d& n, double gap, int tool = 0) {
   ContactPoint c;
@@ -60,7 +66,8 @@ struct Solve {
   StepStatus run(const std::vector<ContactPoint>& contacts) {
     state.x = Eigen::VectorXd::Zero(24);
     state.v = Eigen::VectorXd::Zero(24);
-    return solver.solve(integrator, contacts, Eigen::VectorXd::Zero(24), 0.01, true, state);
+    return solver.solve(integrator, eightNodes(), contacts, Eigen::VectorXd::Zero(24), 0.01, true,
+                        state);
   }
 
   FixedCompliance integrator;
@@ -104,7 +111,8 @@ TEST(ToolCoupling, DamperResistsTheFirstStepThenTheSpringAloneHolds) {
   const Eigen::VectorXd none = Eigen::VectorXd::Zero(24);
   const Eigen::Vector3d n(0.0, 0.0, -1.0);
   const auto step = [&](const std::vector<ContactPoint>& contacts) {
-    EXPECT_EQ(solver.solve(integrator, contacts, none, dt, true, state), StepStatus::Ok);
+    EXPECT_EQ(solver.solve(integrator, eightNodes(), contacts, none, dt, true, state),
+              StepStatus::Ok);
     return contacts.empty() ? 0.0 : solver.multipliers()[0];
   };
   // First touch: spring and damper both resist, lambda = (k + b/dt) d; the body retracts by d.

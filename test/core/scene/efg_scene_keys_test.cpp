@@ -1,5 +1,5 @@
 // The 'efg' keys of scene files: parsed with their defaults, every bad value rejected naming
-// the dotted key, and an efg benchmark case run end to end.
+// the dotted key, an efg benchmark case run end to end, an efg runtime scene.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -111,7 +111,7 @@ TEST(EfgSceneKeys, EveryKeyRejectsBadValuesNamingIt) {
   expectRejected(no_efg.substr(0, no_efg.find("efg:\n")), {"efg", "spacing"});
 }
 
-TEST(EfgSceneKeys, RuntimeSimulationRejectsEfgClearly) {
+TEST(EfgSceneKeys, RuntimeSimulationRunsEfgAndRejectsItsBladesNamingThem) {
   const char* runtime = R"(
 name: efg_run
 mesh:
@@ -127,11 +127,16 @@ efg: {spacing: 0.0125}
 )";
   const RuntimeScene scene = parseRuntimeScene(runtime, "run.yaml");
   EXPECT_EQ(scene.model, ModelKind::Efg);
+  TissueSimulation sim(scene);
+  EXPECT_EQ(sim.model().name(), "efg");
+  EXPECT_EQ(sim.step().report.status, StepStatus::Ok);
+  RuntimeScene cutting = scene;
+  cutting.blades.emplace_back();
   try {
-    TissueSimulation sim(scene);
+    TissueSimulation cut(cutting);
     FAIL() << "accepted";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("'model'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("'blades'"), std::string::npos) << e.what();
   }
 }
 

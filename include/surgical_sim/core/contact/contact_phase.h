@@ -17,6 +17,7 @@
 #include "surgical_sim/core/mesh/surface.h"
 #include "surgical_sim/core/solve/dynamics_problem.h"
 #include "surgical_sim/core/solve/integrator.h"
+#include "surgical_sim/core/tissue/surface_mapping.h"
 #include "surgical_sim/core/tissue/tissue_model.h"
 
 namespace surgical_sim::core {
@@ -66,16 +67,21 @@ struct ContactTimings {
 ///   }
 ///   contact.finishStep(integrator, model, dt, state);                  // detect, solve, correct
 ///   contact.linearization(i), contact.timings()                        // outputs
-/// All quantities in the tissue frame S. prepareStep/finishStep never throw and allocate nothing
+/// All quantities in the tissue frame S. Contacts are detected on the surface vertices
+/// (positions SurfaceMapping::apply of the model's) and act on the model through the mapping.
+/// prepareStep/finishStep never throw and allocate nothing
 /// in steady state (buffers grow only when more contacts or grasped nodes appear than before).
 class ContactPhase {
  public:
-  /// @param surface the tissue surface (volume node indices)
-  /// @param rest rest positions [m], size 3n, in S (BVH construction)
+  /// @param surface the tissue surface (its triangles index the mapping's slots)
+  /// @param mapping the model's surface mapping: model positions -> vertex positions, and
+  ///        contact, proxy and grasp forces back to the model's DOFs
+  /// @param rest model rest positions [m], size 3 mapping.numNodes(), in S (BVH construction)
   /// @param update_velocity false for quasi-static integrators
   /// @throws std::invalid_argument naming "contact.tools" (empty), "tool.*" (coupling_stiffness
-  ///         is checked for constraint tools only) or "contact.*"
-  ContactPhase(const SurfaceMesh& surface, const Eigen::VectorXd& rest,
+  ///         is checked for constraint tools only), "contact.*", or "contact.rest" when rest
+  ///         does not have the mapping's size
+  ContactPhase(const SurfaceMesh& surface, SurfaceMapping mapping, const Eigen::VectorXd& rest,
                const ContactPhaseSettings& settings, bool update_velocity);
 
   int numTools() const { return static_cast<int>(tools_.size()); }
@@ -111,6 +117,7 @@ class ContactPhase {
   const ContactTimings& timings() const { return timings_; }
   /// Contacts of the constraint tools found in the last step.
   const std::vector<ContactPoint>& contacts() const { return contacts_; }
+  const SurfaceMapping& mapping() const { return mapping_; }
   const ContactSolver& solver() const { return solver_; }
   /// Contact force the last step applied to the tissue [N], size 3n, S: the proxy spring
   /// forces of its free step plus the constraint force H^T lambda that replaced the carried one
@@ -132,7 +139,8 @@ class ContactPhase {
   };
 
   Eigen::Matrix3Xi triangles_;
-  std::vector<int> surface_nodes_;
+  SurfaceMapping mapping_;
+  Eigen::VectorXd surface_x_;  ///< vertex positions [m], 3 mapping_.numSlots()
   bool update_velocity_;
   SurfaceBvh bvh_;
   ContactDetector detector_;

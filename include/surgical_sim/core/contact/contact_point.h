@@ -5,13 +5,15 @@
 namespace surgical_sim::core {
 
 /// One contact between a tool and the tissue surface, in the tissue frame S.
-/// Constraint row: gap(x) = gap + n^T (sum_k weights_k (x_{nodes_k} - x_free_{nodes_k})) >= 0,
-/// i.e. H = n^T [w0 I, w1 I, w2 I] on the three triangle nodes. A friction extension adds two
-/// tangent rows per contact with the same node weights (not implemented).
+/// Constraint row: gap(x) = gap + n^T (sum_k weights_k (x_{nodes_k} - x_free_{nodes_k})) >= 0
+/// in the surface vertex positions, i.e. n^T [w0 I, w1 I, w2 I] on the three triangle vertices,
+/// mapped to the model's DOFs by the SurfaceMapping (for a tet model the vertices are the surface
+/// nodes). A friction extension adds two tangent rows per contact with the same vertex weights
+/// (not implemented).
 struct ContactPoint {
   int tool = 0;                                           ///< index of the tool in the scene
   int triangle = -1;                                      ///< surface triangle index
-  Eigen::Vector3i nodes = Eigen::Vector3i::Constant(-1);  ///< its volume node indices
+  Eigen::Vector3i nodes = Eigen::Vector3i::Constant(-1);  ///< its vertices (mesh node indices)
   Eigen::Vector3d weights = Eigen::Vector3d::Zero();      ///< barycentric weights, >= 0, sum 1
   Eigen::Vector3d p_S = Eigen::Vector3d::Zero();          ///< contact point on the surface [m], S
   Eigen::Vector3d n_S = Eigen::Vector3d::UnitZ();         ///< unit normal from the tool axis to the

@@ -10,6 +10,7 @@
 #include "surgical_sim/core/contact/projected_gauss_seidel.h"
 #include "surgical_sim/core/solve/dynamics_problem.h"
 #include "surgical_sim/core/solve/integrator.h"
+#include "surgical_sim/core/tissue/surface_mapping.h"
 
 namespace surgical_sim::core {
 
@@ -48,7 +49,9 @@ void validateToolCoupling(const ToolCoupling& coupling);
 /// spirit of SOFA's free-motion / correction loop:
 ///  1. the integrator takes the free step x_free, with the contact force of the previous step F_a
 ///     (applied_force, may be zero) already in its external force;
-///  2. H has one row per contact, n^T times the barycentric weights on the triangle's 3 nodes;
+///  2. H has one row per contact, n^T times the barycentric weights on the triangle's 3 surface
+///     vertices mapped to the model's DOFs: h = sum_k w_k (A_k^T n) with A_k the vertex's row of
+///     the SurfaceMapping (for a tet model the identity on the surface nodes);
 ///     S = Integrator::applyStepCompliance (one call per contact column); the gaps are measured
 ///     with the tool at its commanded pose, and the massless tool body of tool t (ToolCoupling)
 ///     sits at the offset d_t from it where the spring-damper balances the contact force
@@ -80,6 +83,7 @@ class ContactSolver {
 
   /// Solves the contacts (gaps measured at the free positions state.x) and corrects state.
   /// @param integrator integrator that just took the free step (its step compliance is used)
+  /// @param mapping the model's surface mapping (ContactPoint::nodes are its slots)
   /// @param contacts at most max_contacts contacts, in S
   /// @param applied_force contact force already applied during the free step [N], size 3n
   /// @param dt step [s] (> 0) for the velocity correction
@@ -88,12 +92,13 @@ class ContactSolver {
   ///         otherwise NotConverged (state corrected with the last Gauss-Seidel iterate) if
   ///         neither Gauss-Seidel nor the active-set refinement converged; SolverFailed (state
   ///         untouched, zero force) if the step compliance is unavailable, contacts exceed
-  ///         max_contacts, a contact names an unknown tool or the multipliers are not finite.
+  ///         max_contacts, a contact names an unknown tool or a slot outside the mapping, the
+  ///         mapping's node count does not match state.x or the multipliers are not finite.
   ///         Never throws; allocation-free once it has seen the size 3n and its largest contact
   ///         count.
-  StepStatus solve(Integrator& integrator, const std::vector<ContactPoint>& contacts,
-                   const Eigen::VectorXd& applied_force, double dt, bool update_velocity,
-                   SimulationState& state);
+  StepStatus solve(Integrator& integrator, const SurfaceMapping& mapping,
+                   const std::vector<ContactPoint>& contacts, const Eigen::VectorXd& applied_force,
+                   double dt, bool update_velocity, SimulationState& state);
 
   /// H^T lambda of the last solve [N], size 3n, in S (zero before the first solve).
   const Eigen::VectorXd& tissueForce() const { return tissue_force_; }
@@ -132,7 +137,8 @@ class ContactSolver {
   /// returns whether any tool was capped.
   bool capToolForces();
   /// solve() between the coupling updates.
-  StepStatus solveContacts(Integrator& integrator, const std::vector<ContactPoint>& contacts,
+  StepStatus solveContacts(Integrator& integrator, const SurfaceMapping& mapping,
+                           const std::vector<ContactPoint>& contacts,
                            const Eigen::VectorXd& applied_force, double dt, bool update_velocity,
                            SimulationState& state);
   /// Per tool c_t = 1 / (k_t + b_t/dt) [m/N] for the step dt [s].
@@ -140,9 +146,11 @@ class ContactSolver {
   /// d_t = c_t ((b_t/dt) d_t,prev - sum_{i of t} lambda_i n_i) from the last solve's multipliers.
   void updateBodyOffsets(double dt);
   /// h_i^T v for contact i.
-  double rowDot(const ContactPoint& contact, const Eigen::VectorXd& v) const;
+  static double rowDot(const SurfaceMapping& mapping, const ContactPoint& contact,
+                       const Eigen::VectorXd& v);
   /// v += scale h_i.
-  static void addColumn(const ContactPoint& contact, double scale, Eigen::VectorXd& v);
+  static void addColumn(const SurfaceMapping& mapping, const ContactPoint& contact, double scale,
+                        Eigen::VectorXd& v);
 
   ContactSolverSettings settings_;
   int max_contacts_;
@@ -161,7 +169,7 @@ class ContactSolver {
   Eigen::Matrix3Xd contact_normals_;    ///< 3 x max, n_i of the last solve
   std::vector<Eigen::Matrix3d> dn_du_;  ///< max, dn_i/du of the last solve
   std::vector<Eigen::Matrix<double, 3, 9>> dn_dx_;  ///< max, dn_i/dx_nodes of the last solve
-  /// count x count (row-major), S h_j restricted to contact i's three nodes [m/N]
+  /// count x count (row-major), W S h_j at contact i's three vertices [m/N]
   std::vector<Eigen::Matrix<double, 9, 1>> coupling_;
   Eigen::MatrixXd solved_;                                                   ///< max x 3, W_AA^-1 E
   Eigen::VectorXd tissue_force_, column_, response_, carried_, correction_;  ///< 3n

@@ -5,11 +5,16 @@
 #include <cstdint>
 #include <vector>
 
+#include "surgical_sim/core/tissue/surface_mapping.h"
+
 namespace surgical_sim::core {
 
-/// Grasp: when the jaws close, the surface nodes within grasp_radius of the tool tip are
-/// attached to the tool. Their positions p_TN in the tool frame T are recorded; while grasping
-/// they are Dirichlet targets p_SN = X_ST p_TN; opening the jaws releases them.
+/// Grasp: when the jaws close, the surface vertices within grasp_radius of the tool tip are
+/// attached to the tool through the model nodes that carry them (each vertex's row of the
+/// SurfaceMapping: the vertex itself for a tet model, its MLS particles for an EFG model). The
+/// nodes' positions p_TN in the tool frame T are recorded; while grasping they are Dirichlet
+/// targets p_SN = X_ST p_TN, so they and the vertices they carry (a mapping reproduces rigid
+/// motions) move with the tool; opening the jaws releases them.
 /// No allocation after the first grasp except when more nodes are captured than ever before.
 class GraspConstraint {
  public:
@@ -17,10 +22,11 @@ class GraspConstraint {
   /// @throws std::invalid_argument naming "tool.grasp_radius"
   explicit GraspConstraint(double grasp_radius);
 
-  /// Opens or closes the jaws at tool pose X_ST. On closing, captures the surface nodes within
-  /// grasp_radius of the tip (positions x [m], size 3n, in S) except nodes with a DOF in
-  /// fixed_mask (size 3n, 1 = already constrained). Never throws.
-  void update(bool closed, const Eigen::Isometry3d& X_ST, const std::vector<int>& surface_nodes,
+  /// Opens or closes the jaws at tool pose X_ST. On closing, captures the nodes (weight != 0) of
+  /// the surface vertices (mapping.vertices()) within grasp_radius of the tip at model positions
+  /// x [m] (size 3n, in S), each once, except nodes with a DOF in fixed_mask (size 3n, 1 =
+  /// already constrained). Never throws.
+  void update(bool closed, const Eigen::Isometry3d& X_ST, const SurfaceMapping& mapping,
               const Eigen::VectorXd& x, const std::vector<std::uint8_t>& fixed_mask);
 
   bool active() const { return closed_; }

@@ -5,6 +5,7 @@
 
 #include "surgical_sim/core/contact/contact_point.h"
 #include "surgical_sim/core/contact/surface_bvh.h"
+#include "surgical_sim/core/tissue/surface_mapping.h"
 
 namespace surgical_sim::core {
 
@@ -13,7 +14,7 @@ namespace surgical_sim::core {
 /// barycentric weights, so it follows the deformation); while the tip is inside, the proxy slides
 /// to the surface point locally closest to the tip. A spring k_proxy between the tip and the
 /// proxy gives the force on the tool f = k_proxy (p_proxy - p_tip), saturated at |f| = F_max;
-/// its opposite is applied to the proxy triangle's nodes (barycentric weights) as external force
+/// its opposite is applied to the proxy triangle's vertices (barycentric weights) as external force
 /// in the next step. The stiffness for the haptic loop is K = df/dp = -k_proxy n n^T (n: the
 /// proxy triangle's outward normal; the proxy slides tangentially), 0 while saturated. All
 /// quantities in the tissue frame S.
@@ -30,12 +31,13 @@ class ProxyContact {
   /// has the tip behind its triangle. Release: the tip is on the outer side of the proxy
   /// triangle. Never throws; allocation-free once the candidate buffer has grown.
   /// @param search_radius entry search radius around the tip [m], e.g. the tool radius
-  /// @param triangles surface triangles (volume node indices), 3 x t
-  /// @param x node positions [m], size 3n, in S
+  /// @param triangles surface triangles (vertex slots), 3 x t
+  /// @param x vertex positions [m] (SurfaceMapping::apply), in S
   void update(const Eigen::Vector3d& p_tip_S, double search_radius,
               const Eigen::Matrix3Xi& triangles, const Eigen::VectorXd& x, SurfaceBvh& bvh);
-  /// f_ext += force of the tool on the tissue (-toolForce() on the proxy triangle's nodes) [N].
-  void addTissueForce(Eigen::VectorXd& f_ext) const;
+  /// f_ext += force of the tool on the tissue [N]: -toolForce() on the proxy triangle's
+  /// vertices, mapped to the model's DOFs by `mapping` (f_ext size 3 mapping.numNodes()).
+  void addTissueForce(const SurfaceMapping& mapping, Eigen::VectorXd& f_ext) const;
 
   bool inContact() const { return in_contact_; }
   /// Proxy point [m], S (meaningful while in contact).

@@ -16,6 +16,7 @@
 #include "surgical_sim/core/scene/scene_config.h"
 #include "surgical_sim/core/solve/dynamics_problem.h"
 #include "surgical_sim/core/solve/integrator.h"
+#include "surgical_sim/core/tissue/surface_mapping.h"
 #include "surgical_sim/core/tissue/tissue_model.h"
 
 namespace surgical_sim::core {
@@ -40,6 +41,7 @@ struct SimulationStepStats {
 /// no damping work without damping, no cut structures before the first cut. step() never throws.
 class TissueSimulation {
  public:
+  /// Every model kind runs; an efg scene with 'blades' is rejected (cutting needs a tet model).
   /// @throws std::invalid_argument / std::runtime_error naming the scene key on bad input.
   explicit TissueSimulation(const RuntimeScene& scene);
   ~TissueSimulation();
@@ -66,7 +68,8 @@ class TissueSimulation {
   /// The first request builds the cutter (no cut structures before). A cut that changes the
   /// topology rebuilds the masses, the model (the solver re-analyses the new pattern), the
   /// boundary conditions, the surface and the contact structures; grasps are released.
-  /// @throws std::invalid_argument for an invalid sweep or a scene mesh that is not tet4.
+  /// @throws std::invalid_argument for an invalid sweep, a scene mesh that is not tet4 or a
+  ///         model that cannot be cut (efg, naming 'blades').
   void requestCut(const BladeSweep& sweep);
   /// Connected pieces of the tissue (1 before any cut).
   int numComponents() const { return cutter_ ? cutter_->numComponents() : 1; }
@@ -77,7 +80,14 @@ class TissueSimulation {
   const RuntimeScene& scene() const { return scene_; }
   double timeStep() const { return scene_.time_step; }
   const TetMesh& mesh() const { return mesh_; }
+  /// The tissue surface; its triangles index the mesh's nodes (the mapping's slots).
   const SurfaceMesh& surface() const { return surface_; }
+  /// Model DOFs -> surface vertex positions (the identity on the surface nodes for a tet model,
+  /// MLS weights for efg).
+  const SurfaceMapping& surfaceMapping() const { return mapping_; }
+  /// Surface vertex positions [m] of the current state, size 3 mesh().numNodes(), tissue frame:
+  /// mapping of state().x (rest positions: mesh().nodes); entries of non-surface nodes are 0.
+  const Eigen::VectorXd& surfacePositions() const { return surface_x_; }
   const SimulationState& state() const { return state_; }
   const TissueModel& model() const { return *model_; }
   /// Contact model of tool `tool` after the last step (zero when not in contact, or for a tool
@@ -87,7 +97,7 @@ class TissueSimulation {
   /// Contact force the last step applied to the tissue (ContactPhase::appliedForce) [N], size
   /// 3n, tissue frame; zero without tools. Allocates its result (diagnostics only).
   Eigen::VectorXd appliedContactForce() const;
-  /// Surface nodes touched by any tool in the last step (volume node indices, may repeat).
+  /// Surface vertices touched by any tool in the last step (mesh node indices, may repeat).
   const std::vector<int>& contactNodes() const { return contact_nodes_; }
   /// Structures this scene built, e.g. {"model", "integrator", "contact", "damping"}.
   std::vector<std::string> components() const;
@@ -113,6 +123,8 @@ class TissueSimulation {
   TetMesh original_mesh_;
   TetMesh mesh_;
   SurfaceMesh surface_;
+  SurfaceMapping mapping_;
+  Eigen::VectorXd surface_x_;  ///< surfacePositions() [m]
   std::unique_ptr<TissueModel> model_;
   std::unique_ptr<Integrator> integrator_;
   DynamicsProblem problem_;

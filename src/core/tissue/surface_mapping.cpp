@@ -1,0 +1,117 @@
+#include "surgical_sim/core/tissue/surface_mapping.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "surgical_sim/core/tissue/efg_model.h"
+
+namespace surgical_sim::core {
+
+SurfaceMapping::SurfaceMapping(int slots, std::vector<int> vertices,
+                               const Eigen::SparseMatrix<double, Eigen::RowMajor>& weights)
+    : nodes_(static_cast<int>(weights.cols())), vertices_(std::move(vertices)) {
+  if (weights.rows() != static_cast<Eigen::Index>(vertices_.size())) {
+    throw std::invalid_argument("SurfaceMapping: " + std::to_string(weights.rows()) +
+                                " weight rows for " + std::to_string(vertices_.size()) +
+                                " vertices");
+  }
+  std::vector<int> row_of(static_cast<size_t>(std::max(slots, 0)), -1);
+  for (size_t k = 0; k < vertices_.size(); ++k) {
+    const int v = vertices_[k];
+    if (v < 0 || v >= slots || row_of[static_cast<size_t>(v)] >= 0) {
+      throw std::invalid_argument("SurfaceMapping: vertex " + std::to_string(v) +
+                                  " is repeated or outside the " + std::to_string(slots) +
+                                  " slots");
+    }
+    row_of[static_cast<size_t>(v)] = static_cast<int>(k);
+  }
+  start_.assign(static_cast<size_t>(slots) + 1, 0);
+  for (int s = 0; s < slots; ++s) {
+    const int k = row_of[static_cast<size_t>(s)];
+    if (k >= 0) {
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(weights, k); it; ++it) {
+        if (!std::isfinite(it.value())) {
+          throw std::invalid_argument("SurfaceMapping: weight of vertex " + std::to_string(s) +
+                                      " on node " + std::to_string(it.col()) + " is not finite");
+        }
+        columns_.push_back(static_cast<int>(it.col()));
+        weights_.push_back(it.value());
+      }
+    }
+    start_[static_cast<size_t>(s) + 1] = static_cast<int>(columns_.size());
+  }
+}
+
+SurfaceMapping SurfaceMapping::selection(int nodes, const std::vector<int>& vertices) {
+  Eigen::SparseMatrix<double, Eigen::RowMajor> W(static_cast<Eigen::Index>(vertices.size()), nodes);
+  std::vector<Eigen::Triplet<double>> ones;
+  for (size_t k = 0; k < vertices.size(); ++k) {
+    if (vertices[k] < 0 || vertices[k] >= nodes) {
+      throw std::invalid_argument("SurfaceMapping: vertex " + std::to_string(vertices[k]) +
+                                  " is not one of the model's " + std::to_string(nodes) + " nodes");
+    }
+    ones.emplace_back(static_cast<int>(k), vertices[k], 1.0);
+  }
+  W.setFromTriplets(ones.begin(), ones.end());
+  return SurfaceMapping(nodes, vertices, W);
+}
+
+SurfaceMapping::Row SurfaceMapping::row(int slot) const {
+  const int begin = start_[static_cast<size_t>(slot)];
+  return {columns_.data() + begin, weights_.data() + begin,
+          start_[static_cast<size_t>(slot) + 1] - begin};
+}
+
+Eigen::Vector3d SurfaceMapping::vertexValue(int slot, const Eigen::VectorXd& x) const {
+  const Row r = row(slot);
+  Eigen::Vector3d value = Eigen::Vector3d::Zero();
+  for (int j = 0; j < r.size; ++j) value += r.weights[j] * x.segment<3>(3 * r.nodes[j]);
+  return value;
+}
+
+void SurfaceMapping::apply(const Eigen::VectorXd& x, Eigen::VectorXd& x_s) const {
+  if (x_s.size() != 3 * numSlots()) x_s.resize(3 * numSlots());
+  for (int s = 0; s < numSlots(); ++s) x_s.segment<3>(3 * s) = vertexValue(s, x);
+}
+
+void SurfaceMapping::addVertexForce(int slot, const Eigen::Vector3d& f_v,
+                                    Eigen::VectorXd& f) const {
+  const Row r = row(slot);
+  for (int j = 0; j < r.size; ++j) f.segment<3>(3 * r.nodes[j]) += r.weights[j] * f_v;
+}
+
+void SurfaceMapping::addTransposed(const Eigen::VectorXd& f_s, Eigen::VectorXd& f) const {
+  for (const int v : vertices_) addVertexForce(v, f_s.segment<3>(3 * v), f);
+}
+
+Eigen::SparseMatrix<double> SurfaceMapping::matrix() const {
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int s = 0; s < numSlots(); ++s) {
+    const Row r = row(s);
+    for (int j = 0; j < r.size; ++j) entries.emplace_back(s, r.nodes[j], r.weights[j]);
+  }
+  Eigen::SparseMatrix<double> W(numSlots(), nodes_);
+  W.setFromTriplets(entries.begin(), entries.end());
+  return W;
+}
+
+SurfaceMapping makeSurfaceMapping(const TissueModel& model, const TetMesh& mesh,
+                                  const SurfaceMesh& surface) {
+  if (const auto* efg = dynamic_cast<const EfgModel*>(&model)) {
+    Eigen::Matrix3Xd rest(3, static_cast<Eigen::Index>(surface.nodes.size()));
+    for (size_t k = 0; k < surface.nodes.size(); ++k)
+      rest.col(static_cast<Eigen::Index>(k)) = mesh.nodes.col(surface.nodes[k]);
+    return SurfaceMapping(mesh.numNodes(), surface.nodes, efg->interpolation(rest));
+  }
+  if (model.numNodes() != mesh.numNodes()) {
+    throw std::invalid_argument("makeSurfaceMapping: model " + model.name() + " has " +
+                                std::to_string(model.numNodes()) + " nodes, its mesh " +
+                                std::to_string(mesh.numNodes()));
+  }
+  return SurfaceMapping::selection(mesh.numNodes(), surface.nodes);
+}
+
+}  // namespace surgical_sim::core
