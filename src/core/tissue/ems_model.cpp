@@ -14,38 +14,19 @@ namespace {
 // Edges i = 1..6 of the thesis (0-based here) as (from, to) corners: edge vector x_to - x_from.
 constexpr int kEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {2, 3}, {3, 1}};
 
-// G_i: coefficient of l_i^2 in the Gram matrix G = v^T v of the edge vectors v1, v2, v3.
+// G_i: coefficient of l_i^2 in the Gram matrix G = v^T v of the edge vectors v1, v2, v3, from
+// G_aa = l_a^2 and G_ab = (l_a^2 + l_b^2 - l_ab^2) / 2 (a != b).
 Eigen::Matrix3d gramCoefficient(int i) {
   Eigen::Matrix3d G = Eigen::Matrix3d::Zero();
-  const auto offDiagonal = [&G](int r, int c, double value) {
-    G(r, c) += value;
-    G(c, r) += value;
-  };
-  switch (i) {
-    case 0:
-      G(0, 0) = 1.0;
-      offDiagonal(0, 1, 0.5);
-      offDiagonal(0, 2, 0.5);
-      break;
-    case 1:
-      G(1, 1) = 1.0;
-      offDiagonal(0, 1, 0.5);
-      offDiagonal(1, 2, 0.5);
-      break;
-    case 2:
-      G(2, 2) = 1.0;
-      offDiagonal(0, 2, 0.5);
-      offDiagonal(1, 2, 0.5);
-      break;
-    case 3:
-      offDiagonal(0, 1, -0.5);
-      break;
-    case 4:
-      offDiagonal(1, 2, -0.5);
-      break;
-    default:
-      offDiagonal(0, 2, -0.5);
-      break;
+  if (i < 3) {  // l_i = |v_i|: G_ii and half of every G_ib
+    G.row(i).setConstant(0.5);
+    G.col(i).setConstant(0.5);
+    G(i, i) = 1.0;
+  } else {  // l_i = |v_b - v_a| enters G_ab only
+    const int a = kEdges[i][0] - 1;
+    const int b = kEdges[i][1] - 1;
+    G(a, b) = -0.5;
+    G(b, a) = -0.5;
   }
   return G;
 }
