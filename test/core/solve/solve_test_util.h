@@ -99,6 +99,13 @@ inline DynamicsProblem makeProblem(const TissueModel& model, const std::vector<i
   return problem;
 }
 
+/// makeProblem with the nodes at z = 0 held, under the body acceleration a [m/s^2].
+inline DynamicsProblem clampedUnderBodyForce(const TissueModel& model, const Eigen::Vector3d& a) {
+  DynamicsProblem problem = makeProblem(model, dofsOfNodesAt(model, 2, 0.0));
+  problem.external_force = model.bodyForce(a);
+  return problem;
+}
+
 /// State at rest: x = rest positions, v = 0, time 0.
 inline SimulationState restState(const TissueModel& model) {
   SimulationState state;
