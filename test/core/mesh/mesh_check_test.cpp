@@ -9,21 +9,10 @@
 #include <Eigen/Core>
 
 #include "surgical_sim/core/mesh/generators.h"
+#include "two_tets.h"
 
 namespace surgical_sim::core {
 namespace {
-
-/// Unit corner tetrahedron (nodes 0..3) plus node 4 = (1,1,1) beyond its slanted face.
-TetMesh twoTets() {
-  TetMesh mesh;
-  mesh.nodes.resize(3, 5);
-  mesh.nodes << 0, 1, 0, 0, 1,  //
-      0, 0, 1, 0, 1,            //
-      0, 0, 0, 1, 1;
-  mesh.elements.resize(4, 2);
-  mesh.elements << 0, 1, 1, 2, 2, 3, 3, 4;
-  return mesh;
-}
 
 std::vector<MeshIssue> issuesOfKind(const std::vector<MeshIssue>& issues, MeshIssueKind kind) {
   std::vector<MeshIssue> selected;

@@ -14,6 +14,7 @@
 #include "surgical_sim/core/mesh/generators.h"
 #include "surgical_sim/core/mesh/gmsh_reader.h"
 #include "surgical_sim/core/mesh/mesh_check.h"
+#include "two_tets.h"
 
 namespace surgical_sim::core {
 namespace {
@@ -106,13 +107,7 @@ TEST(ExtractSurface, SurfaceNodesAreTheBoundaryNodesIncludingTet10MidNodes) {
 }
 
 TEST(ExtractSurface, InteriorFaceOfTwoTetsIsRemoved) {
-  TetMesh mesh;
-  mesh.nodes.resize(3, 5);
-  mesh.nodes << 0, 1, 0, 0, 1,  //
-      0, 0, 1, 0, 1,            //
-      0, 0, 0, 1, 1;
-  mesh.elements.resize(4, 2);
-  mesh.elements << 0, 1, 1, 2, 2, 3, 3, 4;
+  const TetMesh mesh = twoTets();
   const SurfaceMesh surface = extractSurface(mesh);
   EXPECT_EQ(surface.triangles.cols(), 6);
   EXPECT_EQ(surface.nodes, (std::vector<int>{0, 1, 2, 3, 4}));

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
+#include "two_tets.h"
 
 namespace surgical_sim::core {
 namespace {
@@ -21,13 +22,7 @@ TEST(TetFaceCorners, FacesPointAwayFromTheOppositeCorner) {
 }
 
 TEST(GroupTetFaces, SharedFaceFormsOneGroupOfTwo) {
-  TetMesh mesh;
-  mesh.nodes.resize(3, 5);
-  mesh.nodes << 0, 1, 0, 0, 1,  //
-      0, 0, 1, 0, 1,            //
-      0, 0, 0, 1, 1;
-  mesh.elements.resize(4, 2);
-  mesh.elements << 0, 1, 1, 2, 2, 3, 3, 4;
+  const TetMesh mesh = twoTets();
   const TetFaceGroups groups = groupTetFaces(mesh);
   ASSERT_EQ(groups.faces.size(), 8u);
   ASSERT_EQ(groups.numGroups(), 7);
