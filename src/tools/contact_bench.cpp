@@ -16,13 +16,13 @@
 #include <vector>
 
 #include "bench_cli.h"
+#include "surgical_sim/bench/tissue_case.h"
 #include "surgical_sim/core/scene/scene_config.h"
-#include "surgical_sim/core/scene/tissue_case.h"
 #include "surgical_sim/core/scene/tissue_simulation.h"
 
 namespace {
 
-using namespace surgical_sim::core;
+using namespace surgical_sim::bench;
 
 constexpr double kDepth = 6e-3;               // indentation of the tip below the rest surface [m]
 constexpr double kPressFraction = 2.0 / 3.0;  // share of the steps spent pressing [-]

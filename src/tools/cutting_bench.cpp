@@ -25,8 +25,8 @@
 
 #include "bench_cli.h"
 #include "package_dirs.h"
-#include "surgical_sim/core/cutting/beam_tip_deflection.h"
-#include "surgical_sim/core/cutting/cut_fuzz.h"
+#include "surgical_sim/bench/beam_tip_deflection.h"
+#include "surgical_sim/bench/cut_fuzz.h"
 #include "surgical_sim/core/cutting/cut_tissue_model.h"
 #include "surgical_sim/core/cutting/tet_cutter.h"
 #include "surgical_sim/core/mesh/generators.h"
@@ -34,7 +34,7 @@
 #include "surgical_sim/core/scene/tissue_simulation.h"
 #include "surgical_sim/core/tissue/model_factory.h"
 
-namespace ss = surgical_sim::core;
+namespace ss = surgical_sim::bench;
 
 namespace {
 

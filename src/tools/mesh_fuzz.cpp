@@ -15,11 +15,11 @@
 #include <string>
 #include <vector>
 
-#include "fuzz_child.h"
 #include "package_dirs.h"
-#include "surgical_sim/core/mesh/mesh_fuzz.h"
+#include "surgical_sim/bench/fuzz_child.h"
+#include "surgical_sim/bench/mesh_fuzz.h"
 
-namespace ss = surgical_sim::core;
+namespace bench = surgical_sim::bench;
 namespace fs = std::filesystem;
 
 namespace {
@@ -52,14 +52,10 @@ std::vector<std::string> shippedMeshes(const fs::path& root) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  surgical_sim::tools::FuzzArgs args;
-  const std::string problem =
-      surgical_sim::tools::parseFuzzArgs(argc, argv, 200, {"--out", "--sources"}, "--out", args);
-  if (args.help) {
-    std::cout << kUsage;
-    return 0;
-  }
-  if (!problem.empty()) return usage(problem);
+  bench::FuzzArgs args;
+  if (const auto exit = bench::fuzzCommandLineExit("mesh_fuzz", kUsage, argc, argv, 200,
+                                                   {"--out", "--sources"}, "--out", args))
+    return *exit;
   const std::string out = args.text["--out"];
   const std::string sources =
       args.text.count("--sources") ? args.text["--sources"] : surgical_sim::tools::packageDir();
@@ -75,33 +71,20 @@ int main(int argc, char** argv) {
   for (const char* o : {"loaded", "rejected_with_message", "warned_repair", "crash", "hang"})
     counts[o] = 0;
   for (int i = 0; i < static_cast<int>(args.count); ++i) {
-    const ss::MeshFuzzRow row =
-        ss::writeMeshMutant(files, i, static_cast<unsigned>(args.seed), mutants);
-    const surgical_sim::tools::ChildResult child = surgical_sim::tools::runInChild(
+    const bench::MeshFuzzRow row =
+        bench::writeMeshMutant(files, i, static_cast<unsigned>(args.seed), mutants);
+    const bench::ChildResult child = bench::runInChild(
         [&] {
-          const ss::MeshLoadResult r = ss::loadMeshForFuzz(row.file);
-          return std::string(ss::toString(r.outcome)) + "\t" + r.message;
+          const bench::MeshLoadResult r = bench::loadMeshForFuzz(row.file);
+          return std::string(bench::toString(r.outcome)) + "\t" + r.message;
         },
         kTimeoutSeconds, kMemoryLimit);
-    std::string outcome = "crash";
-    std::string message;
-    using End = surgical_sim::tools::ChildResult::End;
-    if (child.end == End::TimedOut) {
-      outcome = "hang";
-      message = "no result after " + std::to_string(kTimeoutSeconds) + " s";
-    } else if (child.end == End::Signalled) {
-      message = "killed by signal " + std::to_string(child.signal);
-    } else if (child.end == End::ForkFailed) {
-      message = "fork failed";
-    } else {
-      const std::size_t tab = child.output.find('\t');
-      outcome = tab == std::string::npos ? "crash" : child.output.substr(0, tab);
-      message = tab == std::string::npos ? child.output : child.output.substr(tab + 1);
-    }
+    const std::vector<std::string> fields = bench::trialFields(child, kTimeoutSeconds, 2);
+    const std::string& outcome = fields[0];
     ++counts[outcome];
-    csv << i << "," << surgical_sim::tools::csvField(fs::relative(row.source, sources).string())
-        << "," << surgical_sim::tools::csvField(row.mutation) << "," << outcome << ","
-        << surgical_sim::tools::csvField(message) << "\n";
+    csv << i << "," << bench::csvField(fs::relative(row.source, sources).string()) << ","
+        << bench::csvField(row.mutation) << "," << outcome << "," << bench::csvField(fields[1])
+        << "\n";
   }
   std::cout << "mesh_fuzz: seed " << args.seed << ", " << args.count << " mutants of "
             << files.size() << " files\n";

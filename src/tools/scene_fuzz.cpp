@@ -18,13 +18,13 @@
 #include <string>
 #include <vector>
 
-#include "fuzz_child.h"
 #include "package_dirs.h"
-#include "surgical_sim/core/scene/scene_fuzz.h"
+#include "surgical_sim/bench/fuzz_child.h"
+#include "surgical_sim/bench/scene_fuzz.h"
 
-namespace ss = surgical_sim::core;
+namespace bench = surgical_sim::bench;
 namespace fs = std::filesystem;
-using surgical_sim::tools::csvField;
+using bench::csvField;
 
 namespace {
 
@@ -44,14 +44,10 @@ int usage(const std::string& error) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  surgical_sim::tools::FuzzArgs args;
-  const std::string problem =
-      surgical_sim::tools::parseFuzzArgs(argc, argv, 1000, {"--csv", "--scenes"}, "--csv", args);
-  if (args.help) {
-    std::cout << kUsage;
-    return 0;
-  }
-  if (!problem.empty()) return usage(problem);
+  bench::FuzzArgs args;
+  if (const auto exit = bench::fuzzCommandLineExit("scene_fuzz", kUsage, argc, argv, 1000,
+                                                   {"--csv", "--scenes"}, "--csv", args))
+    return *exit;
   const std::string csv_path = args.text["--csv"];
   const std::string config = surgical_sim::tools::configDir();
   const std::vector<std::string> scene_dirs =
@@ -65,11 +61,11 @@ int main(int argc, char** argv) {
   std::sort(scenes.begin(), scenes.end());
   if (scenes.empty()) return usage("no *.yaml scenes in " + scene_dirs.front());
   std::vector<std::string> texts;
-  std::vector<ss::SceneKind> kinds;
+  std::vector<bench::SceneKind> kinds;
   for (const std::string& scene : scenes) {
     std::ifstream in(scene);
     texts.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    kinds.push_back(ss::sceneKindOf(texts.back(), scene));
+    kinds.push_back(bench::sceneKindOf(texts.back(), scene));
   }
   std::ofstream csv(csv_path);
   if (!csv) return usage("cannot write " + csv_path);
@@ -83,44 +79,24 @@ int main(int argc, char** argv) {
   for (int i = 0; i < static_cast<int>(args.count); ++i) {
     const std::size_t s = static_cast<std::size_t>(i) % scenes.size();
     std::mt19937 rng(static_cast<unsigned>(args.seed) + static_cast<unsigned>(i));
-    const ss::SceneMutant mutant = ss::mutateScene(texts[s], rng);
-    const surgical_sim::tools::ChildResult child = surgical_sim::tools::runInChild(
+    const bench::SceneMutant mutant = bench::mutateScene(texts[s], rng);
+    const bench::ChildResult child = bench::runInChild(
         [&] {
-          const ss::SceneTrialResult r =
-              ss::trySceneMutant(mutant.text, scenes[s], kinds[s], kConstructBudgetBytes);
-          return std::string(ss::toString(r.outcome)) + "\t" + (r.constructed ? "1" : "0") + "\t" +
-                 r.message;
+          const bench::SceneTrialResult r =
+              bench::trySceneMutant(mutant.text, scenes[s], kinds[s], kConstructBudgetBytes);
+          return std::string(bench::toString(r.outcome)) + "\t" + (r.constructed ? "1" : "0") +
+                 "\t" + r.message;
         },
         kTimeoutSeconds, kMemoryLimit);
-    std::string outcome = "crash";
-    std::string built = "0";
-    std::string message;
-    using End = surgical_sim::tools::ChildResult::End;
-    if (child.end == End::TimedOut) {
-      outcome = "hang";
-      message = "no result after " + std::to_string(kTimeoutSeconds) + " s";
-    } else if (child.end == End::Signalled) {
-      message = "killed by signal " + std::to_string(child.signal);
-    } else if (child.end == End::ForkFailed) {
-      message = "fork failed";
-    } else {
-      const std::size_t tab1 = child.output.find('\t');
-      const std::size_t tab2 =
-          tab1 == std::string::npos ? std::string::npos : child.output.find('\t', tab1 + 1);
-      if (tab2 == std::string::npos) {
-        message = child.output;
-      } else {
-        outcome = child.output.substr(0, tab1);
-        built = child.output.substr(tab1 + 1, tab2 - tab1 - 1);
-        message = child.output.substr(tab2 + 1);
-      }
-    }
+    const std::vector<std::string> fields = bench::trialFields(child, kTimeoutSeconds, 3);
+    const std::string& outcome = fields[0];
+    const int built = fields[1] == "1" ? 1 : 0;
     ++counts[outcome];
-    constructed += built == "1";
+    constructed += built;
     slowest = std::max(slowest, child.seconds);
     csv << i << "," << csvField(fs::path(scenes[s]).filename().string()) << ","
         << csvField(mutant.mutation) << "," << outcome << "," << built << "," << child.seconds
-        << "," << csvField(message) << "\n";
+        << "," << csvField(fields[2]) << "\n";
   }
   std::cout << "scene_fuzz: seed " << args.seed << ", " << args.count << " mutants of "
             << scenes.size() << " scenes (" << constructed << " constructed, slowest " << slowest

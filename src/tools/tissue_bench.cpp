@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "bench_cli.h"
+#include "surgical_sim/bench/tissue_case.h"
 #include "surgical_sim/core/scene/scene_config.h"
-#include "surgical_sim/core/scene/tissue_case.h"
 
 namespace {
 
@@ -27,7 +27,7 @@ int usage(const char* msg) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  using namespace surgical_sim::core;
+  using namespace surgical_sim::bench;
   if (surgical_sim::tools::wantsHelp(argc, argv)) {
     std::cout << kUsage;
     return 0;

@@ -14,12 +14,12 @@
 
 #include "bench_cli.h"
 #include "package_dirs.h"
+#include "surgical_sim/bench/tool_fuzz.h"
 #include "surgical_sim/core/scene/scene_config.h"
-#include "surgical_sim/core/scene/tool_fuzz.h"
 
 namespace {
 
-using surgical_sim::core::ToolFuzzOutcome;
+using surgical_sim::bench::ToolFuzzOutcome;
 
 constexpr const char* kUsage =
     "usage: tool_fuzz [--scene FILE] [--sequences N] [--steps N] [--seed S] [--csv FILE]\n"
@@ -179,10 +179,10 @@ int main(int argc, char** argv) {
       return 1;
     }
     surgical_sim::core::TissueSimulation sim(scene);
-    surgical_sim::core::ToolFuzzSettings settings;
+    surgical_sim::bench::ToolFuzzSettings settings;
     settings.steps = args.steps;
     settings.bad_pose_rate = args.bad_pose_rate;
-    settings.force_bounds = surgical_sim::core::sceneForceBounds(scene);
+    settings.force_bounds = surgical_sim::bench::sceneForceBounds(scene);
     if (args.max_force > 0.0)
       for (auto& b : settings.force_bounds) b = args.max_force;
     std::ostringstream bound;
@@ -197,7 +197,7 @@ int main(int argc, char** argv) {
     ToolFuzzOutcome total;
     for (int s = 0; s < args.sequences; ++s) {
       std::mt19937 rng(args.seed + static_cast<unsigned>(s));
-      rows.push_back(surgical_sim::core::runToolFuzzSequence(sim, settings, rng));
+      rows.push_back(surgical_sim::bench::runToolFuzzSequence(sim, settings, rng));
       total.merge(rows.back());
       std::cerr << "tool_fuzz: sequence " << s + 1 << "/" << args.sequences << ": "
                 << rows.back().non_finite_steps << " non-finite, max force "

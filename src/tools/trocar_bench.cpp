@@ -18,15 +18,15 @@
 
 #include "bench_cli.h"
 #include "package_dirs.h"
+#include "surgical_sim/bench/contact_rate_study.h"
+#include "surgical_sim/bench/stiff_wall_simulation.h"
 #include "surgical_sim/core/common/text_file.h"
-#include "surgical_sim/core/haptics/contact_rate_study.h"
 #include "surgical_sim/core/haptics/haptic_loop.h"
-#include "surgical_sim/core/haptics/stiff_wall_simulation.h"
 #include "surgical_sim/core/haptics/trocar_urdf.h"
 
 namespace {
 
-using namespace surgical_sim::core;
+using namespace surgical_sim::bench;
 
 constexpr const char* kUsage =
     "usage: trocar_bench [--seconds S] [--rt-priority P] [--csv FILE] [--plot FILE]\n"

@@ -1,5 +1,5 @@
 // The 'efg' keys of scene files: parsed with their defaults, every bad value rejected naming
-// the dotted key, an efg benchmark case run end to end, an efg runtime scene.
+// the dotted key, an efg runtime scene.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,49 +7,15 @@
 #include <string>
 #include <vector>
 
+#include "efg_test_scene.h"
 #include "surgical_sim/core/scene/scene_config.h"
-#include "surgical_sim/core/scene/tissue_case.h"
 #include "surgical_sim/core/scene/tissue_simulation.h"
 
 namespace surgical_sim::core {
 namespace {
 
-const char* kEfgBench = R"(
-name: efg_unit
-mesh:
-  generator: beam
-  size: [0.1, 0.02, 0.02]
-  resolutions: [[10, 2, 2], [20, 4, 4]]
-material:
-  young_modulus: 1.0e6
-  poisson_ratio: 0.3
-  density: 1000.0
-models: [efg]
-integrators: quasi_static
-solvers: cholmod
-time_step: 1.0
-steps: 1
-gravity: [0.0, 0.0, -9.81]
-fixed:
-  - region: {max: [1.0e-9, .inf, .inf]}
-measure:
-  type: tip_displacement
-  region: {min: [0.099999999, -.inf, -.inf]}
-  component: z
-  reference_formula: euler_bernoulli_timoshenko
-efg:
-  spacing: 0.0025
-  neighbours: 8
-  kernel_support: 3.0
-  volume_samples: 4
-  rotation: polar
-)";
-
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const auto pos = text.find(from);
-  EXPECT_NE(pos, std::string::npos) << from;
-  return text.replace(pos, from.size(), to);
-}
+using test::kEfgBench;
+using test::replaced;
 
 void expectRejected(const std::string& yaml, const std::vector<std::string>& fragments) {
   try {
@@ -138,28 +104,6 @@ efg: {spacing: 0.0125}
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("'blades'"), std::string::npos) << e.what();
   }
-}
-
-TEST(EfgSceneKeys, BenchmarkCaseRunsAndMeasuresAtTheMeshNodes) {
-  const BenchmarkScene scene = parseBenchmarkScene(kEfgBench, "efg.yaml");
-  const std::vector<CaseSpec> cases = expandSweep(scene);
-  ASSERT_EQ(cases.size(), 2u);
-  const CaseResult r = runTissueCase(scene, cases.front());
-  EXPECT_EQ(r.status, StepStatus::Ok);
-  // 0.1 x 0.02 x 0.02 m at d = 2.5 mm: 40 x 8 x 8 cells, particles every 5 mm.
-  EXPECT_EQ(r.elements, 40 * 8 * 8);
-  EXPECT_EQ(r.nodes, 21 * 5 * 5);
-  EXPECT_LT(r.reference, 0.0);
-  EXPECT_LT(r.error_rel, 0.05);
-  // More neighbours and shape matching: still a regular (solvable) stiffness; the wider MLS fit
-  // is stiffer in bending.
-  const BenchmarkScene wide =
-      parseBenchmarkScene(replaced(replaced(kEfgBench, "neighbours: 8", "neighbours: 16"),
-                                   "rotation: polar", "rotation: shape_matching"),
-                          "efg.yaml");
-  const CaseResult w = runTissueCase(wide, cases.front());
-  EXPECT_EQ(w.status, StepStatus::Ok);
-  EXPECT_LT(w.error_rel, 0.2);
 }
 
 }  // namespace

@@ -9,7 +9,9 @@
 #include "surgical_sim/core/scene/scene_config.h"
 #include "surgical_sim/core/scene/tissue_simulation.h"
 
-namespace surgical_sim::core {
+namespace surgical_sim::bench {
+
+using namespace core;  // the bench builds on the core's types
 
 /// Hostile tool motion for the S1 robustness campaign (runToolFuzzSequence). Poses are tool-tip
 /// poses X_ST in the tissue frame S.
@@ -71,4 +73,4 @@ std::vector<std::optional<double>> sceneForceBounds(const SceneBase& scene);
 ToolFuzzOutcome runToolFuzzSequence(TissueSimulation& sim, const ToolFuzzSettings& settings,
                                     std::mt19937& rng);
 
-}  // namespace surgical_sim::core
+}  // namespace surgical_sim::bench

@@ -4,7 +4,9 @@
 
 #include "surgical_sim/core/tissue/tissue_model.h"
 
-namespace surgical_sim::core {
+namespace surgical_sim::bench {
+
+using namespace core;  // the bench builds on the core's types
 
 /// Static tip deflection of a (possibly cut) cantilever along x (T3 in BENCHMARKS.md): nodes at
 /// rest x <= 1e-9 length are clamped, a uniform body acceleration `load` [m/s^2] acts on the
@@ -17,4 +19,4 @@ namespace surgical_sim::core {
 ///         (1 - 1e-9)) [m], or NaN if a step fails or 500 steps do not converge.
 double beamTipDeflection(const TissueModel& model, const Eigen::Vector3d& load);
 
-}  // namespace surgical_sim::core
+}  // namespace surgical_sim::bench

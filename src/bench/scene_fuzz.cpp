@@ -1,4 +1,4 @@
-#include "surgical_sim/core/scene/scene_fuzz.h"
+#include "surgical_sim/bench/scene_fuzz.h"
 
 #include <algorithm>
 #include <array>
@@ -9,11 +9,12 @@
 #include <stdexcept>
 #include <vector>
 
+#include "surgical_sim/bench/tissue_case.h"
+#include "surgical_sim/core/common/named_enum.h"
 #include "surgical_sim/core/scene/scene_config.h"
-#include "surgical_sim/core/scene/tissue_case.h"
 #include "surgical_sim/core/scene/tissue_simulation.h"
 
-namespace surgical_sim::core {
+namespace surgical_sim::bench {
 namespace {
 
 constexpr std::array<const char*, 16> kHostileNumbers{
@@ -114,19 +115,14 @@ std::string flipBits(std::string text, std::mt19937& rng) {
 }  // namespace
 
 const char* toString(SceneFuzzOutcome outcome) {
-  switch (outcome) {
-    case SceneFuzzOutcome::Accepted:
-      return "accepted";
-    case SceneFuzzOutcome::RejectedNamingKey:
-      return "rejected_naming_key";
-    case SceneFuzzOutcome::RejectedWithoutKey:
-      return "rejected_without_key";
-    case SceneFuzzOutcome::Crash:
-      return "crash";
-    case SceneFuzzOutcome::Hang:
-      return "hang";
-  }
-  return "crash";
+  static constexpr std::array<EnumName<SceneFuzzOutcome>, 5> kNames{{
+      {SceneFuzzOutcome::Accepted, "accepted"},
+      {SceneFuzzOutcome::RejectedNamingKey, "rejected_naming_key"},
+      {SceneFuzzOutcome::RejectedWithoutKey, "rejected_without_key"},
+      {SceneFuzzOutcome::Crash, "crash"},
+      {SceneFuzzOutcome::Hang, "hang"},
+  }};
+  return enumName(kNames, outcome);
 }
 
 SceneMutant mutateScene(const std::string& text, std::mt19937& rng) {
@@ -244,4 +240,4 @@ SceneTrialResult trySceneMutant(const std::string& text, const std::string& path
   }
 }
 
-}  // namespace surgical_sim::core
+}  // namespace surgical_sim::bench

@@ -3,15 +3,7 @@
 #include <Eigen/Core>
 #include <string>
 
-#include "surgical_sim/core/mesh/tet_mesh.h"
-
-namespace surgical_sim::core {
-
-/// First problem of a cut (virtual-node) mesh, or "" if none: an element that is inverted,
-/// degenerate, out of range or repeats a node, a face shared by more than two elements, or an
-/// open or inconsistently oriented surface edge. Duplicate rest nodes are expected after a cut
-/// and pinched crack-front edges are allowed (see TetCutter).
-std::string cutMeshProblem(const TetMesh& mesh);
+namespace surgical_sim::bench {
 
 /// Random blade sweeps over the organ blob (makeOrganBlob), P2 / issue 6 fuzz campaign.
 struct CutFuzzSettings {
@@ -44,4 +36,4 @@ struct CutFuzzReport {
 /// @throws std::invalid_argument for sweeps or cells_per_axis < 1.
 CutFuzzReport runCutFuzz(const CutFuzzSettings& settings);
 
-}  // namespace surgical_sim::core
+}  // namespace surgical_sim::bench

@@ -1,4 +1,4 @@
-#include "surgical_sim/core/haptics/stiff_wall_simulation.h"
+#include "surgical_sim/bench/stiff_wall_simulation.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 
 #include "surgical_sim/core/common/validate.h"
 
-namespace surgical_sim::core {
+namespace surgical_sim::bench {
 namespace {
 
 /// Hand acceleration [m/s^2] under a held device force [N].
@@ -93,4 +93,4 @@ StiffWallResult simulateStiffWall(const StiffWallSettings& s) {
   return result;
 }
 
-}  // namespace surgical_sim::core
+}  // namespace surgical_sim::bench

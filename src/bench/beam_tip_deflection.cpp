@@ -1,4 +1,4 @@
-#include "surgical_sim/core/cutting/beam_tip_deflection.h"
+#include "surgical_sim/bench/beam_tip_deflection.h"
 
 #include <limits>
 #include <vector>
@@ -6,7 +6,7 @@
 #include "surgical_sim/core/solve/make_integrator.h"
 #include "surgical_sim/core/solve/make_linear_solver.h"
 
-namespace surgical_sim::core {
+namespace surgical_sim::bench {
 
 double beamTipDeflection(const TissueModel& model, const Eigen::Vector3d& load) {
   const Eigen::VectorXd& rest = model.restPositions();
@@ -48,4 +48,4 @@ double beamTipDeflection(const TissueModel& model, const Eigen::Vector3d& load) 
   return std::numeric_limits<double>::quiet_NaN();
 }
 
-}  // namespace surgical_sim::core
+}  // namespace surgical_sim::bench

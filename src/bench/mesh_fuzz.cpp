@@ -1,4 +1,4 @@
-#include "surgical_sim/core/mesh/mesh_fuzz.h"
+#include "surgical_sim/bench/mesh_fuzz.h"
 
 #include <algorithm>
 #include <array>
@@ -14,12 +14,16 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "surgical_sim/core/common/named_enum.h"
 #include "surgical_sim/core/mesh/gmsh_reader.h"
 #include "surgical_sim/core/mesh/length_unit.h"
 #include "surgical_sim/core/mesh/mesh_check.h"
 #include "surgical_sim/core/mesh/surface_reader.h"
 
-namespace surgical_sim::core {
+namespace surgical_sim::bench {
+
+using namespace core;  // the bench builds on the core's types
+
 namespace {
 
 /// Values a numeric token is replaced with: non-finite, overflowing, huge, negative, zero,
@@ -217,17 +221,13 @@ MeshLoadResult loadSurface(const std::string& path, bool obj) {
 }  // namespace
 
 const char* toString(MeshLoadOutcome outcome) {
-  switch (outcome) {
-    case MeshLoadOutcome::Loaded:
-      return "loaded";
-    case MeshLoadOutcome::RejectedWithMessage:
-      return "rejected_with_message";
-    case MeshLoadOutcome::WarnedRepair:
-      return "warned_repair";
-    case MeshLoadOutcome::Crash:
-      return "crash";
-  }
-  return "crash";
+  static constexpr std::array<EnumName<MeshLoadOutcome>, 4> kNames{{
+      {MeshLoadOutcome::Loaded, "loaded"},
+      {MeshLoadOutcome::RejectedWithMessage, "rejected_with_message"},
+      {MeshLoadOutcome::WarnedRepair, "warned_repair"},
+      {MeshLoadOutcome::Crash, "crash"},
+  }};
+  return enumName(kNames, outcome);
 }
 
 MeshLoadResult loadMeshForFuzz(const std::string& path) {
@@ -272,4 +272,4 @@ MeshFuzzRow writeMeshMutant(const std::vector<std::string>& sources, int index, 
   return row;
 }
 
-}  // namespace surgical_sim::core
+}  // namespace surgical_sim::bench

@@ -1,4 +1,4 @@
-#include "surgical_sim/core/scene/tool_fuzz.h"
+#include "surgical_sim/bench/tool_fuzz.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -13,7 +13,7 @@
 #include "surgical_sim/core/common/tool_pose_check.h"
 #include "surgical_sim/core/common/validate.h"
 
-namespace surgical_sim::core {
+namespace surgical_sim::bench {
 namespace {
 
 /// Axis-aligned box [m].
@@ -280,4 +280,4 @@ ToolFuzzOutcome runToolFuzzSequence(TissueSimulation& sim, const ToolFuzzSetting
   return out;
 }
 
-}  // namespace surgical_sim::core
+}  // namespace surgical_sim::bench

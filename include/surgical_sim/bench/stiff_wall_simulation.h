@@ -4,7 +4,9 @@
 
 #include "surgical_sim/core/haptics/passivity_controller.h"
 
-namespace surgical_sim::core {
+namespace surgical_sim::bench {
+
+using namespace core;  // the bench builds on the core's types
 
 /// The H1 stiff-wall scenario: a 1-D virtual wall at x = 0 (free for x < 0, penetration x > 0),
 /// rendered by a sampled-data device (zero-order hold at rate_hz, wall force -k_w x from the
@@ -59,4 +61,4 @@ struct StiffWallResult {
 /// @throws std::invalid_argument if the settings are invalid.
 StiffWallResult simulateStiffWall(const StiffWallSettings& settings);
 
-}  // namespace surgical_sim::core
+}  // namespace surgical_sim::bench

@@ -9,7 +9,9 @@
 #include "surgical_sim/core/mesh/tet_mesh.h"
 #include "surgical_sim/core/scene/scene_config.h"
 
-namespace surgical_sim::core {
+namespace surgical_sim::bench {
+
+using namespace core;  // the bench builds on the core's types
 
 /// One point of a scene's sweep: resolution x element type x model x integrator x solver.
 struct CaseSpec {
@@ -55,4 +57,4 @@ const char* caseCsvHeader();
 /// One CSV row (no newline) for `result` of scene `scene_name`.
 std::string caseCsvRow(const std::string& scene_name, const CaseResult& result);
 
-}  // namespace surgical_sim::core
+}  // namespace surgical_sim::bench

@@ -1,10 +1,11 @@
-#include "surgical_sim/core/cutting/cut_fuzz.h"
+#include "surgical_sim/bench/cut_fuzz.h"
 
 #include <algorithm>
 #include <cmath>
 #include <random>
 #include <stdexcept>
 
+#include "surgical_sim/core/cutting/cut_mesh_check.h"
 #include "surgical_sim/core/cutting/cut_tissue_model.h"
 #include "surgical_sim/core/cutting/tet_cutter.h"
 #include "surgical_sim/core/mesh/generators.h"
@@ -14,17 +15,9 @@
 #include "surgical_sim/core/solve/make_integrator.h"
 #include "surgical_sim/core/solve/make_linear_solver.h"
 
-namespace surgical_sim::core {
+namespace surgical_sim::bench {
 
-std::string cutMeshProblem(const TetMesh& mesh) {
-  for (const MeshIssue& issue : checkMesh(mesh))
-    if (issue.is_error && issue.kind != MeshIssueKind::DuplicateNode &&
-        issue.kind != MeshIssueKind::NonManifoldEdge)
-      return issue.message;
-  const SurfaceClosure closure = checkSurfaceClosure(extractSurface(mesh).triangles);
-  if (closure.open_edges > 0) return std::to_string(closure.open_edges) + " open surface edges";
-  return "";
-}
+using namespace core;  // the bench builds on the core's types
 
 CutFuzzReport runCutFuzz(const CutFuzzSettings& settings) {
   if (settings.sweeps < 1)
@@ -97,4 +90,4 @@ CutFuzzReport runCutFuzz(const CutFuzzSettings& settings) {
   return report;
 }
 
-}  // namespace surgical_sim::core
+}  // namespace surgical_sim::bench

@@ -1,4 +1,4 @@
-#include "surgical_sim/core/scene/tool_fuzz.h"
+#include "surgical_sim/bench/tool_fuzz.h"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include "surgical_sim/core/scene/scene_config.h"
 #include "surgical_sim/core/scene/tissue_simulation.h"
 
-namespace surgical_sim::core {
+namespace surgical_sim::bench {
 namespace {
 
 /// The grasp scene (palpation organ, one tool with jaws) on a coarse organ.
@@ -108,4 +108,4 @@ TEST(ToolFuzz, RejectsOutOfRangeSettingsNamingThem) {
 }
 
 }  // namespace
-}  // namespace surgical_sim::core
+}  // namespace surgical_sim::bench

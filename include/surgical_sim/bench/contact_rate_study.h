@@ -2,7 +2,7 @@
 
 #include <Eigen/Core>
 
-namespace surgical_sim::core {
+namespace surgical_sim::bench {
 
 /// Synthetic stiffening tissue for the H1 force-error study: a half-space with outward unit
 /// normal n through surface_point s; penetration d = -(p - s) . n [m]; force on the tool
@@ -55,4 +55,4 @@ struct ContactRateStudyResult {
 /// @throws std::invalid_argument if the settings are invalid.
 ContactRateStudyResult runContactRateStudy(const ContactRateStudySettings& settings);
 
-}  // namespace surgical_sim::core
+}  // namespace surgical_sim::bench

@@ -1,4 +1,4 @@
-#include "surgical_sim/core/scene/tissue_case.h"
+#include "surgical_sim/bench/tissue_case.h"
 
 #include <cmath>
 #include <fstream>
@@ -9,7 +9,7 @@
 #include "surgical_sim/core/scene/scene_build.h"
 #include "surgical_sim/core/scene/scene_config.h"
 
-namespace surgical_sim::core {
+namespace surgical_sim::bench {
 namespace {
 
 /// A 1-cell box clamped at z = 0, measured against its own tight reference, with `loads` (extra
@@ -94,4 +94,4 @@ TEST(TissueCase, BadMeshFileIsNamedWithTheKey) {
 }
 
 }  // namespace
-}  // namespace surgical_sim::core
+}  // namespace surgical_sim::bench

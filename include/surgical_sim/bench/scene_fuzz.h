@@ -3,7 +3,7 @@
 #include <random>
 #include <string>
 
-namespace surgical_sim::core {
+namespace surgical_sim::bench {
 
 /// What happened to a (possibly corrupted) scene file.
 enum class SceneFuzzOutcome {
@@ -51,4 +51,4 @@ SceneKind sceneKindOf(const std::string& text, const std::string& path);
 SceneTrialResult trySceneMutant(const std::string& text, const std::string& path, SceneKind kind,
                                 double construct_budget_bytes);
 
-}  // namespace surgical_sim::core
+}  // namespace surgical_sim::bench

@@ -1,4 +1,4 @@
-#include "surgical_sim/core/scene/scene_fuzz.h"
+#include "surgical_sim/bench/scene_fuzz.h"
 
 #include <algorithm>
 #include <filesystem>
@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-namespace surgical_sim::core {
+namespace surgical_sim::bench {
 namespace {
 
 struct Scene {
@@ -76,4 +76,4 @@ TEST(SceneFuzz, ShippedScenesAreAccepted) {
 }
 
 }  // namespace
-}  // namespace surgical_sim::core
+}  // namespace surgical_sim::bench

@@ -1,4 +1,4 @@
-#include "surgical_sim/core/haptics/contact_rate_study.h"
+#include "surgical_sim/bench/contact_rate_study.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,9 @@
 #include "surgical_sim/core/common/validate.h"
 #include "surgical_sim/core/haptics/local_contact_model.h"
 
-namespace surgical_sim::core {
+namespace surgical_sim::bench {
+
+using namespace core;  // the bench builds on the core's types
 
 Eigen::Vector3d StiffeningTissue::force(const Eigen::Vector3d& p_W) const {
   const double d = -(p_W - surface_point_W).dot(normal_W);
@@ -86,4 +88,4 @@ ContactRateStudyResult runContactRateStudy(const ContactRateStudySettings& s) {
   return result;
 }
 
-}  // namespace surgical_sim::core
+}  // namespace surgical_sim::bench

@@ -1,10 +1,10 @@
-#include "surgical_sim/core/haptics/contact_rate_study.h"
+#include "surgical_sim/bench/contact_rate_study.h"
 
 #include <stdexcept>
 
 #include <gtest/gtest.h>
 
-namespace surgical_sim::core {
+namespace surgical_sim::bench {
 namespace {
 
 TEST(StiffeningTissue, StiffnessIsTheDerivativeOfTheForce) {
@@ -46,4 +46,4 @@ TEST(ContactRateStudy, InvalidSettingsThrow) {
 }
 
 }  // namespace
-}  // namespace surgical_sim::core
+}  // namespace surgical_sim::bench

@@ -1,38 +1,19 @@
-#pragma once
-// The command line of a fuzz tool, and one fuzz trial in a forked child process (header only,
-// shared by mesh_fuzz and scene_fuzz): a crash (signal), a hang (wall-time limit) or an allocation
-// beyond the address-space limit cannot take the campaign down, and is reported as such.
+#include "surgical_sim/bench/fuzz_child.h"
 
 #include <poll.h>
 #include <signal.h>
-#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
 #include <exception>
-#include <functional>
-#include <map>
-#include <set>
-#include <string>
+#include <iostream>
 
-namespace surgical_sim::tools {
+namespace surgical_sim::bench {
 
-/// How a child trial ended.
-struct ChildResult {
-  enum class End { Finished, Signalled, TimedOut, ForkFailed };
-  End end = End::ForkFailed;
-  std::string output;  ///< what the trial returned (Finished only)
-  int signal = 0;      ///< terminating signal (Signalled only)
-  double seconds = 0.0;
-};
-
-/// Runs `trial` in a child with at most `timeout_s` [s] of wall time and `memory_limit` [bytes]
-/// of address space; the child sends the trial's return value back through a pipe. An exception
-/// escaping `trial` is returned as "uncaught exception: <what>".
-inline ChildResult runInChild(const std::function<std::string()>& trial, double timeout_s,
-                              rlim_t memory_limit) {
+ChildResult runInChild(const std::function<std::string()>& trial, double timeout_s,
+                       rlim_t memory_limit) {
   ChildResult result;
   int fds[2];
   if (pipe(fds) != 0) return result;
@@ -98,9 +79,38 @@ inline ChildResult runInChild(const std::function<std::string()>& trial, double 
   return result;
 }
 
-/// `text` as one CSV field: quoted, inner quotes doubled, bytes outside printable ASCII (line
-/// breaks, bytes of corrupted files) written as \xNN.
-inline std::string csvField(const std::string& text) {
+std::vector<std::string> trialFields(const ChildResult& child, double timeout_s,
+                                     std::size_t count) {
+  std::vector<std::string> fields(count);
+  fields.front() = "crash";
+  using End = ChildResult::End;
+  if (child.end == End::TimedOut) {
+    fields.front() = "hang";
+    fields.back() = "no result after " + std::to_string(timeout_s) + " s";
+  } else if (child.end == End::Signalled) {
+    fields.back() = "killed by signal " + std::to_string(child.signal);
+  } else if (child.end == End::ForkFailed) {
+    fields.back() = "fork failed";
+  } else {
+    std::vector<std::size_t> tabs;
+    for (std::size_t at = child.output.find('\t');
+         at != std::string::npos && tabs.size() + 1 < count; at = child.output.find('\t', at + 1))
+      tabs.push_back(at);
+    if (tabs.size() + 1 < count) {
+      fields.back() = child.output;
+    } else {
+      std::size_t start = 0;
+      for (std::size_t k = 0; k + 1 < count; ++k) {
+        fields[k] = child.output.substr(start, tabs[k] - start);
+        start = tabs[k] + 1;
+      }
+      fields.back() = child.output.substr(start);
+    }
+  }
+  return fields;
+}
+
+std::string csvField(const std::string& text) {
   std::string out = "\"";
   for (const char c : text) {
     const auto byte = static_cast<unsigned char>(c);
@@ -117,20 +127,9 @@ inline std::string csvField(const std::string& text) {
   return out + "\"";
 }
 
-/// Command line of a fuzz campaign tool: --help / -h, --seed S, --count N and string options.
-struct FuzzArgs {
-  bool help = false;
-  long long seed = -1;
-  long long count = 0;
-  std::map<std::string, std::string> text;  ///< the string options given, by name ("--csv")
-};
-
-/// Parses "--name value" pairs into `out`: seed in [0, 2^32), count in [min_count, 1e6], string
-/// options from `text_options`, of which `required` must be given. Returns "" or what is wrong
-/// (missing value or option, unknown option, bad number, out of range); stops at --help.
-inline std::string parseFuzzArgs(int argc, char** argv, long long min_count,
-                                 const std::set<std::string>& text_options,
-                                 const std::string& required, FuzzArgs& out) {
+std::string parseFuzzArgs(int argc, char** argv, long long min_count,
+                          const std::set<std::string>& text_options, const std::string& required,
+                          FuzzArgs& out) {
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--help" || arg == "-h") {
@@ -157,4 +156,18 @@ inline std::string parseFuzzArgs(int argc, char** argv, long long min_count,
   return "";
 }
 
-}  // namespace surgical_sim::tools
+std::optional<int> fuzzCommandLineExit(const std::string& tool, const std::string& usage, int argc,
+                                       char** argv, long long min_count,
+                                       const std::set<std::string>& text_options,
+                                       const std::string& required, FuzzArgs& out) {
+  const std::string problem = parseFuzzArgs(argc, argv, min_count, text_options, required, out);
+  if (out.help) {
+    std::cout << usage;
+    return 0;
+  }
+  if (problem.empty()) return std::nullopt;
+  std::cerr << tool << ": " << problem << "\n" << usage;
+  return 2;
+}
+
+}  // namespace surgical_sim::bench

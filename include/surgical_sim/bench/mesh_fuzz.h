@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-namespace surgical_sim::core {
+namespace surgical_sim::bench {
 
 /// What happened when a (possibly corrupted) mesh file was loaded.
 enum class MeshLoadOutcome {
@@ -60,4 +60,4 @@ struct MeshFuzzRow {
 MeshFuzzRow writeMeshMutant(const std::vector<std::string>& sources, int index, unsigned seed,
                             const std::string& dir);
 
-}  // namespace surgical_sim::core
+}  // namespace surgical_sim::bench

@@ -1,4 +1,4 @@
-#include "surgical_sim/core/mesh/mesh_fuzz.h"
+#include "surgical_sim/bench/mesh_fuzz.h"
 
 #include <filesystem>
 #include <random>
@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-namespace surgical_sim::core {
+namespace surgical_sim::bench {
 namespace {
 
 std::vector<std::string> shippedMeshes() {
@@ -60,4 +60,4 @@ TEST(MeshFuzz, TwoHundredFiftyMutantsAreLoadedValidOrRejectedNamingTheFile) {
 }
 
 }  // namespace
-}  // namespace surgical_sim::core
+}  // namespace surgical_sim::bench

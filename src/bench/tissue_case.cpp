@@ -1,4 +1,4 @@
-#include "surgical_sim/core/scene/tissue_case.h"
+#include "surgical_sim/bench/tissue_case.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +13,7 @@
 #include "surgical_sim/core/scene/scene_build.h"
 #include "surgical_sim/core/tissue/efg_model.h"
 
-namespace surgical_sim::core {
+namespace surgical_sim::bench {
 namespace {
 
 /// Cross-section area [m^2], second moment about the bending axis [m^4] and the Cowper shear
@@ -352,4 +352,4 @@ std::string caseCsvRow(const std::string& scene_name, const CaseResult& r) {
   return row.str();
 }
 
-}  // namespace surgical_sim::core
+}  // namespace surgical_sim::bench

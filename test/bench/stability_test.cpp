@@ -7,16 +7,16 @@
 #include <string>
 #include <vector>
 
+#include "surgical_sim/bench/tissue_case.h"
 #include "surgical_sim/core/mesh/generators.h"
 #include "surgical_sim/core/mesh/mesh_check.h"
 #include "surgical_sim/core/scene/scene_build.h"
 #include "surgical_sim/core/scene/scene_config.h"
-#include "surgical_sim/core/scene/tissue_case.h"
 #include "surgical_sim/core/solve/make_integrator.h"
 #include "surgical_sim/core/solve/make_linear_solver.h"
 #include "surgical_sim/core/tissue/model_factory.h"
 
-namespace surgical_sim::core {
+namespace surgical_sim::bench {
 namespace {
 
 constexpr double kSide = 0.1;  // cube edge [m]
@@ -250,4 +250,4 @@ TEST(Benchmarks, ScaleRobustCantilever) {
 }
 
 }  // namespace
-}  // namespace surgical_sim::core
+}  // namespace surgical_sim::bench
