@@ -1,6 +1,8 @@
 #!/usr/bin/python3
-"""Prints a short human-readable summary of a *_bench CSV: per case the error and ms per step,
-and the best configuration (lowest error, then fastest).
+"""Prints a short human-readable summary of a tissue_bench CSV: per case the error and ms per
+step, and the best configuration (lowest error, then fastest) among the rows whose status is
+"ok" or "not_converged" and whose error is finite (an "unsettled" row's error measures motion,
+not accuracy).
 
 usage: summarize_bench.py CSV
 """
@@ -21,8 +23,8 @@ def main(path):
         print("%-42s %-14s %-26s %-18s %7s %10.3f %10.3g %s" % (
             r["case"], r["model"], r["integrator"], r["solver"], r["dofs"],
             float(r["ms_per_step"]), float(r["error_rel"]), r["status"]))
-    ok = [r for r in rows if math.isfinite(float(r["error_rel"]))]
-    failed = len(rows) - len(ok)
+    finite = [r for r in rows if math.isfinite(float(r["error_rel"]))]
+    ok = [r for r in finite if r["status"] in ("ok", "not_converged")]
     if ok:
         best = min(ok, key=lambda r: (float(r["error_rel"]), float(r["ms_per_step"])))
         fastest = min(ok, key=lambda r: float(r["ms_per_step"]))
@@ -32,7 +34,9 @@ def main(path):
         print("fastest:       %s %s/%s/%s error %.3g at %.3f ms/step" % (
             fastest["case"], fastest["model"], fastest["integrator"], fastest["solver"],
             float(fastest["error_rel"]), float(fastest["ms_per_step"])))
-    print("%d cases, %d without a finite error" % (len(rows), failed))
+    print("%d cases, %d without a finite error, %d unsettled" % (
+        len(rows), len(rows) - len(finite),
+        sum(1 for r in rows if r["status"] == "unsettled")))
     return 0
 
 

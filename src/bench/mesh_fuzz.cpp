@@ -14,6 +14,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "surgical_sim/bench/text_mutation.h"
 #include "surgical_sim/core/common/named_enum.h"
 #include "surgical_sim/core/mesh/gmsh_reader.h"
 #include "surgical_sim/core/mesh/length_unit.h"
@@ -31,24 +32,6 @@ namespace {
 constexpr std::array<const char*, 14> kHostileNumbers{
     "nan",        "inf", "-inf",   "1e309", "1e300",     "-1", "0", "99999999999999999999",
     "2147483648", "1.5", "-99999", "0x10",  "100000001", ""};
-
-std::size_t pick(std::mt19937& rng, std::size_t n) {
-  return std::uniform_int_distribution<std::size_t>(0, n - 1)(rng);
-}
-
-std::vector<std::string> splitLines(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  std::string line;
-  while (std::getline(in, line)) lines.push_back(line);
-  return lines;
-}
-
-std::string joinLines(const std::vector<std::string>& lines, std::size_t end) {
-  std::string out;
-  for (std::size_t i = 0; i < end && i < lines.size(); ++i) out += lines[i] + "\n";
-  return out;
-}
 
 bool isNumber(const std::string& token) {
   char* end = nullptr;
@@ -82,32 +65,26 @@ std::vector<std::pair<std::size_t, std::size_t>> numericTokens(
   return found;
 }
 
-MeshMutant flipBits(std::string bytes, std::mt19937& rng) {
-  const std::size_t flips = 1 + pick(rng, 3);
-  for (std::size_t i = 0; i < flips && !bytes.empty(); ++i)
-    bytes[pick(rng, bytes.size())] ^= static_cast<char>(1u << pick(rng, 8));
-  return {"bit_flip", bytes};
-}
-
 MeshMutant truncateBytes(const std::string& bytes, std::mt19937& rng) {
-  return {"truncate_bytes", bytes.substr(0, pick(rng, bytes.size() + 1))};
+  return {"truncate_bytes", bytes.substr(0, randomIndex(rng, bytes.size() + 1))};
 }
 
 MeshMutant mutateBinary(std::string bytes, std::mt19937& rng) {
   constexpr std::size_t kHeader = 84;  // binary STL: 80-byte header + uint32 count
-  switch (pick(rng, 4)) {
+  switch (randomIndex(rng, 4)) {
     case 0:
-      return flipBits(bytes, rng);
+      return {"bit_flip", flipBits(bytes, rng)};
     case 1:
       return truncateBytes(bytes, rng);
     case 2:
       if (bytes.size() >= kHeader + 4) {
         const float nan = std::numeric_limits<float>::quiet_NaN();
-        std::memcpy(&bytes[kHeader + 4 * pick(rng, (bytes.size() - kHeader) / 4)], &nan, 4);
+        std::memcpy(&bytes[kHeader + 4 * randomIndex(rng, (bytes.size() - kHeader) / 4)], &nan, 4);
       }
       return {"binary_nan", bytes};
     default: {
-      const std::uint32_t count = pick(rng, 2) ? 0xFFFFFFFFu : static_cast<std::uint32_t>(rng());
+      const std::uint32_t count =
+          randomIndex(rng, 2) ? 0xFFFFFFFFu : static_cast<std::uint32_t>(rng());
       if (bytes.size() >= kHeader)
         for (int k = 0; k < 4; ++k) bytes[80 + k] = static_cast<char>((count >> (8 * k)) & 0xFF);
       return {"binary_count", bytes};
@@ -117,24 +94,23 @@ MeshMutant mutateBinary(std::string bytes, std::mt19937& rng) {
 
 MeshMutant mutateText(const std::string& bytes, std::mt19937& rng) {
   std::vector<std::string> lines = splitLines(bytes);
-  if (lines.empty()) return flipBits(bytes, rng);
-  const std::size_t line = pick(rng, lines.size());
-  switch (pick(rng, 10)) {
+  if (lines.empty()) return {"bit_flip", flipBits(bytes, rng)};
+  const std::size_t line = randomIndex(rng, lines.size());
+  switch (randomIndex(rng, 10)) {
     case 0:
     case 1: {  // the most frequent: a count, tag, coordinate or node reference goes bad
       const auto numbers = numericTokens(lines);
-      if (numbers.empty()) return flipBits(bytes, rng);
-      const auto [l, t] = numbers[pick(rng, numbers.size())];
+      if (numbers.empty()) return {"bit_flip", flipBits(bytes, rng)};
+      const auto [l, t] = numbers[randomIndex(rng, numbers.size())];
       std::vector<std::string> tokens = splitTokens(lines[l]);
-      const std::string value = kHostileNumbers[pick(rng, kHostileNumbers.size())];
+      const std::string value = kHostileNumbers[randomIndex(rng, kHostileNumbers.size())];
       if (value.empty()) {
         tokens.erase(tokens.begin() + static_cast<std::ptrdiff_t>(t));
       } else {
         tokens[t] = value;
       }
       lines[l] = joinTokens(tokens);
-      return {"number:" + (value.empty() ? std::string("removed") : value),
-              joinLines(lines, lines.size())};
+      return {"number:" + (value.empty() ? std::string("removed") : value), joinLines(lines)};
     }
     case 2: {  // every token with a decimal point or exponent (coordinates) scaled by 1e6
       for (std::string& l : lines) {
@@ -144,41 +120,41 @@ MeshMutant mutateText(const std::string& bytes, std::mt19937& rng) {
             t = std::to_string(std::strtod(t.c_str(), nullptr) * 1e6);
         l = joinTokens(tokens);
       }
-      return {"scale_1e6", joinLines(lines, lines.size())};
+      return {"scale_1e6", joinLines(lines)};
     }
     case 3:
       lines.erase(lines.begin() + static_cast<std::ptrdiff_t>(line));
-      return {"delete_line", joinLines(lines, lines.size())};
+      return {"delete_line", joinLines(lines)};
     case 4:
       lines.insert(lines.begin() + static_cast<std::ptrdiff_t>(line), lines[line]);
-      return {"duplicate_line", joinLines(lines, lines.size())};
+      return {"duplicate_line", joinLines(lines)};
     case 5:
-      std::swap(lines[line], lines[pick(rng, lines.size())]);
-      return {"swap_lines", joinLines(lines, lines.size())};
+      std::swap(lines[line], lines[randomIndex(rng, lines.size())]);
+      return {"swap_lines", joinLines(lines)};
     case 6: {  // a section header ($Nodes, solid, ...) with one letter changed
       std::vector<std::size_t> headers;
       for (std::size_t l = 0; l < lines.size(); ++l)
         if (!lines[l].empty() &&
             (lines[l][0] == '$' || std::isalpha(static_cast<unsigned char>(lines[l][0]))))
           headers.push_back(l);
-      if (headers.empty()) return flipBits(bytes, rng);
-      std::string& h = lines[headers[pick(rng, headers.size())]];
+      if (headers.empty()) return {"bit_flip", flipBits(bytes, rng)};
+      std::string& h = lines[headers[randomIndex(rng, headers.size())]];
       if (h.size() < 2) h += 'm';
-      char& c = h[1 + pick(rng, h.size() - 1)];
+      char& c = h[1 + randomIndex(rng, h.size() - 1)];
       c = c == 'm' ? 'n' : 'm';
-      return {"rename_section", joinLines(lines, lines.size())};
+      return {"rename_section", joinLines(lines)};
     }
     case 7: {  // cut right before a section boundary or after a random line
       std::vector<std::size_t> headers;
       for (std::size_t l = 0; l < lines.size(); ++l)
         if (!lines[l].empty() && lines[l][0] == '$') headers.push_back(l);
-      const std::size_t end = headers.empty() ? line : headers[pick(rng, headers.size())];
+      const std::size_t end = headers.empty() ? line : headers[randomIndex(rng, headers.size())];
       return {"truncate_line", joinLines(lines, end)};
     }
     case 8:
       return truncateBytes(bytes, rng);
     default:
-      return flipBits(bytes, rng);
+      return {"bit_flip", flipBits(bytes, rng)};
   }
 }
 

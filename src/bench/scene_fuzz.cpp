@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "surgical_sim/bench/text_mutation.h"
 #include "surgical_sim/bench/tissue_case.h"
 #include "surgical_sim/core/common/named_enum.h"
 #include "surgical_sim/core/scene/scene_config.h"
@@ -24,24 +25,6 @@ constexpr std::array<const char*, 16> kHostileNumbers{
     "1e999"};
 constexpr std::array<const char*, 7> kWrongTypes{"[1, 2, 3]", "{a: 1}", "just text", "''",
                                                  "~",         "true",   "[[[1]]]"};
-
-std::size_t pick(std::mt19937& rng, std::size_t n) {
-  return std::uniform_int_distribution<std::size_t>(0, n - 1)(rng);
-}
-
-std::vector<std::string> splitLines(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  std::string line;
-  while (std::getline(in, line)) lines.push_back(line);
-  return lines;
-}
-
-std::string joinLines(const std::vector<std::string>& lines) {
-  std::string out;
-  for (const std::string& l : lines) out += l + "\n";
-  return out;
-}
 
 /// Position of the ':' ending the key of a "key: value" or "- key: value" line, or npos.
 std::size_t keyColon(const std::string& line) {
@@ -105,13 +88,6 @@ std::string withValue(std::vector<std::string> lines, std::size_t l, const std::
   return joinLines(lines);
 }
 
-std::string flipBits(std::string text, std::mt19937& rng) {
-  const std::size_t flips = 1 + pick(rng, 3);
-  for (std::size_t i = 0; i < flips && !text.empty(); ++i)
-    text[pick(rng, text.size())] ^= static_cast<char>(1u << pick(rng, 8));
-  return text;
-}
-
 }  // namespace
 
 const char* toString(SceneFuzzOutcome outcome) {
@@ -129,8 +105,8 @@ SceneMutant mutateScene(const std::string& text, std::mt19937& rng) {
   std::vector<std::string> lines = splitLines(text);
   const std::vector<std::size_t> keys = keyLines(lines);
   if (keys.empty()) return {"bit_flip", flipBits(text, rng)};
-  const std::size_t k = keys[pick(rng, keys.size())];
-  switch (pick(rng, 12)) {
+  const std::size_t k = keys[randomIndex(rng, keys.size())];
+  switch (randomIndex(rng, 12)) {
     case 0:
       lines.erase(lines.begin() + static_cast<std::ptrdiff_t>(k));
       return {"delete_key", joinLines(lines)};
@@ -148,34 +124,34 @@ SceneMutant mutateScene(const std::string& text, std::mt19937& rng) {
                    std::string(keyStart(lines[k]), ' ') + "fuzz_unknown_key: 1");
       return {"unknown_key", joinLines(lines)};
     case 3:
-      return {"wrong_type", withValue(lines, k, kWrongTypes[pick(rng, kWrongTypes.size())])};
+      return {"wrong_type", withValue(lines, k, kWrongTypes[randomIndex(rng, kWrongTypes.size())])};
     case 4:
     case 5:
     case 6: {
       const std::vector<Span> spans = numberSpans(lines);
       if (spans.empty()) return {"bit_flip", flipBits(text, rng)};
-      const Span& s = spans[pick(rng, spans.size())];
-      const std::string value = kHostileNumbers[pick(rng, kHostileNumbers.size())];
+      const Span& s = spans[randomIndex(rng, spans.size())];
+      const std::string value = kHostileNumbers[randomIndex(rng, kHostileNumbers.size())];
       lines[s.line].replace(s.begin, s.length, value);
       return {"number:" + value, joinLines(lines)};
     }
     case 7: {
       std::string list = "[0.1";
-      const std::size_t entries = 10001 + pick(rng, 40000);
+      const std::size_t entries = 10001 + randomIndex(rng, 40000);
       for (std::size_t i = 1; i < entries; ++i) list += ", 0.1";
       return {"giant_list", withValue(lines, k, list + "]")};
     }
     case 8: {
       for (std::size_t l : keys)
         if (lines[l].find("resolutions:") != std::string::npos) {
-          const int n = std::array<int, 4>{200, 1000, 2048, 4096}[pick(rng, 4)];
+          const int n = std::array<int, 4>{200, 1000, 2048, 4096}[randomIndex(rng, 4)];
           const std::string r = std::to_string(n);
           return {"huge_resolution", withValue(lines, l, "[[" + r + ", " + r + ", " + r + "]]")};
         }
       return {"bit_flip", flipBits(text, rng)};
     }
     case 9: {
-      if (pick(rng, 2) == 0) {  // billion laughs: 10^9 values through aliases
+      if (randomIndex(rng, 2) == 0) {  // billion laughs: 10^9 values through aliases
         std::string bomb = "fuzz_bomb_0: &b0 [1, 1, 1, 1, 1, 1, 1, 1, 1, 1]\n";
         for (int level = 1; level < 9; ++level) {
           const std::string prev = "*b" + std::to_string(level - 1);
@@ -190,7 +166,7 @@ SceneMutant mutateScene(const std::string& text, std::mt19937& rng) {
     case 10:
       return {"bit_flip", flipBits(text, rng)};
     default:
-      return {"truncate", text.substr(0, pick(rng, text.size() + 1))};
+      return {"truncate", text.substr(0, randomIndex(rng, text.size() + 1))};
   }
 }
 

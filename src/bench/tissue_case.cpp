@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -166,7 +167,8 @@ struct RunOutcome {
   double seconds = 0.0;
   int steps = 0;
   StepStatus status = StepStatus::Ok;
-  std::vector<double> path_values;  ///< uniaxial: measured force at each load factor
+  std::vector<double> step_changes;  ///< |x_k - x_(k-1)|_inf of every step k [m]
+  std::vector<double> path_values;   ///< uniaxial: measured force at each load factor
   std::vector<double> path_factors;
 };
 
@@ -192,11 +194,14 @@ RunOutcome runLoading(const BenchmarkScene& scene, CaseSetup& c, Integrator& int
   const Eigen::VectorXd full_load = c.problem.external_force;
   const bool quasi_static = integrator.name() == "quasi_static";
 
+  Eigen::VectorXd previous_x;
   const auto timedStep = [&](double dt) {
+    previous_x = state.x;
     Stopwatch watch;
     const StepReport r = integrator.step(c.problem, dt, state);
     out.seconds += watch.seconds();
     ++out.steps;
+    out.step_changes.push_back((state.x - previous_x).lpNorm<Eigen::Infinity>());
     if (r.status != StepStatus::Ok) recordStatus(out, r.status);
     return r.status;
   };
@@ -233,6 +238,17 @@ RunOutcome runLoading(const BenchmarkScene& scene, CaseSetup& c, Integrator& int
   }
   out.x = state.x;
   return out;
+}
+
+/// CaseResult::settled of `run` (rest positions x0).
+bool settledAtEnd(const RunOutcome& run, const Eigen::VectorXd& x0, bool quasi_static) {
+  if (quasi_static) return true;
+  const std::size_t n = run.step_changes.size();
+  const std::size_t window = std::max<std::size_t>(2, n / 10);
+  if (n < window || !run.x.allFinite()) return false;
+  const double bound = kSettledStepChange * (run.x - x0).lpNorm<Eigen::Infinity>();
+  return std::all_of(run.step_changes.end() - static_cast<std::ptrdiff_t>(window),
+                     run.step_changes.end(), [&](double change) { return change <= bound; });
 }
 
 }  // namespace
@@ -285,6 +301,8 @@ CaseResult runTissueCase(const BenchmarkScene& scene, const CaseSpec& spec) {
 
   const MeasureSpec& m = scene.measure;
   const Eigen::VectorXd& x0 = c.model->restPositions();
+  result.settled = settledAtEnd(run, x0, spec.integrator == IntegratorKind::QuasiStatic);
+  result.static_reference = m.type == "tip_displacement" || m.type == "uniaxial_svk_force";
   if (m.type == "tip_displacement") {
     result.measured = meanRegionDisplacement(c.mesh, *c.model, m.region, m.component, run.x, x0);
     if (std::isnan(result.measured))
@@ -338,17 +356,32 @@ CaseResult runTissueCase(const BenchmarkScene& scene, const CaseSpec& spec) {
   return result;
 }
 
-const char* caseCsvHeader() {
-  return "case,model,integrator,solver,nodes,elements,dofs,dt,ms_per_step,steps,error_rel,status";
+std::string caseLabel(const BenchmarkScene& scene, const CaseSpec& spec) {
+  std::ostringstream label;
+  label << scene.name << "_" << toString(spec.element_type) << "_";
+  if (scene.mesh.generator == "file")
+    label << std::filesystem::path(scene.mesh.file).stem().string();
+  else
+    label << spec.resolution[0] << "x" << spec.resolution[1] << "x" << spec.resolution[2];
+  return label.str();
 }
 
-std::string caseCsvRow(const std::string& scene_name, const CaseResult& r) {
+std::string caseStatus(const CaseResult& r) {
+  if (r.status == StepStatus::Ok && r.static_reference && !r.settled) return "unsettled";
+  return toString(r.status);
+}
+
+const char* caseCsvHeader() {
+  return "case,model,integrator,solver,nodes,elements,dofs,dt,ms_per_step,steps,error_rel,settled,"
+         "status";
+}
+
+std::string caseCsvRow(const std::string& label, const CaseResult& r) {
   std::ostringstream row;
-  row << scene_name << "_" << toString(r.spec.element_type) << "_" << r.spec.resolution[0] << "x"
-      << r.spec.resolution[1] << "x" << r.spec.resolution[2] << "," << modelName(r.spec.model)
-      << "," << integratorName(r.spec.integrator) << "," << solverName(r.spec.solver) << ","
-      << r.nodes << "," << r.elements << "," << r.dofs << "," << r.dt << "," << r.ms_per_step << ","
-      << r.steps << "," << r.error_rel << "," << toString(r.status);
+  row << label << "," << modelName(r.spec.model) << "," << integratorName(r.spec.integrator) << ","
+      << solverName(r.spec.solver) << "," << r.nodes << "," << r.elements << "," << r.dofs << ","
+      << r.dt << "," << r.ms_per_step << "," << r.steps << "," << r.error_rel << ","
+      << (r.settled ? 1 : 0) << "," << caseStatus(r);
   return row.str();
 }
 

@@ -57,7 +57,7 @@ int main(int argc, char** argv) {
                             ", resolution " + std::to_string(spec.resolution.x()));
     try {
       const CaseResult r = runTissueCase(scene, spec);
-      const std::string row = caseCsvRow(scene.name, r);
+      const std::string row = caseCsvRow(caseLabel(scene, spec), r);
       std::cout << row << std::endl;
       if (csv) csv << row << "\n" << std::flush;
     } catch (const std::exception& e) {

@@ -1,5 +1,6 @@
 #include "surgical_sim/bench/tissue_case.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <string>
@@ -28,6 +29,75 @@ fixed:
 measure: {type: self_reference}
 )" + loads,
                              name + ".yaml");
+}
+
+/// A 0.1 m corotational cantilever (4 x 1 x 1 cells) sagging under gravity, measured against the
+/// static Euler-Bernoulli + Timoshenko tip deflection, run with `integrator` for `steps` steps of
+/// `dt` [s].
+BenchmarkScene saggingCantilever(const std::string& integrator, double dt, int steps) {
+  return parseBenchmarkScene(R"(
+name: sag
+mesh: {generator: beam, size: [0.1, 0.02, 0.02], resolutions: [[4, 1, 1]]}
+material: {young_modulus: 1.0e6, poisson_ratio: 0.3, density: 1000.0}
+models: corotational
+integrators: )" + integrator + R"(
+solvers: cholmod
+time_step: )" + std::to_string(dt) +
+                                 R"(
+steps: )" + std::to_string(steps) +
+                                 R"(
+gravity: [0, 0, -9.81]
+fixed: [{region: {max: [1.0e-9, .inf, .inf]}}]
+measure: {type: tip_displacement, region: {min: [0.099999999, -.inf, -.inf]}, component: z,
+          reference_formula: euler_bernoulli_timoshenko}
+)",
+                             "sag.yaml");
+}
+
+TEST(TissueCase, DynamicRunStoppedEarlyIsFlaggedUnsettled) {
+  // Three 1 ms steps: the beam is still falling, far from the static reference.
+  const BenchmarkScene scene = saggingCantilever("implicit_euler_linearized", 0.001, 3);
+  const CaseResult r = runTissueCase(scene, expandSweep(scene).front());
+  EXPECT_EQ(r.status, StepStatus::Ok);
+  EXPECT_TRUE(r.static_reference);
+  EXPECT_FALSE(r.settled);
+  EXPECT_EQ(caseStatus(r), "unsettled");
+  const std::string row = caseCsvRow(caseLabel(scene, r.spec), r);
+  EXPECT_EQ(row.substr(row.size() - std::string(",0,unsettled").size()), ",0,unsettled") << row;
+}
+
+TEST(TissueCase, DynamicRunAtRestAndQuasiStaticRunAreSettled) {
+  // 1 s implicit Euler steps damp the beam's modes (periods of milliseconds) within a few steps.
+  const BenchmarkScene dynamic = saggingCantilever("implicit_euler_linearized", 1.0, 30);
+  const CaseResult d = runTissueCase(dynamic, expandSweep(dynamic).front());
+  EXPECT_TRUE(d.settled);
+  EXPECT_EQ(caseStatus(d), "ok");
+  const BenchmarkScene quasi_static = saggingCantilever("quasi_static", 1.0, 1);
+  const CaseResult q = runTissueCase(quasi_static, expandSweep(quasi_static).front());
+  EXPECT_TRUE(q.settled);
+  EXPECT_EQ(caseStatus(q), "ok");
+  // Both runs end at the same equilibrium.
+  EXPECT_NEAR(d.measured, q.measured, 1e-4 * std::abs(q.measured));
+  const std::string row = caseCsvRow(caseLabel(dynamic, d.spec), d);
+  EXPECT_EQ(row.substr(row.size() - std::string(",1,ok").size()), ",1,ok") << row;
+}
+
+TEST(TissueCase, CsvRowHasOneFieldPerHeaderColumn) {
+  const BenchmarkScene scene = saggingCantilever("quasi_static", 1.0, 1);
+  const std::string row = caseCsvRow("label", runTissueCase(scene, expandSweep(scene).front()));
+  const std::string header = caseCsvHeader();
+  EXPECT_EQ(std::count(row.begin(), row.end(), ','), std::count(header.begin(), header.end(), ','))
+      << header << "\n"
+      << row;
+}
+
+TEST(TissueCase, LabelNamesTheResolutionOrTheMeshFile) {
+  BenchmarkScene scene = saggingCantilever("quasi_static", 1.0, 1);
+  const CaseSpec spec = expandSweep(scene).front();
+  EXPECT_EQ(caseLabel(scene, spec), "sag_tet4_4x1x1");
+  scene.mesh.generator = "file";
+  scene.mesh.file = "/data/meshes/liver_coarse.msh";
+  EXPECT_EQ(caseLabel(scene, spec), "sag_tet4_liver_coarse");
 }
 
 TEST(TissueCase, RelativeErrorAgainstAZeroReferenceIsNaN) {
