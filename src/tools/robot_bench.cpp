@@ -203,16 +203,24 @@ int runBench(int argc, char** argv) {
                    s.error_max, s.ms_sum / s.steps, s.ms_max, s.cpu_ms_sum / s.steps);
     }
   };
+  // Follows the circle and the square path with the full-Newton model, checking against the FE
+  // plant every `*_stride` steps.
+  const auto followBoth = [&](Robot& robot, const char* case_name, const char* robot_name,
+                              const std::vector<Eigen::Vector3d>& circle,
+                              const std::vector<Eigen::Vector3d>& square, int circle_stride,
+                              int square_stride) {
+    report(case_name, robot_name, "circle",
+           follow(robot, case_name, "circle", circle, tol, 10, full_newton, circle_stride, csv));
+    report(case_name, robot_name, "square",
+           follow(robot, case_name, "square", square, tol, 10, full_newton, square_stride, csv));
+  };
   // ---- R1: trunk ------------------------------------------------------------------------------
   if (cases_to_run != "R2") {
     Robot trunk = makeRobot(config, "trunk");
     const Eigen::Vector3d c1 = trunk.model->restNodes().back().p_BN + Eigen::Vector3d(0.01, 0, 0);
     const auto circle = circlePath(c1, 0.060, 0.025, dt);
     const auto square = squarePath(c1, 0.080, 0.031, dt);
-    report("R1", "trunk", "circle",
-           follow(trunk, "R1", "circle", circle, tol, 10, full_newton, 75, csv));
-    report("R1", "trunk", "square",
-           follow(trunk, "R1", "square", square, tol, 10, full_newton, 52, csv));
+    followBoth(trunk, "R1", "trunk", circle, square, 75, 52);
     std::vector<Eigen::Vector3d> coarse;
     for (size_t i = 0; i < circle.size(); i += 3) coarse.push_back(circle[i]);
     sweep(trunk, "R1", "circle_coarse", coarse);
@@ -228,10 +236,7 @@ int runBench(int argc, char** argv) {
     // (circle R = 10 mm at 1 cm/s, square of side 14 mm at 1.2 cm/s).
     const auto cable_circle = circlePath(c2, 0.010, 0.01, dt);
     const auto cable_square = squarePath(c2, 0.014, 0.012, dt);
-    report("R2", "cable", "circle",
-           follow(cable, "R2", "circle", cable_circle, tol, 10, full_newton, 8, csv));
-    report("R2", "cable", "square",
-           follow(cable, "R2", "square", cable_square, tol, 10, full_newton, 8, csv));
+    followBoth(cable, "R2", "cable", cable_circle, cable_square, 8, 8);
     sweep(cable, "R2", "circle", cable_circle);
     // Unreachable (beyond the tip along the axis: cables can only shorten the robot) and binding
     // bounds (lateral target beyond what 3 N can bend).
