@@ -1,4 +1,4 @@
-// contact_bench: tool-in-contact cost of the tissue simulator (issue 3). For every case of the
+// contact_bench: tool-in-contact cost of the tissue simulator. For every case of the
 // scene's sweep it presses the scene's first tool 6 mm into the top of the body over the first
 // two thirds of `steps` (at the body's highest point), holds for the rest, and reports per case: ms
 // per step while in contact (mean, p99) split into collision / integrate / contact, the

@@ -1,4 +1,4 @@
-// P2 cutting benchmark (BENCHMARKS.md, issue 6). Usage:
+// P2 cutting benchmark (BENCHMARKS.md). Usage:
 //   cutting_bench [--out DIR] [--fuzz N] [--no-plot]
 // Writes into DIR (default "report"):
 //   cutting_update.csv  per blade sweep: update mode (incremental, or the full rebuild it is

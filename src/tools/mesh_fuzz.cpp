@@ -1,4 +1,4 @@
-// Mesh corruptor (issue 14 fuzz campaign). Usage:
+// Mesh corruptor (robustness campaign). Usage:
 //   mesh_fuzz --seed S --count N --out DIR [--sources DIR]
 // Derives N (>= 200) corrupted files from the shipped meshes (<sources>/config/meshes/*.msh and
 // <sources>/test/data/*.msh, *.obj, *.stl; default sources: this package), writes them into

@@ -1,4 +1,4 @@
-// Scene mutator (issue 14 fuzz campaign). Usage:
+// Scene mutator (robustness campaign). Usage:
 //   scene_fuzz --seed S --count N --csv FILE [--scenes DIR]
 // Mutates the shipped scenes (DIR/*.yaml, default config/scenes and config/bench) N (>= 1000)
 // times, taking them in turn, and runs each mutant in a child process (20 s, 4 GB address

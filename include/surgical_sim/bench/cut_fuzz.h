@@ -5,7 +5,7 @@
 
 namespace surgical_sim::bench {
 
-/// Random blade sweeps over the organ blob (makeOrganBlob), P2 / issue 6 fuzz campaign.
+/// Random blade sweeps over the organ blob (makeOrganBlob), the P2 fuzz campaign.
 struct CutFuzzSettings {
   int sweeps = 0;                                ///< number of sweeps, >= 1
   int cells_per_axis = 0;                        ///< organ resolution, >= 1
