@@ -206,7 +206,7 @@ int main(int argc, char** argv) {
     csv.close();
     if (!surgical_sim::tools::runPlotScript(
             "contact_bench", "plot_error_vs_time.py",
-            {args.csv, args.plot, scene.name + " (force vs finest CHOLMOD)"})) {
+            {args.csv, args.plot, scene.name + " (force vs tight Newton + CHOLMOD, same mesh)"})) {
       return 1;
     }
   }
