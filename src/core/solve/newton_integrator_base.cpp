@@ -46,20 +46,20 @@ StepStatus NewtonIntegratorBase::solveNewton(const DynamicsProblem& problem, Eig
   double reference = 0.0;
   double previous_norm = 0.0;
   bool use_exact = false;
-  // |r| over |r_0| raised to the round-off floor over the tolerance: converged iff <= tol.
-  const auto relativeResidual = [&](double norm, double terms) {
-    const double denominator =
-        std::max(reference, kNewtonResidualRoundOff * terms / settings_.relative_tolerance);
-    return denominator > 0.0 ? norm / denominator : 0.0;
-  };
+  bool search_failed = false;
   for (int iteration = 0;; ++iteration) {
     double terms = 0.0;
     const double norm = computeResidual(problem, x, &terms);
     if (!std::isfinite(norm)) return StepStatus::NonFinite;
     if (iteration == 0) reference = norm;
-    report.residual = relativeResidual(norm, terms);
+    // |r| over |r_0| raised to the round-off floor over the tolerance: converged iff <= tol.
+    const double denominator =
+        std::max(reference, kNewtonResidualRoundOff * terms / settings_.relative_tolerance);
+    report.residual = denominator > 0.0 ? norm / denominator : 0.0;
     if (report.residual <= settings_.relative_tolerance) return StepStatus::Ok;
-    if (iteration == settings_.max_iterations) return StepStatus::NotConverged;
+    // After a failed line search the test above has rechecked x with the stiffness round-off
+    // of the last assembly (a body at rest sits at round-off, where no search makes progress).
+    if (search_failed || iteration == settings_.max_iterations) return StepStatus::NotConverged;
     if (iteration > 0 && norm > kNewtonStallRatio * previous_norm) use_exact = true;
     previous_norm = norm;
 
@@ -79,13 +79,8 @@ StepStatus NewtonIntegratorBase::solveNewton(const DynamicsProblem& problem, Eig
           return merit(problem, trial_, &unused_scale);
         });
     if (!search.accepted) {
-      // The test above ran before this iteration's stiffness round-off was known; with it, x may
-      // already be at round-off (e.g. a body at rest), where no line search makes progress.
-      double terms_now = 0.0;
-      const double norm_now = computeResidual(problem, x, &terms_now);
-      report.residual = relativeResidual(norm_now, terms_now);
-      return report.residual <= settings_.relative_tolerance ? StepStatus::Ok
-                                                             : StepStatus::NotConverged;
+      search_failed = true;
+      continue;
     }
     x = trial_;
   }
