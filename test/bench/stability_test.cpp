@@ -1,7 +1,9 @@
 // Stability over stiff and extreme cases (BENCHMARKS.md "Stability"): every model x implicit
-// integrator returns finite results and bounded energy, or a clear failure status, never a crash.
+// integrator returns finite results, bounded energy and (Newton, quasi-static) Ok steps in
+// equilibrium, or a clear failure status, never a crash.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -81,6 +83,23 @@ struct Rig {
   }
 };
 
+/// Relative equilibrium residual of a step from (x0, v0) to rig.state over dt, recomputed from the
+/// model: |M (x - x0 - dt v0) / dt^2 - f_int(x) - f_ext| on the free DOFs over the larger of its
+/// terms' norms (without the inertia term for quasi-static steps). No damping in the rig.
+double equilibriumResidual(const Rig& rig, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0,
+                           double dt, bool quasi_static) {
+  const Eigen::VectorXd& x = rig.state.x;
+  Eigen::VectorXd internal = Eigen::VectorXd::Zero(x.size());
+  rig.model->addInternalForce(x, internal);
+  Eigen::VectorXd inertia = Eigen::VectorXd::Zero(x.size());
+  if (!quasi_static) inertia = rig.model->lumpedMass().cwiseProduct(x - x0 - dt * v0) / (dt * dt);
+  Eigen::VectorXd r = inertia - internal - rig.problem.external_force;
+  for (const int d : rig.problem.dirichlet.dofs) r[d] = internal[d] = inertia[d] = 0.0;
+  const double scale =
+      std::max({inertia.norm(), internal.norm(), rig.problem.external_force.norm()});
+  return r.norm() / scale;
+}
+
 bool isFailureStatus(StepStatus s) {
   return s == StepStatus::SolverFailed || s == StepStatus::NonFinite || s == StepStatus::BlowUp;
 }
@@ -99,10 +118,18 @@ TEST(Stability, EveryModelAndImplicitIntegratorOverStiffnessPoissonAndTimeStep) 
             const double e0 = rig.totalEnergy();
             bool failed = false;
             for (int k = 0; k < 5 && !failed; ++k) {
+              const Eigen::VectorXd x0 = rig.state.x;
+              const Eigen::VectorXd v0 = rig.state.v;
               const StepReport r = rig.integrator->step(rig.problem, dt, rig.state);
               ASSERT_TRUE(rig.state.x.allFinite());
               ASSERT_TRUE(rig.state.v.allFinite());
               failed = isFailureStatus(r.status);
+              // An Ok Newton / quasi-static step is in equilibrium (its tolerance is 1e-8 of the
+              // step's first residual, itself at most the size of the terms).
+              if (r.status == StepStatus::Ok && integrator != "implicit_euler_linearized") {
+                EXPECT_LT(equilibriumResidual(rig, x0, v0, dt, integrator == "quasi_static"), 1e-6)
+                    << "step " << k;
+              }
             }
             if (failed) continue;  // a clear status, state restored and finite
             // No energy is created: implicit Euler dissipates, quasi-static minimises.
