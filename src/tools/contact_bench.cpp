@@ -107,7 +107,7 @@ Row runCase(const BenchmarkScene& scene, const CaseSpec& spec) {
   TissueSimulation sim(caseScene(scene, spec));
   Row row;
   row.spec = spec;
-  row.nodes = sim.mesh().numNodes();
+  row.nodes = sim.model().numNodes();  // DOF nodes (efg: particles)
   row.dofs = 3 * row.nodes;
   std::vector<double> step_ms, latency_ms;
   double collision = 0, integrate = 0, contact = 0;
