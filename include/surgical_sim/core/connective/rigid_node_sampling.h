@@ -1,0 +1,41 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <functional>
+#include <vector>
+
+#include "surgical_sim/core/connective/rigid_node_model.h"
+#include "surgical_sim/core/mesh/tet_mesh.h"
+#include "surgical_sim/core/tissue/material.h"
+
+namespace surgical_sim::core {
+
+/// Rigid nodes at rest and their samples: the input of RigidNodeModel.
+struct RigidNodeLayout {
+  RigidNodeConfiguration rest;
+  std::vector<RigidNodeSample> samples;
+};
+
+/// Mesh-based layout of a Tet4 mesh of the connective layer: one rigid node per mesh node (rest
+/// orientation identity), 4 samples per tet at the points of the degree-2 Gauss rule
+/// (barycentric 0.5854, 0.1382, 0.1382, 0.1382 and permutations), each with a quarter of the tet's
+/// volume and linear barycentric weights on the tet's corners.
+/// @throws std::invalid_argument if the mesh is not Tet4, empty, or has a degenerate tet
+RigidNodeLayout tetMeshLayout(const TetMesh& mesh, const Material& material);
+
+/// Grid layout with trilinear weights (8 neighbours per sample): rigid nodes (rest orientation
+/// identity) at the points min_corner + size (i, j, k) / (nodes - 1) of a regular grid;
+/// per grid cell, gauss_points^3 samples at the tensor Gauss-Legendre points (volume: the
+/// cell's volume times the product of the rule's weights / 8). Samples outside `inside` (when
+/// given) are dropped, and so are rigid nodes left without samples; if `volume` > 0 the sample
+/// volumes are then scaled to sum to it (the volume of the body `inside` describes).
+/// @param nodes rigid nodes per axis, each >= 2
+/// @param gauss_points Gauss-Legendre points per cell axis, in [1, 3]
+/// @throws std::invalid_argument for a parameter out of range or if no sample is inside
+RigidNodeLayout trilinearGridLayout(const Eigen::Vector3d& min_corner, const Eigen::Vector3d& size,
+                                    const Eigen::Vector3i& nodes, int gauss_points,
+                                    const Material& material,
+                                    const std::function<bool(const Eigen::Vector3d&)>& inside = {},
+                                    double volume = 0.0);
+
+}  // namespace surgical_sim::core
