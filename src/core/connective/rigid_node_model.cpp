@@ -270,6 +270,8 @@ void RigidNodeModel::evaluate(const RigidNodeConfiguration& q,
   Eigen::Vector3d r[kMaxSampleNeighbours];
   Matrix6d CM[kMaxSampleNeighbours];
   Matrix6d M[kMaxSampleNeighbours];
+  Eigen::Vector3d SG[kMaxSampleNeighbours];  // v S grad w_a
+  Eigen::Matrix3d AS[kMaxSampleNeighbours];  // v A_a S
   double* values = nullptr;
   if (K != nullptr) {
     K->coeffs().setZero();
@@ -296,36 +298,39 @@ void RigidNodeModel::evaluate(const RigidNodeConfiguration& q,
       }
     }
     if (K == nullptr) continue;
-    if (options->material) {
-      const Matrix6d C = hookeMatrix(sample.lambda, sample.mu);
-      for (int a = 0; a < k; ++a) {
-        M[a] = strainJacobian(F, pairs_[begin + a].gradient, A[a]);
-        CM[a] = v * C * M[a];
+    const Matrix6d C = v * hookeMatrix(sample.lambda, sample.mu);
+    for (int a = 0; a < k; ++a) {
+      const Eigen::Vector3d& g = pairs_[begin + a].gradient;
+      if (options->material) {
+        M[a] = strainJacobian(F, g, A[a]);
+        CM[a] = C * M[a];
       }
-      for (int a = 0; a < k; ++a)
-        for (int b = 0; b < k; ++b) scatter(s, a, b, M[a].transpose() * CM[b], values);
+      SG[a] = v * (S * g);
+      AS[a] = v * A[a] * S;
     }
-    if (!options->geometric) continue;
+    // K_ba = K_ab^T but for the rotation term on a == b: blocks a <= b, mirrored.
     for (int a = 0; a < k; ++a) {
       const Eigen::Vector3d& ga = pairs_[begin + a].gradient;
-      for (int b = 0; b < k; ++b) {
-        const Eigen::Vector3d& gb = pairs_[begin + b].gradient;
-        // sum_jl S_jl B_aj^T B_bl with B_j = [g_j I, -[a_j]x].
-        Matrix6d G;
-        G.topLeftCorner<3, 3>() = ga.dot(S * gb) * Eigen::Matrix3d::Identity();
-        G.topRightCorner<3, 3>() = -skew(A[b] * (S * ga));
-        G.bottomLeftCorner<3, 3>() = skew(A[a] * (S * gb));
-        const Eigen::Matrix3d AtA = A[a].transpose() * A[b];
-        G.bottomRightCorner<3, 3>() =
-            (S.cwiseProduct(AtA)).sum() * Eigen::Matrix3d::Identity() - A[b] * S * A[a].transpose();
-        if (a == b) {
-          // The rotation of a_j itself: sum_j [P_j]x [a_j]x.
-          Eigen::Matrix3d theta =
-              A[a] * P.transpose() - P.cwiseProduct(A[a]).sum() * Eigen::Matrix3d::Identity();
-          if (options->symmetrize) theta = 0.5 * (theta + theta.transpose()).eval();
-          G.bottomRightCorner<3, 3>() += theta;
+      for (int b = a; b < k; ++b) {
+        Matrix6d G = Matrix6d::Zero();
+        if (options->material) G.noalias() += M[a].transpose() * CM[b];
+        if (options->geometric) {
+          // v sum_jl S_jl B_aj^T B_bl with B_j = [g_j I, -[a_j]x].
+          G.topLeftCorner<3, 3>().diagonal().array() += ga.dot(SG[b]);
+          G.topRightCorner<3, 3>() -= skew(A[b] * SG[a]);
+          G.bottomLeftCorner<3, 3>() += skew(A[a] * SG[b]);
+          G.bottomRightCorner<3, 3>().noalias() -= A[b] * AS[a].transpose();
+          G.bottomRightCorner<3, 3>().diagonal().array() += AS[a].cwiseProduct(A[b]).sum();
+          if (a == b) {
+            // The rotation of a_j itself: v sum_j [P_j]x [a_j]x.
+            Eigen::Matrix3d theta = v * (A[a] * P.transpose() -
+                                         P.cwiseProduct(A[a]).sum() * Eigen::Matrix3d::Identity());
+            if (options->symmetrize) theta = 0.5 * (theta + theta.transpose()).eval();
+            G.bottomRightCorner<3, 3>() += theta;
+          }
         }
-        scatter(s, a, b, v * G, values);
+        scatter(s, a, b, G, values);
+        if (b != a) scatter(s, b, a, G.transpose(), values);
       }
     }
   }

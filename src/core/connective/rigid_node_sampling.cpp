@@ -23,19 +23,9 @@ RigidNodeSample sampleOf(const Material& material, const Eigen::Vector3d& p, dou
   return sample;
 }
 
-/// Gauss-Legendre points on [-1, 1] and weights (summing to 2), n in [1, 3].
-void gaussLegendre(int n, std::vector<double>& points, std::vector<double>& weights) {
-  if (n == 1) {
-    points = {0.0};
-    weights = {2.0};
-  } else if (n == 2) {
-    points = {-1.0 / std::sqrt(3.0), 1.0 / std::sqrt(3.0)};
-    weights = {1.0, 1.0};
-  } else {
-    points = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)};
-    weights = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
-  }
-}
+/// The 3-point Gauss-Legendre rule on [-1, 1] (weights sum to 2).
+constexpr double kGaussPoints[3] = {-0.7745966692414834, 0.0, 0.7745966692414834};
+constexpr double kGaussWeights[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
 
 }  // namespace
 
@@ -75,8 +65,7 @@ RigidNodeLayout tetMeshLayout(const TetMesh& mesh, const Material& material) {
 }
 
 RigidNodeLayout trilinearGridLayout(const Eigen::Vector3d& min_corner, const Eigen::Vector3d& size,
-                                    const Eigen::Vector3i& nodes, int gauss_points,
-                                    const Material& material,
+                                    const Eigen::Vector3i& nodes, const Material& material,
                                     const std::function<bool(const Eigen::Vector3d&)>& inside,
                                     double volume) {
   const Material m = Material::validated(material);
@@ -89,14 +78,7 @@ RigidNodeLayout trilinearGridLayout(const Eigen::Vector3d& min_corner, const Eig
       throw std::invalid_argument(msg.str());
     }
   }
-  if (gauss_points < 1 || gauss_points > 3) {
-    std::ostringstream msg;
-    msg << "trilinearGridLayout: gauss_points = " << gauss_points << " must be in [1, 3]";
-    throw std::invalid_argument(msg.str());
-  }
   requireNonNegative("trilinearGridLayout: volume", volume, "m^3");
-  std::vector<double> gp, gw;
-  gaussLegendre(gauss_points, gp, gw);
   const Eigen::Vector3d cell = size.cwiseQuotient((nodes - Eigen::Vector3i::Ones()).cast<double>());
   auto gridIndex = [&](int i, int j, int k) { return i + nodes.x() * (j + nodes.y() * k); };
 
@@ -108,14 +90,15 @@ RigidNodeLayout trilinearGridLayout(const Eigen::Vector3d& min_corner, const Eig
         std::array<int, 8> corner_nodes;
         for (int c = 0; c < 8; ++c)
           corner_nodes[c] = gridIndex(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1));
-        for (int c = 0; c < gauss_points; ++c) {
-          for (int b = 0; b < gauss_points; ++b) {
-            for (int a = 0; a < gauss_points; ++a) {
-              const Eigen::Vector3d t(gp[a], gp[b], gp[c]);
+        for (int c = 0; c < 3; ++c) {
+          for (int b = 0; b < 3; ++b) {
+            for (int a = 0; a < 3; ++a) {
+              const Eigen::Vector3d t(kGaussPoints[a], kGaussPoints[b], kGaussPoints[c]);
               const Eigen::Vector3d p =
                   cell_min + 0.5 * cell.cwiseProduct(t + Eigen::Vector3d::Ones());
               if (inside && !inside(p)) continue;
-              const double v = cell.prod() * gw[a] * gw[b] * gw[c] / 8.0;
+              const double v =
+                  cell.prod() * kGaussWeights[a] * kGaussWeights[b] * kGaussWeights[c] / 8.0;
               samples.push_back(
                   sampleOf(m, p, v, trilinearWeights(corner_nodes, cell_min, cell, p)));
             }

@@ -179,7 +179,13 @@ TEST_P(RigidNodeModelAtScale, MaterialAndGeometricTangentsMatchFiniteDifferences
   EXPECT_LE((f - force(model, q)).cwiseAbs().maxCoeff(), 1e-13 * f.cwiseAbs().maxCoeff());
   // At rest the tangent is the material part, symmetric positive semi-definite with the six
   // rigid motions in its null space.
-  const Eigen::MatrixXd K_rest = stiffness(model, layout.rest, true, true, false);
+  // (translations scaled by L so that all entries are in N m).
+  Eigen::VectorXd to_length = Eigen::VectorXd::Ones(n);
+  for (int k = 0; k < n; ++k)
+    if (k % 6 < 3) to_length[k] = L;
+  const Eigen::MatrixXd K_rest = to_length.asDiagonal() *
+                                 stiffness(model, layout.rest, true, true, false) *
+                                 to_length.asDiagonal();
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(K_rest);
   const double largest = eig.eigenvalues().maxCoeff();
   EXPECT_GE(eig.eigenvalues().minCoeff(), -1e-10 * largest);
@@ -205,16 +211,20 @@ TEST_P(RigidNodeModelAtScale, BodyForceAndItsTangentMatchTheirPotential) {
   Eigen::SparseMatrix<double> K = model.stiffnessPattern();
   K.coeffs().setZero();
   model.addBodyForceStiffness(q, g, false, K);
+  // Translational entries in N, rotational ones in N m.
+  const double weight = model.totalMass() * g.norm();
   for (int k = 0; k < model.numDofs(); ++k) {
-    const double h = k % 6 >= 3 ? 1e-6 : 1e-6 * L;
+    const bool rotation = k % 6 >= 3;
+    const double h = rotation ? 1e-6 : 1e-6 * L;
     const double fd = -(model.bodyForcePotential(displaced(q, k, h), g) -
                         model.bodyForcePotential(displaced(q, k, -h), g)) /
                       (2.0 * h);
-    EXPECT_NEAR(f[k], fd, 1e-7 * f.cwiseAbs().maxCoeff() / (k % 6 >= 3 ? L : 1.0));
+    EXPECT_NEAR(f[k], fd, 1e-7 * weight * (rotation ? L : 1.0)) << "dof " << k;
     const Eigen::VectorXd column =
         -(bodyForce(displaced(q, k, h)) - bodyForce(displaced(q, k, -h))) / (2.0 * h);
     EXPECT_LE((Eigen::VectorXd(Eigen::MatrixXd(K).col(k)) - column).norm(),
-              1e-6 * model.totalMass() * g.norm() * L);
+              1e-6 * weight * L * (rotation ? 1.0 : 1.0 / L))
+        << "dof " << k;
   }
 }
 

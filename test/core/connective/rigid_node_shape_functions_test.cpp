@@ -104,7 +104,7 @@ TEST(RigidNodeShapeFunctions, ShepardIsAPartitionOfUnityInGeneralCollinearAndCop
                                   (trial == 0 ? Eigen::Vector3d::Zero() : randomVector(rng, 0.05));
         expectPartitionOfUnity(
             [&](const Eigen::Vector3d& x) { return shepardWeights(*nodes, x, neighbours, 2.0); },
-            *nodes, p, neighbours == 1, 1.0);
+            *nodes, p, false, 1.0);
       }
     }
   }

@@ -25,16 +25,16 @@ RigidNodeLayout tetMeshLayout(const TetMesh& mesh, const Material& material);
 
 /// Grid layout with trilinear weights (8 neighbours per sample): rigid nodes (rest orientation
 /// identity) at the points min_corner + size (i, j, k) / (nodes - 1) of a regular grid;
-/// per grid cell, gauss_points^3 samples at the tensor Gauss-Legendre points (volume: the
-/// cell's volume times the product of the rule's weights / 8). Samples outside `inside` (when
+/// per grid cell, 27 samples at the 3 x 3 x 3 Gauss-Legendre points (volume: the cell's volume
+/// times the product of the rule's weights / 8). Fewer samples leave hourglass modes: the
+/// skinned displacement sum_i w_i (dx_i + dtheta_i x (p - x_i)) is quadratic per axis, which
+/// the 2 x 2 x 2 rule does not integrate exactly. Samples outside `inside` (when
 /// given) are dropped, and so are rigid nodes left without samples; if `volume` > 0 the sample
 /// volumes are then scaled to sum to it (the volume of the body `inside` describes).
 /// @param nodes rigid nodes per axis, each >= 2
-/// @param gauss_points Gauss-Legendre points per cell axis, in [1, 3]
 /// @throws std::invalid_argument for a parameter out of range or if no sample is inside
 RigidNodeLayout trilinearGridLayout(const Eigen::Vector3d& min_corner, const Eigen::Vector3d& size,
-                                    const Eigen::Vector3i& nodes, int gauss_points,
-                                    const Material& material,
+                                    const Eigen::Vector3i& nodes, const Material& material,
                                     const std::function<bool(const Eigen::Vector3d&)>& inside = {},
                                     double volume = 0.0);
 
