@@ -54,6 +54,16 @@ Matrix6d hookeMatrix(double lambda, double mu) {
   return C;
 }
 
+/// J_a^T J_b with J = [I, -[r]x], the velocity of a point at offset r from a rigid node.
+Matrix6d bodyJacobianProduct(const Eigen::Vector3d& r_a, const Eigen::Vector3d& r_b) {
+  Matrix6d block;
+  block.topLeftCorner<3, 3>() = Eigen::Matrix3d::Identity();
+  block.topRightCorner<3, 3>() = -skew(r_b);
+  block.bottomLeftCorner<3, 3>() = skew(r_a);
+  block.bottomRightCorner<3, 3>() = -skew(r_a) * skew(r_b);
+  return block;
+}
+
 std::string sampleName(int s) { return "RigidNodeModel: sample " + std::to_string(s); }
 
 }  // namespace
@@ -414,14 +424,22 @@ void RigidNodeModel::assembleMass(const RigidNodeConfiguration& q,
     for (int a = 0; a < k; ++a) {
       for (int b = 0; b < k; ++b) {
         const double scale = m * pairs_[begin + a].weight * pairs_[begin + b].weight;
-        // J_a^T J_b with J = [I, -[r]x].
-        Matrix6d block;
-        block.topLeftCorner<3, 3>() = Eigen::Matrix3d::Identity();
-        block.topRightCorner<3, 3>() = -skew(r[b]);
-        block.bottomLeftCorner<3, 3>() = skew(r[a]);
-        block.bottomRightCorner<3, 3>() = -skew(r[a]) * skew(r[b]);
-        scatter(s, a, b, scale * block, M.valuePtr());
+        scatter(s, a, b, scale * bodyJacobianProduct(r[a], r[b]), M.valuePtr());
       }
+    }
+  }
+}
+
+void RigidNodeModel::assembleNodeMass(const RigidNodeConfiguration& q,
+                                      Eigen::SparseMatrix<double>& M) const {
+  checkMatrix(M, "assembleNodeMass");
+  M.coeffs().setZero();
+  for (int s = 0; s < numSamples(); ++s) {
+    const double m = samples_[s].density * samples_[s].volume;
+    for (int a = 0; a < pair_begin_[s + 1] - pair_begin_[s]; ++a) {
+      const Pair& pair = pairs_[pair_begin_[s] + a];
+      const Eigen::Vector3d r = q.q_TN[pair.node] * pair.local_offset;
+      scatter(s, a, a, m * pair.weight * bodyJacobianProduct(r, r), M.valuePtr());
     }
   }
 }

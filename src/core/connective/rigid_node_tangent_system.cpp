@@ -55,7 +55,7 @@ bool RigidNodeTangentSystem::assemble(const RigidNodeProblem& problem,
     rotation_diagonal_.push_back(
         static_cast<int>(std::lower_bound(inner + outer[d], inner + outer[d + 1], d) - inner));
   }
-  if (mass_coefficient != 0.0) model.assembleMass(q, mass_);
+  if (mass_coefficient != 0.0) model.assembleNodeMass(q, mass_);
   bool ok = false;
   for (const bool geometric : {true, false}) {
     material_only_ = !geometric;

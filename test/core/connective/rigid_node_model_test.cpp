@@ -261,6 +261,22 @@ TEST_P(RigidNodeModelAtScale, ConsistentMassGivesTheSamplesKineticEnergy) {
   EXPECT_NEAR(translation.dot(Md * translation), model.totalMass(), 1e-12 * model.totalMass());
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Md);
   EXPECT_GE(eig.eigenvalues().minCoeff(), -1e-12 * eig.eigenvalues().maxCoeff());
+
+  // The rigid-node (block-diagonal) mass: exact for rigid motions at rest, positive definite.
+  Eigen::SparseMatrix<double> N = model.stiffnessPattern();
+  model.assembleNodeMass(layout.rest, N);
+  const Eigen::Vector3d V = L * Eigen::Vector3d(0.3, -1.0, 0.5), omega(0.2, 0.7, -0.4);
+  Eigen::VectorXd rigid(model.numDofs());
+  double rigid_kinetic = 0.0;
+  for (int i = 0; i < model.numNodes(); ++i) {
+    rigid.segment<3>(6 * i) = V + omega.cross(layout.rest.p_TN[i]);
+    rigid.segment<3>(6 * i + 3) = omega;
+  }
+  for (const RigidNodeSample& s : layout.samples)
+    rigid_kinetic += 0.5 * s.density * s.volume * (V + omega.cross(s.rest_position)).squaredNorm();
+  EXPECT_NEAR(0.5 * rigid.dot(N * rigid), rigid_kinetic, 1e-12 * rigid_kinetic);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> node_eig{Eigen::MatrixXd(N)};
+  EXPECT_GT(node_eig.eigenvalues().minCoeff(), 0.0);
 }
 
 INSTANTIATE_TEST_SUITE_P(Lengths, RigidNodeModelAtScale, ::testing::Values(1e-3, 1.0, 1e3),

@@ -11,8 +11,10 @@ namespace surgical_sim::core {
 /// Linearized implicit Euler (one Newton step, Baraff-Witkin) for rigid nodes:
 ///   (M + h D + h^2 K) dv = h (f(q_n) - D v_n - h K v_n),   D = alpha M + beta K,
 ///   v_{n+1} = v_n + dv,   p <- p + h v,   R <- exp(h omega) R (unit quaternion, renormalized),
-/// with M the consistent mass and K the symmetrized tangent at q_n (RigidNodeTangentSystem;
-/// the configuration dependence of M, i.e. gyroscopic terms, is not linearized). Fixed DOFs get
+/// with M the rigid-node mass (RigidNodeModel::assembleNodeMass: the consistent mass
+/// assembleMass is singular along drilling modes) and K the symmetrized tangent at q_n
+/// (RigidNodeTangentSystem; the configuration dependence of M, i.e. gyroscopic terms, is not
+/// linearized). Fixed DOFs get
 /// zero velocity and keep their values.
 class RigidNodeImplicitEuler {
  public:

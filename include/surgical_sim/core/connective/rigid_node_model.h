@@ -118,6 +118,14 @@ class RigidNodeModel {
   /// is sum_i w_is J_is qdot_i), so qdot^T M qdot / 2 is the samples' kinetic energy. Symmetric,
   /// positive semi-definite, written into M (which must have stiffnessPattern()).
   void assembleMass(const RigidNodeConfiguration& q, Eigen::SparseMatrix<double>& M) const;
+  /// Rigid-node mass [kg, kg m, kg m^2] at q: one 6 x 6 block per node, M_i = sum_s m_s w_is
+  /// J_is^T J_is (each sample's mass shared among its nodes by weight, carried rigidly by the
+  /// node: its translational mass, first moment and inertia tensor about x_i). Gives the exact
+  /// kinetic energy of rigid motions at rest (x_i + R_i lbar_is = p_s) and is positive definite
+  /// for any node whose samples are not collinear with it, also along the drilling modes where
+  /// assembleMass is singular (see RigidNodeTangentSystem). Written into M (stiffnessPattern(),
+  /// off-diagonal blocks zero).
+  void assembleNodeMass(const RigidNodeConfiguration& q, Eigen::SparseMatrix<double>& M) const;
 
  private:
   struct Pair {

@@ -16,8 +16,8 @@ constexpr double kRotationShifts[] = {1e-6, 1e-4, 1e-2};
 
 /// The linear system of one rigid-node Newton / implicit step, A = c_M M(q) + c_K K(q), solved
 /// by CHOLMOD: K is the symmetrized tangent (material + geometric, plus the body-force term),
-/// M the consistent mass; rows and columns of fixed DOFs are projected out (unit diagonal).
-/// The pattern is analysed once per model.
+/// M the rigid-node mass (RigidNodeModel::assembleNodeMass); rows and columns of fixed DOFs are
+/// projected out (unit diagonal). The pattern is analysed once per model.
 ///
 /// Weights that reproduce linear fields (tet barycentric, trilinear) leave rigid-node rotations
 /// that move no sample: with sum_i w_i (p - x_i) = 0, rotating every node of a grid plane about
@@ -44,7 +44,7 @@ class RigidNodeTangentSystem {
   const Eigen::VectorXd& internalForce() const { return internal_; }
   /// Unprojected symmetrized tangent of the last assemble().
   const Eigen::SparseMatrix<double>& stiffness() const { return stiffness_; }
-  /// Consistent mass of the last assemble() with mass_coefficient != 0.
+  /// Rigid-node mass of the last assemble() with mass_coefficient != 0.
   const Eigen::SparseMatrix<double>& mass() const { return mass_; }
   /// Whether the last factorization dropped the geometric part.
   bool usedMaterialTangentOnly() const { return material_only_; }
