@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "rigid_node_test_util.h"
 
@@ -48,12 +49,32 @@ Eigen::VectorXd splitForce(const RigidNodeModel& model, const RigidNodeConfigura
   return f;
 }
 
+/// (g(q (+) h e_k) - g(q (+) -h e_k)) / 2h, h = 1e-6 rad for rotations, 1e-6 L for translations.
+template <class G>
+auto centralDifference(const RigidNodeConfiguration& q, int k, double L, G&& g)
+    -> std::decay_t<decltype(g(q))> {
+  const double h = k % kRigidNodeDofs >= 3 ? 1e-6 : 1e-6 * L;
+  return (g(displaced(q, k, h)) - g(displaced(q, k, -h))) / (2.0 * h);
+}
+
 Eigen::Matrix<double, 6, 1> voigtStrain(const Eigen::Matrix3d& F) {
   const Eigen::Matrix3d E = 0.5 * (F.transpose() * F - Eigen::Matrix3d::Identity());
   Eigen::Matrix<double, 6, 1> e;
   e << E(0, 0), E(1, 1), E(2, 2), 2 * E(1, 2), 2 * E(0, 2), 2 * E(0, 1);
   return e;
 }
+
+/// A random layout at length scale L, its model and a configuration perturbed by `amplitude`.
+struct RandomCase {
+  RandomCase(unsigned seed, int nodes, int samples, int neighbours, double L, unsigned q_seed,
+             double amplitude)
+      : layout(randomLayout(seed, nodes, samples, neighbours, L)),
+        model(layout.rest, layout.samples),
+        q(perturbed(layout.rest, q_seed, amplitude, L)) {}
+  RigidNodeLayout layout;
+  RigidNodeModel model;
+  RigidNodeConfiguration q;
+};
 
 class RigidNodeModelAtScale : public ::testing::TestWithParam<double> {};
 
@@ -85,15 +106,12 @@ TEST_P(RigidNodeModelAtScale, RestAndRigidMotionsGiveIdentityStrainAndZeroForce)
 
 TEST_P(RigidNodeModelAtScale, ForceIsMinusTheEnergyGradient) {
   const double L = GetParam();
-  const RigidNodeLayout layout = randomLayout(8, 5, 10, 4, L);
-  const RigidNodeModel model(layout.rest, layout.samples);
-  const RigidNodeConfiguration q = perturbed(layout.rest, 21, 0.15, L);
+  const RandomCase c(8, 5, 10, 4, L, 21, 0.15);
+  const auto& [layout, model, q] = c;
   const Eigen::VectorXd f = force(model, q);
   for (int k = 0; k < model.numDofs(); ++k) {
     const bool rotation = k % kRigidNodeDofs >= 3;
-    const double h = rotation ? 1e-6 : 1e-6 * L;
-    const double fd =
-        -(model.energy(displaced(q, k, h)) - model.energy(displaced(q, k, -h))) / (2.0 * h);
+    const double fd = -centralDifference(q, k, L, [&](const auto& x) { return model.energy(x); });
     EXPECT_NEAR(f[k], fd,
                 1e-6 * f.cwiseAbs().maxCoeff() * (rotation ? 1.0 / L : 1.0) + 1e-7 * std::abs(f[k]))
         << "dof " << k;
@@ -104,9 +122,8 @@ TEST_P(RigidNodeModelAtScale, DeformationGradientAndStrainJacobiansMatchFiniteDi
   // Catches Eq. 3.49's "F00 [B]^4" (the row of d(2 E01) takes F00 [B]^3) and the skew matrix's
   // last row (Eq. A.3).
   const double L = GetParam();
-  const RigidNodeLayout layout = randomLayout(9, 5, 6, 4, L);
-  const RigidNodeModel model(layout.rest, layout.samples);
-  const RigidNodeConfiguration q = perturbed(layout.rest, 22, 0.2, L);
+  const RandomCase c(9, 5, 6, 4, L, 22, 0.2);
+  const auto& [layout, model, q] = c;
   for (int s = 0; s < model.numSamples(); ++s) {
     const SampleKinematics kin = model.sampleKinematics(q, s);
     const std::vector<int>& nodes = layout.samples[s].weights.nodes;
@@ -130,9 +147,8 @@ TEST_P(RigidNodeModelAtScale, DeformationGradientAndStrainJacobiansMatchFiniteDi
 
 TEST_P(RigidNodeModelAtScale, MaterialAndGeometricTangentsMatchFiniteDifferencesSeparately) {
   const double L = GetParam();
-  const RigidNodeLayout layout = randomLayout(10, 4, 8, 3, L);
-  const RigidNodeModel model(layout.rest, layout.samples);
-  const RigidNodeConfiguration q = perturbed(layout.rest, 23, 0.2, L);
+  const RandomCase c(10, 4, 8, 3, L, 23, 0.2);
+  const auto& [layout, model, q] = c;
   const int n = model.numDofs();
   // Column k in length units: translations 1/L relative to rotations.
   Eigen::MatrixXd units = Eigen::MatrixXd::Ones(n, n);
@@ -149,10 +165,7 @@ TEST_P(RigidNodeModelAtScale, MaterialAndGeometricTangentsMatchFiniteDifferences
   // Differences per column with a step in the column's unit.
   auto columns = [&](auto&& g) {
     Eigen::MatrixXd K(n, n);
-    for (int k = 0; k < n; ++k) {
-      const double h = k % 6 >= 3 ? 1e-6 : 1e-6 * L;
-      K.col(k) = -(g(displaced(q, k, h)) - g(displaced(q, k, -h))) / (2.0 * h);
-    }
+    for (int k = 0; k < n; ++k) K.col(k) = -centralDifference(q, k, L, g);
     return K;
   };
   const Eigen::MatrixXd K_mat = stiffness(model, q, true, false, false);
@@ -195,9 +208,8 @@ TEST_P(RigidNodeModelAtScale, MaterialAndGeometricTangentsMatchFiniteDifferences
 
 TEST_P(RigidNodeModelAtScale, BodyForceAndItsTangentMatchTheirPotential) {
   const double L = GetParam();
-  const RigidNodeLayout layout = randomLayout(12, 4, 8, 3, L);
-  const RigidNodeModel model(layout.rest, layout.samples);
-  const RigidNodeConfiguration q = perturbed(layout.rest, 24, 0.3, L);
+  const RandomCase c(12, 4, 8, 3, L, 24, 0.3);
+  const auto& [layout, model, q] = c;
   const Eigen::Vector3d g(0.3, -9.81, 1.2);
   auto bodyForce = [&](const RigidNodeConfiguration& x) {
     Eigen::VectorXd f = Eigen::VectorXd::Zero(model.numDofs());
@@ -215,13 +227,10 @@ TEST_P(RigidNodeModelAtScale, BodyForceAndItsTangentMatchTheirPotential) {
   const double weight = model.totalMass() * g.norm();
   for (int k = 0; k < model.numDofs(); ++k) {
     const bool rotation = k % 6 >= 3;
-    const double h = rotation ? 1e-6 : 1e-6 * L;
-    const double fd = -(model.bodyForcePotential(displaced(q, k, h), g) -
-                        model.bodyForcePotential(displaced(q, k, -h), g)) /
-                      (2.0 * h);
+    const double fd =
+        -centralDifference(q, k, L, [&](const auto& x) { return model.bodyForcePotential(x, g); });
     EXPECT_NEAR(f[k], fd, 1e-7 * weight * (rotation ? L : 1.0)) << "dof " << k;
-    const Eigen::VectorXd column =
-        -(bodyForce(displaced(q, k, h)) - bodyForce(displaced(q, k, -h))) / (2.0 * h);
+    const Eigen::VectorXd column = -centralDifference(q, k, L, bodyForce);
     EXPECT_LE((Eigen::VectorXd(Eigen::MatrixXd(K).col(k)) - column).norm(),
               1e-6 * weight * L * (rotation ? 1.0 : 1.0 / L))
         << "dof " << k;
@@ -230,9 +239,8 @@ TEST_P(RigidNodeModelAtScale, BodyForceAndItsTangentMatchTheirPotential) {
 
 TEST_P(RigidNodeModelAtScale, ConsistentMassGivesTheSamplesKineticEnergy) {
   const double L = GetParam();
-  const RigidNodeLayout layout = randomLayout(13, 5, 12, 4, L);
-  const RigidNodeModel model(layout.rest, layout.samples);
-  const RigidNodeConfiguration q = perturbed(layout.rest, 25, 0.3, L);
+  const RandomCase c(13, 5, 12, 4, L, 25, 0.3);
+  const auto& [layout, model, q] = c;
   Eigen::SparseMatrix<double> M = model.stiffnessPattern();
   model.assembleMass(q, M);
   const Eigen::MatrixXd Md(M);

@@ -34,6 +34,17 @@ double meanDeflection(const RigidNodeConfiguration& rest, const RigidNodeConfigu
   return sum / count;
 }
 
+/// Quasi-static equilibrium of model under gravity with the rigid nodes at rest x <= 0 clamped,
+/// from q (solved in place).
+StepReport solveClampedUnderGravity(const RigidNodeModel& model, RigidNodeConfiguration& q) {
+  RigidNodeProblem problem;
+  problem.model = &model;
+  problem.body_acceleration = Eigen::Vector3d(0, -9.81, 0);
+  problem.fixed_dofs = clampedDofs(model.restConfiguration(), 0.0);
+  RigidNodeQuasiStatic solver;
+  return solver.solve(problem, q);
+}
+
 void expectUnitQuaternions(const RigidNodeConfiguration& q) {
   for (int i = 0; i < q.numNodes(); ++i) EXPECT_NEAR(q.q_TN[i].norm(), 1.0, 1e-14);
 }
@@ -196,13 +207,8 @@ TEST(RigidNodeQuasiStatic, ShepardCollinearAndCoplanarLayoutsConverge) {
     }
     const RigidNodeModel model(layout.rest, layout.samples);
     EXPECT_NEAR(model.totalVolume(), volume, 1e-12 * volume);
-    RigidNodeProblem problem;
-    problem.model = &model;
-    problem.body_acceleration = Eigen::Vector3d(0, -9.81, 0);
-    problem.fixed_dofs = clampedDofs(layout.rest, 0.0);
     RigidNodeConfiguration q = layout.rest;
-    RigidNodeQuasiStatic solver;
-    const StepReport report = solver.solve(problem, q);
+    const StepReport report = solveClampedUnderGravity(model, q);
     EXPECT_EQ(report.status, StepStatus::Ok) << (sheet ? "sheet" : "strand");
     expectUnitQuaternions(q);
     EXPECT_LT(meanDeflection(layout.rest, q, 0.9), -1e-4) << (sheet ? "sheet" : "strand");
@@ -216,13 +222,8 @@ TEST(RigidNodeSampling, TetMeshLayoutHasFourSamplesPerTetSummingToTheVolume) {
   const RigidNodeModel model(layout.rest, layout.samples);  // validates the partition of unity
   EXPECT_NEAR(model.totalVolume(), 0.02, 1e-14);
   for (const RigidNodeSample& s : layout.samples) EXPECT_EQ(s.weights.nodes.size(), 4u);
-  RigidNodeProblem problem;
-  problem.model = &model;
-  problem.body_acceleration = Eigen::Vector3d(0, -9.81, 0);
-  problem.fixed_dofs = clampedDofs(layout.rest, 0.0);
   RigidNodeConfiguration q = layout.rest;
-  RigidNodeQuasiStatic solver;
-  EXPECT_EQ(solver.solve(problem, q).status, StepStatus::Ok);
+  EXPECT_EQ(solveClampedUnderGravity(model, q).status, StepStatus::Ok);
   EXPECT_LT(meanDeflection(layout.rest, q, 1.0), 0.0);
   test::expectInvalidArgument(
       [&] { tetMeshLayout(promoteToTet10(mesh), Material::create(1e4, 0.3, 1000.0)); },
