@@ -117,6 +117,11 @@ RigidNodeModel::RigidNodeModel(const RigidNodeConfiguration& rest,
     pair_begin_.push_back(static_cast<int>(pairs_.size()));
   }
 
+  run_ends_.resize(numSamples());
+  for (int s = 0; s < numSamples(); ++s)
+    run_ends_[s] =
+        s + 1 == numSamples() || samples_[s + 1].weights.nodes != samples_[s].weights.nodes;
+
   std::vector<Eigen::Triplet<double>> triplets;
   for (int i = 0; i < n; ++i) {
     std::vector<int>& row = adjacent[i];
@@ -282,6 +287,11 @@ void RigidNodeModel::evaluate(const RigidNodeConfiguration& q,
   Matrix6d M[kMaxSampleNeighbours];
   Eigen::Vector3d SG[kMaxSampleNeighbours];  // v S grad w_a
   Eigen::Matrix3d AS[kMaxSampleNeighbours];  // v A_a S
+  // Blocks a <= b of a run of samples with the same rigid nodes, scattered once per run.
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kRigidNodeDofs * kMaxSampleNeighbours,
+                kRigidNodeDofs * kMaxSampleNeighbours>
+      local;
+  bool run_started = false;
   double* values = nullptr;
   if (K != nullptr) {
     K->coeffs().setZero();
@@ -308,6 +318,8 @@ void RigidNodeModel::evaluate(const RigidNodeConfiguration& q,
       }
     }
     if (K == nullptr) continue;
+    if (!run_started) local.setZero(kRigidNodeDofs * k, kRigidNodeDofs * k);
+    run_started = true;
     const Matrix6d C = v * hookeMatrix(sample.lambda, sample.mu);
     for (int a = 0; a < k; ++a) {
       const Eigen::Vector3d& g = pairs_[begin + a].gradient;
@@ -339,10 +351,18 @@ void RigidNodeModel::evaluate(const RigidNodeConfiguration& q,
             G.bottomRightCorner<3, 3>() += theta;
           }
         }
+        local.block<6, 6>(kRigidNodeDofs * a, kRigidNodeDofs * b) += G;
+      }
+    }
+    if (!run_ends_[s]) continue;
+    for (int a = 0; a < k; ++a) {
+      for (int b = a; b < k; ++b) {
+        const Matrix6d G = local.block<6, 6>(kRigidNodeDofs * a, kRigidNodeDofs * b);
         scatter(s, a, b, G, values);
         if (b != a) scatter(s, b, a, G.transpose(), values);
       }
     }
+    run_started = false;
   }
 }
 

@@ -145,10 +145,12 @@ TEST_P(RigidNodeModelAtScale, DeformationGradientAndStrainJacobiansMatchFiniteDi
   }
 }
 
-TEST_P(RigidNodeModelAtScale, MaterialAndGeometricTangentsMatchFiniteDifferencesSeparately) {
-  const double L = GetParam();
-  const RandomCase c(10, 4, 8, 3, L, 23, 0.2);
-  const auto& [layout, model, q] = c;
+/// The material, geometric and full tangents of model at q against differences of the force
+/// (with the strain Jacobian, the stress or nothing frozen), their symmetry, the fused call; at
+/// rest a positive semi-definite tangent whose null space has dimension `null_space` (the six
+/// rigid motions plus any drilling modes; not checked if negative). L: length scale [m].
+void expectTangentsMatchDifferences(const RigidNodeModel& model, const RigidNodeConfiguration& q,
+                                    double L, int null_space) {
   const int n = model.numDofs();
   // Column k in length units: translations 1/L relative to rotations.
   Eigen::MatrixXd units = Eigen::MatrixXd::Ones(n, n);
@@ -190,20 +192,37 @@ TEST_P(RigidNodeModelAtScale, MaterialAndGeometricTangentsMatchFiniteDifferences
   EXPECT_LE((Eigen::MatrixXd(K) - K_sym).cwiseAbs().maxCoeff(),
             1e-13 * K_sym.cwiseAbs().maxCoeff());
   EXPECT_LE((f - force(model, q)).cwiseAbs().maxCoeff(), 1e-13 * f.cwiseAbs().maxCoeff());
-  // At rest the tangent is the material part, symmetric positive semi-definite with the six
-  // rigid motions in its null space.
-  // (translations scaled by L so that all entries are in N m).
+  // At rest the tangent is the material part, symmetric positive semi-definite (translations
+  // scaled by L so that all entries are in N m).
   Eigen::VectorXd to_length = Eigen::VectorXd::Ones(n);
   for (int k = 0; k < n; ++k)
     if (k % 6 < 3) to_length[k] = L;
   const Eigen::MatrixXd K_rest = to_length.asDiagonal() *
-                                 stiffness(model, layout.rest, true, true, false) *
+                                 stiffness(model, model.restConfiguration(), true, true, false) *
                                  to_length.asDiagonal();
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(K_rest);
   const double largest = eig.eigenvalues().maxCoeff();
   EXPECT_GE(eig.eigenvalues().minCoeff(), -1e-10 * largest);
-  EXPECT_LE(eig.eigenvalues()[5], 1e-10 * largest);
-  EXPECT_GT(eig.eigenvalues()[6], 1e-8 * largest);
+  if (null_space < 0) return;
+  EXPECT_LE(eig.eigenvalues()[null_space - 1], 1e-10 * largest);
+  EXPECT_GT(eig.eigenvalues()[null_space], 1e-8 * largest);
+}
+
+TEST_P(RigidNodeModelAtScale, MaterialAndGeometricTangentsMatchFiniteDifferencesSeparately) {
+  const double L = GetParam();
+  const RandomCase c(10, 4, 8, 3, L, 23, 0.2);
+  expectTangentsMatchDifferences(c.model, c.q, L, 6);
+}
+
+/// A trilinear grid: 27 samples per cell share their 8 rigid nodes (assembled per cell).
+TEST_P(RigidNodeModelAtScale, TrilinearGridTangentsMatchFiniteDifferences) {
+  const double L = GetParam();
+  const RigidNodeLayout layout =
+      trilinearGridLayout(Eigen::Vector3d(-0.2, 0.1, 0.3) * L, Eigen::Vector3d(1.0, 0.8, 0.6) * L,
+                          Eigen::Vector3i(2, 2, 3), Material::create(1e4, 0.3, 1000.0));
+  const RigidNodeModel model(layout.rest, layout.samples);
+  // Rigid motions and one drilling mode per grid plane: 6 + 2 + 2 + 3.
+  expectTangentsMatchDifferences(model, perturbed(layout.rest, 26, 0.2, L), L, 13);
 }
 
 TEST_P(RigidNodeModelAtScale, BodyForceAndItsTangentMatchTheirPotential) {

@@ -149,6 +149,8 @@ class RigidNodeModel {
   std::vector<Eigen::Matrix3d> rest_rotation_transposed_;  ///< Rbar_i^T per node
   std::vector<Pair> pairs_;
   std::vector<int> pair_begin_;  ///< sample s owns pairs [pair_begin_[s], pair_begin_[s + 1])
+  /// Whether sample s ends a run of consecutive samples with the same rigid nodes (in order).
+  std::vector<char> run_ends_;
   Eigen::SparseMatrix<double> pattern_;
   /// Per sample, per (a, b) of its pairs: value index of row 6 node_b in column 6 node_a.
   std::vector<int> block_first_;
