@@ -1,5 +1,6 @@
 #include "surgical_sim/core/connective/rigid_node_sampling.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <sstream>
@@ -7,6 +8,7 @@
 #include <string>
 
 #include "surgical_sim/core/common/validate.h"
+#include "surgical_sim/core/mesh/surface_closure.h"
 
 namespace surgical_sim::core {
 namespace {
@@ -26,6 +28,61 @@ RigidNodeSample sampleOf(const Material& material, const Eigen::Vector3d& p, dou
 /// The 3-point Gauss-Legendre rule on [-1, 1] (weights sum to 2).
 constexpr double kGaussPoints[3] = {-0.7745966692414834, 0.0, 0.7745966692414834};
 constexpr double kGaussWeights[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
+
+/// layout.rest = the nodes of `positions` some sample uses (in order, identity orientation);
+/// sample node indices renumbered accordingly.
+void keepUsedNodes(const std::vector<Eigen::Vector3d>& positions, RigidNodeLayout& layout) {
+  std::vector<int> renumber(positions.size(), -1);
+  for (const RigidNodeSample& s : layout.samples)
+    for (int n : s.weights.nodes) renumber[n] = 0;
+  layout.rest = RigidNodeConfiguration();
+  for (size_t i = 0; i < positions.size(); ++i) {
+    if (renumber[i] < 0) continue;
+    renumber[i] = layout.rest.numNodes();
+    layout.rest.p_TN.push_back(positions[i]);
+    layout.rest.q_TN.push_back(Eigen::Quaterniond::Identity());
+  }
+  for (RigidNodeSample& s : layout.samples)
+    for (int& n : s.weights.nodes) n = renumber[n];
+}
+
+/// Generalized winding number of a closed surface at p: 1 inside, 0 outside (solid angles of
+/// the triangles, Van Oosterom and Strackee).
+double windingNumber(const TriMesh& surface, const Eigen::Vector3d& p) {
+  double total = 0.0;
+  for (int t = 0; t < surface.triangles.cols(); ++t) {
+    const Eigen::Vector3d a = surface.vertices.col(surface.triangles(0, t)) - p;
+    const Eigen::Vector3d b = surface.vertices.col(surface.triangles(1, t)) - p;
+    const Eigen::Vector3d c = surface.vertices.col(surface.triangles(2, t)) - p;
+    const double la = a.norm(), lb = b.norm(), lc = c.norm();
+    const double numerator = a.dot(b.cross(c));
+    const double denominator = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+    total += 2.0 * std::atan2(numerator, denominator);
+  }
+  return total / (4.0 * M_PI);
+}
+
+/// Dart throwing: points of the box [lo, hi] inside the surface, pairwise >= spacing apart.
+std::vector<Eigen::Vector3d> poissonDisk(const TriMesh& surface, const Eigen::Vector3d& lo,
+                                         const Eigen::Vector3d& hi, double spacing,
+                                         std::mt19937& rng) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<Eigen::Vector3d> points;
+  for (int rejected = 0; rejected < 30 * static_cast<int>(points.size()) + 1000;) {
+    const Eigen::Vector3d p =
+        lo + (hi - lo).cwiseProduct(Eigen::Vector3d(unit(rng), unit(rng), unit(rng)));
+    bool keep = windingNumber(surface, p) > 0.5;
+    for (size_t i = 0; keep && i < points.size(); ++i)
+      keep = (points[i] - p).squaredNorm() >= spacing * spacing;
+    if (keep) {
+      points.push_back(p);
+      rejected = 0;
+    } else {
+      ++rejected;
+    }
+  }
+  return points;
+}
 
 }  // namespace
 
@@ -110,31 +167,58 @@ RigidNodeLayout trilinearGridLayout(const Eigen::Vector3d& min_corner, const Eig
   if (samples.empty())
     throw std::invalid_argument("trilinearGridLayout: no sample lies inside the body");
 
-  // Keep the nodes some sample depends on, renumbered in grid order.
-  const int grid_nodes = nodes.prod();
-  std::vector<int> renumber(grid_nodes, -1);
-  for (const RigidNodeSample& s : samples)
-    for (int n : s.weights.nodes) renumber[n] = 0;
+  std::vector<Eigen::Vector3d> positions;
+  for (int k = 0; k < nodes.z(); ++k)
+    for (int j = 0; j < nodes.y(); ++j)
+      for (int i = 0; i < nodes.x(); ++i)
+        positions.push_back(min_corner + cell.cwiseProduct(Eigen::Vector3d(i, j, k)));
   RigidNodeLayout layout;
-  for (int k = 0; k < nodes.z(); ++k) {
-    for (int j = 0; j < nodes.y(); ++j) {
-      for (int i = 0; i < nodes.x(); ++i) {
-        const int g = gridIndex(i, j, k);
-        if (renumber[g] < 0) continue;
-        renumber[g] = layout.rest.numNodes();
-        layout.rest.p_TN.push_back(min_corner + cell.cwiseProduct(Eigen::Vector3d(i, j, k)));
-        layout.rest.q_TN.push_back(Eigen::Quaterniond::Identity());
-      }
-    }
-  }
-  double total = 0.0;
-  for (RigidNodeSample& s : samples) {
-    for (int& n : s.weights.nodes) n = renumber[n];
-    total += s.volume;
-  }
-  if (volume > 0.0)
-    for (RigidNodeSample& s : samples) s.volume *= volume / total;
   layout.samples = std::move(samples);
+  keepUsedNodes(positions, layout);
+  double total = 0.0;
+  for (const RigidNodeSample& s : layout.samples) total += s.volume;
+  if (volume > 0.0)
+    for (RigidNodeSample& s : layout.samples) s.volume *= volume / total;
+  return layout;
+}
+
+RigidNodeLayout poissonDiskLayout(const TriMesh& surface, double node_spacing,
+                                  double sample_spacing, int neighbours, const Material& material,
+                                  std::mt19937& rng) {
+  const Material m = Material::validated(material);
+  requirePositive("poissonDiskLayout: sample_spacing", sample_spacing, "m");
+  if (!(node_spacing > sample_spacing) || !std::isfinite(node_spacing)) {
+    std::ostringstream msg;
+    msg << "poissonDiskLayout: node_spacing = " << node_spacing
+        << " m is out of range: must be finite and > sample_spacing = " << sample_spacing << " m";
+    throw std::invalid_argument(msg.str());
+  }
+  if (surface.triangles.cols() == 0 || checkSurfaceClosure(surface.triangles).open_edges != 0)
+    throw std::invalid_argument("poissonDiskLayout: the surface is not closed (open edges)");
+  double volume = 0.0;
+  for (int t = 0; t < surface.triangles.cols(); ++t)
+    volume += surface.vertices.col(surface.triangles(0, t))
+                  .dot(surface.vertices.col(surface.triangles(1, t))
+                           .cross(surface.vertices.col(surface.triangles(2, t)))) /
+              6.0;
+  requirePositive("poissonDiskLayout: enclosed volume", volume, "m^3");
+  const Eigen::Vector3d lo = surface.vertices.rowwise().minCoeff();
+  const Eigen::Vector3d hi = surface.vertices.rowwise().maxCoeff();
+  const std::vector<Eigen::Vector3d> nodes = poissonDisk(surface, lo, hi, node_spacing, rng);
+  const std::vector<Eigen::Vector3d> points = poissonDisk(surface, lo, hi, sample_spacing, rng);
+  if (neighbours < 1 || neighbours > kMaxSampleNeighbours ||
+      neighbours > static_cast<int>(nodes.size())) {
+    std::ostringstream msg;
+    msg << "poissonDiskLayout: neighbours = " << neighbours << " is out of range: must be in [1, "
+        << std::min<int>(kMaxSampleNeighbours, static_cast<int>(nodes.size())) << "] (at most "
+        << nodes.size() << " rigid nodes fit at node_spacing)";
+    throw std::invalid_argument(msg.str());
+  }
+  RigidNodeLayout layout;
+  for (const Eigen::Vector3d& p : points)
+    layout.samples.push_back(sampleOf(m, p, volume / static_cast<double>(points.size()),
+                                      shepardWeights(nodes, p, neighbours, 2.0)));
+  keepUsedNodes(nodes, layout);
   return layout;
 }
 

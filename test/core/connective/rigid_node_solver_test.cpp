@@ -8,6 +8,7 @@
 #include "surgical_sim/core/connective/rigid_node_quasi_static.h"
 #include "surgical_sim/core/connective/rigid_node_sampling.h"
 #include "surgical_sim/core/mesh/generators.h"
+#include "surgical_sim/core/mesh/surface.h"
 
 namespace surgical_sim::core {
 namespace {
@@ -228,6 +229,46 @@ TEST(RigidNodeSampling, TetMeshLayoutHasFourSamplesPerTetSummingToTheVolume) {
   test::expectInvalidArgument(
       [&] { tetMeshLayout(promoteToTet10(mesh), Material::create(1e4, 0.3, 1000.0)); },
       "needs at least one Tet4 element");
+}
+
+TEST(RigidNodeSampling, PoissonDiskLayoutFillsAClosedSurface) {
+  const TetMesh box = makeBox(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.4, 0.2, 0.1),
+                              Eigen::Vector3i(4, 2, 1), ElementType::Tet4);
+  TriMesh surface;
+  surface.vertices = box.nodes;
+  surface.triangles = extractSurface(box).triangles;
+  const Material material = Material::create(1e7, 0.3, 1000.0);
+  std::mt19937 rng(42);
+  const RigidNodeLayout layout = poissonDiskLayout(surface, 0.07, 0.025, 6, material, rng);
+  const RigidNodeModel model(layout.rest, layout.samples);  // validates the partition of unity
+  EXPECT_NEAR(model.totalVolume(), 0.008, 1e-15);
+  EXPECT_GT(model.numNodes(), 8);
+  EXPECT_GT(model.numSamples(), 5 * model.numNodes());
+  for (int i = 0; i < model.numNodes(); ++i) {
+    const Eigen::Vector3d& p = layout.rest.p_TN[i];
+    EXPECT_TRUE((p.array() >= 0.0).all() && (p.array() <= Eigen::Array3d(0.4, 0.2, 0.1)).all());
+    for (int j = 0; j < i; ++j) EXPECT_GE((p - layout.rest.p_TN[j]).norm(), 0.07);
+  }
+  std::mt19937 same(42);
+  EXPECT_EQ(poissonDiskLayout(surface, 0.07, 0.025, 6, material, same).rest.p_TN, layout.rest.p_TN);
+  // Clamped at its lowest-x nodes, it hangs under gravity.
+  RigidNodeProblem problem;
+  problem.model = &model;
+  problem.body_acceleration = Eigen::Vector3d(0, 0, -9.81);
+  for (int i = 0; i < model.numNodes(); ++i)
+    if (layout.rest.p_TN[i].x() < 0.1)
+      for (int c = 0; c < kRigidNodeDofs; ++c) problem.fixed_dofs.push_back(kRigidNodeDofs * i + c);
+  RigidNodeConfiguration q = layout.rest;
+  RigidNodeQuasiStatic solver;
+  EXPECT_EQ(solver.solve(problem, q).status, StepStatus::Ok);
+  expectUnitQuaternions(q);
+
+  test::expectInvalidArgument([&] { poissonDiskLayout(surface, 0.02, 0.025, 6, material, rng); },
+                              "node_spacing = 0.02");
+  TriMesh open = surface;
+  open.triangles.conservativeResize(3, open.triangles.cols() - 1);
+  test::expectInvalidArgument([&] { poissonDiskLayout(open, 0.07, 0.025, 6, material, rng); },
+                              "not closed");
 }
 
 TEST(RigidNodeSolvers, BadProblemsAreRejectedWithTheFieldNamed) {

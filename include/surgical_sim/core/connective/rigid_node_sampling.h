@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <random>
 #include <vector>
 
 #include "surgical_sim/core/connective/rigid_node_model.h"
@@ -37,5 +38,22 @@ RigidNodeLayout trilinearGridLayout(const Eigen::Vector3d& min_corner, const Eig
                                     const Eigen::Vector3i& nodes, const Material& material,
                                     const std::function<bool(const Eigen::Vector3d&)>& inside = {},
                                     double volume = 0.0);
+
+/// Meshless layout inside a closed, outward-oriented triangle surface (Bosman's voxel-free
+/// variant): rigid nodes and samples by Poisson-disk dart throwing in the surface's bounding box
+/// (a point is kept if it is inside, by winding number, and at least its spacing away from the
+/// points kept before; sampling stops after 30 n_kept + 1000 consecutive rejections), nodes at
+/// node_spacing, samples at sample_spacing, each sample with Shepard weights (exponent 2) on its
+/// `neighbours` nearest nodes and volume V / samples (V the enclosed volume). Nodes no sample
+/// uses are dropped; rest orientations are the identity.
+/// @param surface closed (checkSurfaceClosure: no open edge) with positive enclosed volume [m]
+/// @param node_spacing, sample_spacing [m], finite, 0 < sample_spacing < node_spacing
+/// @param neighbours in [1, kMaxSampleNeighbours] and at most the number of nodes placed
+/// @param rng the only source of randomness (same seed, same layout)
+/// @throws std::invalid_argument naming the parameter, or if the surface is open, encloses no
+///         volume or too few points fit
+RigidNodeLayout poissonDiskLayout(const TriMesh& surface, double node_spacing,
+                                  double sample_spacing, int neighbours, const Material& material,
+                                  std::mt19937& rng);
 
 }  // namespace surgical_sim::core
