@@ -37,7 +37,8 @@ bool RigidNodeTangentSystem::assemble(const RigidNodeProblem& problem,
                                       const RigidNodeConfiguration& q, double mass_coefficient,
                                       double stiffness_coefficient) {
   const RigidNodeModel& model = *problem.model;
-  if (analysed_ != &model || system_.rows() != model.numDofs()) {
+  if (analysed_ != &model || system_.rows() != model.numDofs() ||
+      system_.nonZeros() != model.stiffnessPattern().nonZeros()) {
     stiffness_ = model.stiffnessPattern();
     mass_ = stiffness_;
     system_ = stiffness_;
