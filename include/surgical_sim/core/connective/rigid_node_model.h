@@ -54,7 +54,9 @@ struct SampleKinematics {
 /// increments). The tangent K = -df/dq = dW/dq is positive semi-definite at rest; its geometric
 /// rotation-rotation blocks are not symmetric (spatial increments are not coordinates), so
 /// assembleStiffness symmetrizes on request. Precomputes per (node, sample) pair at
-/// construction; evaluation allocates nothing (but sampleKinematics).
+/// construction; evaluation allocates nothing (but sampleKinematics). Configurations passed to
+/// the evaluation functions must have numNodes() nodes with unit quaternions (not checked
+/// there: checkRigidNodeConfiguration); vectors and matrices of the wrong size throw.
 ///
 /// This is not a TissueModel: its unknowns are 6 per node and orientations are updated
 /// multiplicatively (applyRigidNodeIncrement), not by adding to a 3n vector. Its solvers are
@@ -77,7 +79,8 @@ class RigidNodeModel {
   double totalVolume() const;
   double totalMass() const;
 
-  /// Position [m] of a point with weights w (rest position rest_point) under the skinning map.
+  /// Position [m] of a point with weights w (rest position rest_point) under the skinning map;
+  /// w must pass checkSampleWeights for numNodes() (not checked).
   Eigen::Vector3d mapPoint(const RigidNodeConfiguration& q, const SampleWeights& w,
                            const Eigen::Vector3d& rest_point) const;
   /// Position of sample s [m].
