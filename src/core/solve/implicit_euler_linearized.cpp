@@ -60,6 +60,7 @@ StepReport ImplicitEulerLinearized::step(const DynamicsProblem& problem, double 
   system_.assemble(mass, 1.0 + dt * alpha, stiffness_, dt * dt + dt * beta);
   system_.projectDirichlet(mask_);
   if (!rhs_.allFinite()) return restoreState(state, StepStatus::NonFinite, report);
+  solver_->setLinearizationState(model, state.x);
   if (!solver_->factorize(system_.matrix()))
     return restoreState(state, StepStatus::SolverFailed, report);
   dv_.setZero();

@@ -4,6 +4,7 @@
 
 #include "surgical_sim/core/solve/background_cholesky_pcg_solver.h"
 #include "surgical_sim/core/solve/cholmod_solver.h"
+#include "surgical_sim/core/solve/warped_cholesky_pcg_solver.h"
 
 namespace surgical_sim::core {
 
@@ -21,6 +22,8 @@ std::unique_ptr<LinearSolver> makeLinearSolver(SolverKind kind, const PcgSetting
       return std::make_unique<PcgSolver>(PcgPreconditioner::CholeskyReuse, pcg);
     case SolverKind::PcgCholeskyBackground:
       return std::make_unique<BackgroundCholeskyPcgSolver>(pcg);
+    case SolverKind::PcgCholeskyWarped:
+      return std::make_unique<WarpedCholeskyPcgSolver>(pcg);
   }
   throw std::invalid_argument("makeLinearSolver: invalid SolverKind");
 }

@@ -30,6 +30,7 @@ bool NewtonIntegratorBase::newtonDirection(const DynamicsProblem& problem, const
   stiffness_round_off_ = absoluteProductNorm(stiffness_, x, work_);
   assembleSystem();
   system_.projectDirichlet(mask_);
+  solver_->setLinearizationState(*problem.model, x);
   if (!solver_->factorize(system_.matrix())) return false;
   rhs_ = -residual_;
   dx_.setZero();
@@ -91,6 +92,7 @@ bool NewtonIntegratorBase::factorizeCompliance() {
     model_->assembleStiffness(compliance_x_, mode, stiffness_);
     assembleSystem();
     system_.projectDirichlet(mask_);
+    solver_->setLinearizationState(*model_, compliance_x_);
     if (solver_->factorize(system_.matrix())) return true;
   }
   return false;

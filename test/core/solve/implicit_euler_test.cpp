@@ -129,7 +129,7 @@ TEST(ImplicitEulerNewton, EverySolverGivesTheSameStep) {
   for (int k = 0; k < 5; ++k)
     ASSERT_EQ(cholmod->step(problem, 0.01, reference).status, StepStatus::Ok);
   for (const char* solver : {"pcg_jacobi", "pcg_block_jacobi", "pcg_ichol", "pcg_cholesky_reuse",
-                             "pcg_cholesky_background"}) {
+                             "pcg_cholesky_background", "pcg_cholesky_warped"}) {
     SimulationState state = restState(model);
     auto other = integrator("implicit_euler_newton", solver);
     for (int k = 0; k < 5; ++k) ASSERT_EQ(other->step(problem, 0.01, state).status, StepStatus::Ok);

@@ -13,8 +13,13 @@
 namespace surgical_sim::core::test {
 namespace {
 
-const char* const kSolverNames[] = {"cholmod",   "pcg_jacobi",         "pcg_block_jacobi",
-                                    "pcg_ichol", "pcg_cholesky_reuse", "pcg_cholesky_background"};
+const char* const kSolverNames[] = {"cholmod",
+                                    "pcg_jacobi",
+                                    "pcg_block_jacobi",
+                                    "pcg_ichol",
+                                    "pcg_cholesky_reuse",
+                                    "pcg_cholesky_background",
+                                    "pcg_cholesky_warped"};
 
 PcgSettings tightPcg() {
   PcgSettings pcg;

@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "surgical_sim/core/tissue/material.h"
 #include "surgical_sim/core/tissue/model_factory.h"
@@ -43,6 +44,10 @@ class CutTissueModel final : public TissueModel {
   void applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
                       Eigen::VectorXd& y) const override {
     elastic_->applyStiffness(x, mode, v, y);
+  }
+  bool nodeRotations(const Eigen::VectorXd& x,
+                     std::vector<Eigen::Matrix3d>& rotations) const override {
+    return elastic_->nodeRotations(x, rotations);
   }
 
  private:

@@ -4,6 +4,8 @@
 #include <Eigen/SparseCore>
 #include <string>
 
+#include "surgical_sim/core/tissue/tissue_model.h"
+
 namespace surgical_sim::core {
 
 /// Result of one linear solve.
@@ -22,10 +24,14 @@ class LinearSolver {
  public:
   virtual ~LinearSolver() = default;
   /// "cholmod", "pcg_jacobi", "pcg_block_jacobi", "pcg_ichol", "pcg_cholesky_reuse",
-  /// "pcg_cholesky_background".
+  /// "pcg_cholesky_background", "pcg_cholesky_warped".
   virtual std::string name() const = 0;
   /// Symbolic analysis for A's pattern. Call again only when the pattern changes (topology).
   virtual void analyzePattern(const Eigen::SparseMatrix<double>& A) = 0;
+  /// Announces the state of the matrix the next factorize() receives: model at positions x (size
+  /// 3n, the matrix 3n x 3n). Solvers whose preconditioner uses the model (pcg_cholesky_warped:
+  /// node rotations) read it here; the default ignores it. Allocation-free after the first call.
+  virtual void setLinearizationState(const TissueModel& /*model*/, const Eigen::VectorXd& /*x*/) {}
   /// Numeric set-up (factorization or preconditioner) for A with the analysed pattern.
   /// Returns false if A is not positive definite or set-up failed.
   virtual bool factorize(const Eigen::SparseMatrix<double>& A) = 0;

@@ -49,6 +49,10 @@ class EfgModel final : public GroupAssembledModel {
   /// y = K(x) v [N], y resized to 3n.
   void applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
                       Eigen::VectorXd& y) const override;
+  /// Particle a: rotation (signed polar) of sum_e V_e F_e over the IPs e that have a among their
+  /// neighbours (identity for a particle of no IP).
+  bool nodeRotations(const Eigen::VectorXd& x,
+                     std::vector<Eigen::Matrix3d>& rotations) const override;
 
   const EfgOptions& options() const { return options_; }
   /// The grids: particles (= restPositions()), IPs, their volumes and neighbours (each IP's in

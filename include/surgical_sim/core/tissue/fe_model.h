@@ -46,6 +46,10 @@ class FeModel final : public GroupAssembledModel {
   /// y = K(x) v [N], y resized to 3n.
   void applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
                       Eigen::VectorXd& y) const override;
+  /// Node i: rotation (signed polar) of sum_e,q w_q detJ_q F_q over the quadrature points of the
+  /// elements containing i (identity for a node in no element).
+  bool nodeRotations(const Eigen::VectorXd& x,
+                     std::vector<Eigen::Matrix3d>& rotations) const override;
 
   /// The constitutive law.
   const HyperelasticLaw& law() const { return *law_; }

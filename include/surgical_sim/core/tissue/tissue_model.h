@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <string>
+#include <vector>
 
 namespace surgical_sim::core {
 
@@ -63,6 +64,16 @@ class TissueModel {
   /// Operator form: y = K(x) v without assembling a global matrix (element by element).
   virtual void applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
                               Eigen::VectorXd& y) const = 0;
+
+  /// Per-node rotations at x (size 3n) relative to the rest state, for preconditioners that warp a
+  /// factor of another state's matrix (pcg_cholesky_warped): rotations[i] is the rotation of node
+  /// i's local deformation (a rigid motion x = R X + t gives R at every node, the rest state the
+  /// identity). Resizes rotations to n (allocates only when the size changes). Returns false
+  /// (rotations untouched) if the model defines none, the default.
+  virtual bool nodeRotations(const Eigen::VectorXd& /*x*/,
+                             std::vector<Eigen::Matrix3d>& /*rotations*/) const {
+    return false;
+  }
 };
 
 }  // namespace surgical_sim::core
