@@ -4,7 +4,6 @@
 
 #include "surgical_sim/core/solve/background_cholesky_pcg_solver.h"
 #include "surgical_sim/core/solve/cholmod_solver.h"
-#include "surgical_sim/core/solve/warped_cholesky_pcg_solver.h"
 
 namespace surgical_sim::core {
 
@@ -23,7 +22,7 @@ std::unique_ptr<LinearSolver> makeLinearSolver(SolverKind kind, const PcgSetting
     case SolverKind::PcgCholeskyBackground:
       return std::make_unique<BackgroundCholeskyPcgSolver>(pcg);
     case SolverKind::PcgCholeskyWarped:
-      return std::make_unique<WarpedCholeskyPcgSolver>(pcg);
+      return std::make_unique<PcgSolver>(PcgPreconditioner::CholeskyWarped, pcg);
   }
   throw std::invalid_argument("makeLinearSolver: invalid SolverKind");
 }

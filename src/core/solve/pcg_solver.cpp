@@ -39,8 +39,16 @@ std::string PcgSolver::name() const {
       return "pcg_ichol";
     case PcgPreconditioner::CholeskyReuse:
       return "pcg_cholesky_reuse";
+    case PcgPreconditioner::CholeskyWarped:
+      return "pcg_cholesky_warped";
   }
   return "pcg";
+}
+
+void PcgSolver::setLinearizationState(const TissueModel& model, const Eigen::VectorXd& x) {
+  if (preconditioner_ == PcgPreconditioner::CholeskyWarped) {
+    state_announced_ = model.nodeRotations(x, state_rotations_);
+  }
 }
 
 void PcgSolver::analyzePattern(const Eigen::SparseMatrix<double>& A) {
@@ -63,11 +71,14 @@ void PcgSolver::analyzePattern(const Eigen::SparseMatrix<double>& A) {
       incomplete_cholesky_.analyzePattern(matrix_);
       break;
     case PcgPreconditioner::CholeskyReuse:
+    case PcgPreconditioner::CholeskyWarped:
       cholesky_.analyzePattern(matrix_);
       break;
   }
   calls_since_refresh_ = 0;
   cholesky_valid_ = false;
+  factor_has_rotations_ = false;
+  warped_ = false;
   factorized_ = false;
 }
 
@@ -85,9 +96,11 @@ bool PcgSolver::factorize(const Eigen::SparseMatrix<double>& A) {
       factorized_ = buildIncompleteCholesky();
       break;
     case PcgPreconditioner::CholeskyReuse:
+    case PcgPreconditioner::CholeskyWarped:
       factorized_ = buildCholeskyReuse();
       break;
   }
+  state_announced_ = false;
   return factorized_;
 }
 
@@ -110,12 +123,37 @@ bool PcgSolver::buildIncompleteCholesky() {
 }
 
 bool PcgSolver::buildCholeskyReuse() {
+  const bool rotations =
+      state_announced_ && 3 * static_cast<Eigen::Index>(state_rotations_.size()) == matrix_.rows();
+  warped_ = false;
   if (!cholesky_valid_ || calls_since_refresh_ >= settings_.refresh_interval) {
     calls_since_refresh_ = 0;
     cholesky_valid_ = cholesky_.factorize(matrix_);
+    ++cholesky_factorizations_;
+    factor_has_rotations_ = rotations;
+    if (rotations) factor_rotations_ = state_rotations_;
+  } else if (rotations && factor_has_rotations_) {
+    warp_.resize(state_rotations_.size());
+    for (size_t i = 0; i < warp_.size(); ++i) {
+      warp_[i].noalias() = state_rotations_[i] * factor_rotations_[i].transpose();
+    }
+    warped_ = true;
   }
   ++calls_since_refresh_;
   return cholesky_valid_;
+}
+
+bool PcgSolver::applyWarpedCholesky(const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+  for (size_t i = 0; i < warp_.size(); ++i) {
+    const Eigen::Index k = 3 * static_cast<Eigen::Index>(i);
+    z.segment<3>(k).noalias() = warp_[i].transpose() * r.segment<3>(k);
+  }
+  if (!cholesky_.precondition(z, scratch_)) return false;
+  for (size_t i = 0; i < warp_.size(); ++i) {
+    const Eigen::Index k = 3 * static_cast<Eigen::Index>(i);
+    z.segment<3>(k).noalias() = warp_[i] * scratch_.segment<3>(k);
+  }
+  return true;
 }
 
 bool PcgSolver::applyPreconditioner(const Eigen::VectorXd& r, Eigen::VectorXd& z) {
@@ -150,6 +188,8 @@ bool PcgSolver::applyPreconditioner(const Eigen::VectorXd& r, Eigen::VectorXd& z
     }
     case PcgPreconditioner::CholeskyReuse:
       return cholesky_.precondition(r, z);
+    case PcgPreconditioner::CholeskyWarped:
+      return warped_ ? applyWarpedCholesky(r, z) : cholesky_.precondition(r, z);
   }
   return false;
 }

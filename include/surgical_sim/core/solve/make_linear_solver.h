@@ -34,9 +34,9 @@ inline constexpr std::array<EnumName<SolverKind>, 7> kSolverNames{{
 inline const char* solverName(SolverKind kind) { return enumName(kSolverNames, kind); }
 
 /// Creates a linear solver: Cholmod (CholmodSolver; pcg settings ignored), PcgJacobi,
-/// PcgBlockJacobi, PcgIchol, PcgCholeskyReuse (PcgSolver with the matching preconditioner and
-/// pcg settings), PcgCholeskyBackground (BackgroundCholeskyPcgSolver with the pcg settings),
-/// PcgCholeskyWarped (WarpedCholeskyPcgSolver with the pcg settings).
+/// PcgBlockJacobi, PcgIchol, PcgCholeskyReuse, PcgCholeskyWarped (PcgSolver with the matching
+/// preconditioner and pcg settings), PcgCholeskyBackground (BackgroundCholeskyPcgSolver with the
+/// pcg settings).
 /// @throws std::invalid_argument naming the offending "solver.*" setting if pcg is out of range
 ///         (PCG solvers only).
 std::unique_ptr<LinearSolver> makeLinearSolver(SolverKind kind, const PcgSettings& pcg);

@@ -6,6 +6,7 @@
 #include <Eigen/SparseCore>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "surgical_sim/core/solve/block_jacobi.h"
 #include "surgical_sim/core/solve/cholmod_solver.h"
@@ -25,6 +26,14 @@ enum class PcgPreconditioner {
   /// single-precision copy (CholmodPreconditioning::SinglePrecision): a fresh factor then needs 2
   /// iterations instead of 1 to reach 1e-10, an older one as many as with the double factor.
   CholeskyReuse,
+  /// The CholeskyReuse factor warped by per-node rotations ("pcg_cholesky_warped"): a co-rotated
+  /// stiffness at x is close to W K_f W^T, K_f the matrix of the factor's state x_f and W =
+  /// blockdiag(R_i(x) R_i(x_f)^T) (TissueModel::nodeRotations of the states announced by
+  /// setLinearizationState(); lumped masses are rotation invariant), so z = W L^-T L^-1 W^T r
+  /// stays a good preconditioner while the body turns. A factorize() without an announced state
+  /// with rotations (or of another node count), or whose factor was taken without, is not warped
+  /// (as CholeskyReuse).
+  CholeskyWarped,
 };
 
 /// Settings of PcgSolver (numerical, not physical: the defaults are documented choices).
@@ -32,7 +41,8 @@ struct PcgSettings {
   /// CG iteration limit [-], >= 1. Unset: sized from the problem, pcgIterationCap().
   std::optional<int> max_iterations;
   double relative_tolerance = 1e-10;  ///< stop when |b - A x| <= tol |b| [-], in (0, 1)
-  int refresh_interval = 10;  ///< CholeskyReuse: refactorize every this many calls [-], >= 1
+  /// CholeskyReuse, CholeskyWarped: refactorize every this many factorize() calls [-], >= 1
+  int refresh_interval = 10;
 };
 
 /// kMinSizedPcgIterations [-]: the smallest iteration limit pcgIterationCap() gives.
@@ -49,8 +59,9 @@ void validatePcgSettings(const PcgSettings& settings);
 
 /// Preconditioned conjugate gradient for symmetric positive-definite sparse matrices.
 ///
-/// All work vectors are allocated in analyzePattern(); solve() allocates nothing. factorize()
-/// copies the matrix values (the pattern must be the analysed one) and builds the preconditioner.
+/// All work vectors are allocated in analyzePattern() (CholeskyWarped: the rotations in the first
+/// setLinearizationState()); solve() allocates nothing. factorize() copies the matrix values (the
+/// pattern must be the analysed one) and builds the preconditioner.
 /// Not copyable or movable.
 class PcgSolver final : public LinearSolver {
  public:
@@ -61,8 +72,11 @@ class PcgSolver final : public LinearSolver {
   PcgSolver(PcgSolver&&) = delete;
   PcgSolver& operator=(PcgSolver&&) = delete;
 
-  /// "pcg_jacobi", "pcg_block_jacobi", "pcg_ichol" or "pcg_cholesky_reuse".
+  /// "pcg_jacobi", "pcg_block_jacobi", "pcg_ichol", "pcg_cholesky_reuse" or "pcg_cholesky_warped".
   std::string name() const override;
+  /// CholeskyWarped: stores model's node rotations at x for the next factorize(); otherwise
+  /// ignored.
+  void setLinearizationState(const TissueModel& model, const Eigen::VectorXd& x) override;
   /// Stores A's pattern, sizes all work vectors, analyses the preconditioner's pattern.
   void analyzePattern(const Eigen::SparseMatrix<double>& A) override;
   /// Copies A's values and builds the preconditioner. Returns false if the pattern differs, a
@@ -73,10 +87,17 @@ class PcgSolver final : public LinearSolver {
   /// (p^T A p <= 0, NaN) or at the cap (then capped).
   LinearSolveReport solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
 
+  /// Cholesky factorizations since construction (CholeskyReuse, CholeskyWarped; for tests and
+  /// benchmarks).
+  int choleskyFactorizations() const { return cholesky_factorizations_; }
+
  private:
   bool buildJacobi();
   bool buildIncompleteCholesky();
+  /// Refactorizes when due; CholeskyWarped: stores the factor's rotations or sets the warp.
   bool buildCholeskyReuse();
+  /// z = W L^-T L^-1 W^T r with the warp_ blocks.
+  bool applyWarpedCholesky(const Eigen::VectorXd& r, Eigen::VectorXd& z);
   /// z = P^-1 r. Returns false if the preconditioner application failed.
   bool applyPreconditioner(const Eigen::VectorXd& r, Eigen::VectorXd& z);
 
@@ -92,7 +113,15 @@ class PcgSolver final : public LinearSolver {
   CholmodSolver cholesky_{CholmodOrdering::Metis, CholmodPreconditioning::SinglePrecision};
   int calls_since_refresh_ = 0;
   bool cholesky_valid_ = false;
+  int cholesky_factorizations_ = 0;
   bool factorized_ = false;
+  // CholeskyWarped.
+  std::vector<Eigen::Matrix3d> state_rotations_;   ///< of the last setLinearizationState()
+  bool state_announced_ = false;                   ///< state_rotations_ are for the next factorize
+  std::vector<Eigen::Matrix3d> factor_rotations_;  ///< at the factor's state
+  bool factor_has_rotations_ = false;
+  std::vector<Eigen::Matrix3d> warp_;  ///< W's blocks R_i(x) R_i(x_f)^T
+  bool warped_ = false;                ///< the current preconditioner applies warp_
 };
 
 }  // namespace surgical_sim::core

@@ -1,4 +1,4 @@
-#include "surgical_sim/core/solve/warped_cholesky_pcg_solver.h"
+#include "surgical_sim/core/solve/pcg_solver.h"
 
 #include <gtest/gtest.h>
 
@@ -87,28 +87,28 @@ int iterationsAfterRotation(LinearSolver& solver, const TissueModel& model) {
   return report.iterations;
 }
 
-TEST(WarpedCholeskyPcgSolver, RestFactorAfterLargeRotationNeedsFewerIterationsThanPlainReuse) {
+TEST(PcgCholeskyWarped, RestFactorAfterLargeRotationNeedsFewerIterationsThanPlainReuse) {
   const FeModel fe = corotationalBeam();
   const EfgModel efg = efgBeam();
   for (const TissueModel* model :
        {static_cast<const TissueModel*>(&fe), static_cast<const TissueModel*>(&efg)}) {
-    WarpedCholeskyPcgSolver warped(settings(100));
+    PcgSolver warped(PcgPreconditioner::CholeskyWarped, settings(100));
     PcgSolver plain(PcgPreconditioner::CholeskyReuse, settings(100));
     const int warped_iterations = iterationsAfterRotation(warped, *model);
     const int plain_iterations = iterationsAfterRotation(plain, *model);
-    EXPECT_EQ(warped.factorizations(), 1);
+    EXPECT_EQ(warped.choleskyFactorizations(), 1);
     // Warping recovers most of what the rotation costs the plain factor.
     EXPECT_LT(2 * warped_iterations, plain_iterations) << model->name();
   }
 }
 
-TEST(WarpedCholeskyPcgSolver, WithoutRotationsActsAsTheReusedFactor) {
+TEST(PcgCholeskyWarped, WithoutRotationsActsAsTheReusedFactor) {
   const FeModel model = corotationalBeam();
   const Eigen::VectorXd x = bentAndRotated(model);
   const Eigen::SparseMatrix<double> A0 = systemMatrix(model, model.restPositions());
   const Eigen::SparseMatrix<double> A = systemMatrix(model, x);
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1.0, 2.0);
-  WarpedCholeskyPcgSolver warped(settings(100));
+  PcgSolver warped(PcgPreconditioner::CholeskyWarped, settings(100));
   PcgSolver plain(PcgPreconditioner::CholeskyReuse, settings(100));
   int iterations[2] = {0, 0};
   int k = 0;
@@ -125,18 +125,18 @@ TEST(WarpedCholeskyPcgSolver, WithoutRotationsActsAsTheReusedFactor) {
   EXPECT_EQ(iterations[0], iterations[1]);
 }
 
-TEST(WarpedCholeskyPcgSolver, RefactorizesEveryRefreshInterval) {
+TEST(PcgCholeskyWarped, RefactorizesEveryRefreshInterval) {
   const FeModel model = corotationalBeam();
   const Eigen::SparseMatrix<double> A = systemMatrix(model, model.restPositions());
-  WarpedCholeskyPcgSolver solver(settings(3));
+  PcgSolver solver(PcgPreconditioner::CholeskyWarped, settings(3));
   solver.analyzePattern(A);
   for (int k = 0; k < 7; ++k) ASSERT_TRUE(solver.factorize(A));
-  EXPECT_EQ(solver.factorizations(), 3);  // calls 1, 4 and 7
+  EXPECT_EQ(solver.choleskyFactorizations(), 3);  // calls 1, 4 and 7
 }
 
 // A free beam spinning about a skew axis (4 rad in 20 steps) with a bending initial velocity:
 // the integrator announces each Newton state, and the steps match CHOLMOD's.
-TEST(WarpedCholeskyPcgSolver, SpinningBeamStepsMatchCholmodWithFewerIterationsThanReuse) {
+TEST(PcgCholeskyWarped, SpinningBeamStepsMatchCholmodWithFewerIterationsThanReuse) {
   const FeModel model = corotationalBeam();
   const DynamicsProblem problem = makeProblem(model, {});
   const Eigen::Vector3d omega = 20.0 * Eigen::Vector3d(0.2, 1.0, 0.4).normalized();  // [rad/s]
