@@ -346,9 +346,14 @@ std::vector<Enum> readEnums(const KeyReader& r, const std::string& key,
 MeasureSpec readMeasure(const KeyReader& scene) {
   const KeyReader r = scene.child("measure");
   r.onlyKeys({"type", "region", "component", "reference", "reference_formula", "face_area",
-              "rest_length"});
+              "rest_length", "reference_solver"});
   MeasureSpec m;
   m.type = r.choice("type", {"tip_displacement", "uniaxial_svk_force", "self_reference"});
+  if (r.has("reference_solver")) {
+    if (m.type != "self_reference")
+      r.fail("reference_solver", "only a self_reference measure has a reference run");
+    m.reference_solver = readEnum(r, "reference_solver", kSolverNames);
+  }
   if (m.type == "self_reference") return m;
   m.region = readRegion(r, "region");
   m.component = r.choice("component", {"x", "y", "z"})[0] - 'x';
@@ -793,13 +798,52 @@ RuntimeScene parseRuntime(const YAML::Node& root, const std::string& path) {
   return s;
 }
 
+/// `base` with `overlay` laid over it: maps merge key by key (recursively), anything else
+/// (scalars, lists) replaces. `base` is not changed.
+YAML::Node overlaid(const YAML::Node& base, const YAML::Node& overlay) {
+  if (!base.IsMap() || !overlay.IsMap()) return YAML::Clone(overlay);
+  YAML::Node merged = YAML::Clone(base);
+  for (const auto& entry : overlay) {
+    const std::string key = entry.first.as<std::string>();
+    merged[key] =
+        merged[key].IsDefined() ? overlaid(merged[key], entry.second) : YAML::Clone(entry.second);
+  }
+  return merged;
+}
+
+BenchmarkScene parseBenchmark(const YAML::Node& root, const std::string& path);
+
+/// The optional 'variants' list: each item a name and keys laid over the rest of the file
+/// (overlaid()), parsed as a whole benchmark file of its own.
+std::vector<BenchmarkVariant> readVariants(const KeyReader& r, const YAML::Node& root,
+                                           const std::string& path) {
+  std::vector<BenchmarkVariant> variants;
+  YAML::Node base = YAML::Clone(root);
+  base.remove("variants");
+  forEachItem(r, "variants", [&](const KeyReader& item) {
+    const std::string name = readIdentifier(item, "name");
+    for (const BenchmarkVariant& v : variants)
+      if (v.name == name) item.fail("name", "duplicate variant name '" + name + "'");
+    if (item.has("variants")) item.fail("variants", "a variant cannot have variants");
+    YAML::Node overlay = YAML::Clone(item.node());
+    overlay.remove("name");
+    try {
+      variants.push_back({name, parseBenchmark(overlaid(base, overlay), path)});
+    } catch (const std::invalid_argument& e) {
+      item.fail("name", "variant '" + name + "' with its keys laid over the file: " + e.what());
+    }
+  });
+  if (r.has("variants") && variants.empty()) r.fail("variants", "must list at least one variant");
+  return variants;
+}
+
 BenchmarkScene parseBenchmark(const YAML::Node& root, const std::string& path) {
   const KeyReader r(root, "", path);
   rejectForeignKeys(r, kRuntimeKeys, kRuntimeMeshKeys);
-  r.onlyKeys({"name",        "description", "mesh",      "material",    "models",
-              "integrators", "solvers",     "time_step", "steps",       "load_factors",
-              "gravity",     "damping",     "newton",    "pcg",         "fixed",
-              "prescribed",  "measure",     "tools",     "tissue_pose", "efg"});
+  r.onlyKeys({"name",        "description", "mesh",    "material",     "models",  "integrators",
+              "solvers",     "time_step",   "steps",   "load_factors", "gravity", "damping",
+              "newton",      "pcg",         "fixed",   "prescribed",   "measure", "tools",
+              "tissue_pose", "efg",         "variants"});
   BenchmarkScene s;
   s.path = path;
   readBase(r, {"resolutions", "element_types"}, s);
@@ -843,6 +887,7 @@ BenchmarkScene parseBenchmark(const YAML::Node& root, const std::string& path) {
   if (!s.measure.reference_formula.empty() && s.gravity[s.measure.component] == 0.0)
     r.fail("gravity", "measure.reference_formula '" + s.measure.reference_formula +
                           "' needs a non-zero gravity component along measure.component");
+  s.variants = readVariants(r, root, path);
   return s;
 }
 

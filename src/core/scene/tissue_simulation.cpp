@@ -197,6 +197,7 @@ SimulationStepStats TissueSimulation::step() {
         combined(stats.report.status, slipped ? combined(s, StepStatus::ContactLimited) : s);
     stats.collision_seconds = 1e-3 * contact_->timings().collision_ms;
     stats.contact_seconds = 1e-3 * contact_->timings().contact_ms;
+    stats.contact_timings = contact_->timings();
     stats.contacts = static_cast<int>(contact_->contacts().size());
     contact_nodes_.clear();
     for (const ContactPoint& c : contact_->contacts())

@@ -62,8 +62,12 @@ struct MeasureSpec {
   /// "tip_displacement": mean displacement component of the nodes in region vs reference [m];
   /// "uniaxial_svk_force": reaction force on the prescribed region along `component` at each
   ///   stretch in load_factors vs (E S0/2) l (l^2 - 1); error = max relative over the path;
-  /// "self_reference": final positions vs a tight Newton + CHOLMOD run of the same mesh.
+  /// "self_reference": final positions vs a tight Newton run of the same mesh (relative
+  ///   residual 1e-10) with reference_solver.
   std::string type;
+  /// self_reference only: the reference run's linear solver (key 'reference_solver', default
+  /// cholmod; an iterative one solves each Newton system to a relative residual of 1e-10).
+  SolverKind reference_solver = SolverKind::Cholmod;
   Region region;
   int component = 0;                ///< 0 = x, 1 = y, 2 = z
   std::optional<double> reference;  ///< tip_displacement reference [m] (sign included)
@@ -173,6 +177,8 @@ struct RuntimeScene : SceneBase {
   std::optional<RobotSpec> robot;
 };
 
+struct BenchmarkVariant;
+
 /// A benchmark file: the shared scene, sweeps over resolution, element type, model, integrator
 /// and solver, a number of steps or a load path, prescribed displacements, and what error_rel
 /// is measured against.
@@ -188,6 +194,16 @@ struct BenchmarkScene : SceneBase {
   std::vector<double> load_factors;  ///< load path (quasi-static stretch values etc.)
   std::vector<PrescribedBc> prescribed;
   MeasureSpec measure;
+  /// Key 'variants': configurations run side by side by the benches (e.g. a solver set-up
+  /// before and after a change). Each item has a `name` and any other keys of the file, laid
+  /// over it (maps merge key by key, other values replace); empty: the file is one configuration.
+  std::vector<BenchmarkVariant> variants;
+};
+
+/// One item of BenchmarkScene::variants: the whole file with the item's keys laid over it.
+struct BenchmarkVariant {
+  std::string name;  ///< [A-Za-z][A-Za-z0-9_]*, unique in the file
+  BenchmarkScene scene;
 };
 
 /// Working-memory budget of one case of a scene [bytes]: a generated mesh whose estimate

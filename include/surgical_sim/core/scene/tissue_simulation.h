@@ -29,6 +29,7 @@ struct SimulationStepStats {
   double collision_seconds = 0.0;
   double integrate_seconds = 0.0;
   double contact_seconds = 0.0;
+  ContactTimings contact_timings;  ///< split of the contact phase (zero without tools) [ms]
   /// Blade detection and topology update (cutter, masses, model, surface, contact) [s]; 0 for a
   /// scene that never received a cut.
   double cut_seconds = 0.0;
