@@ -110,8 +110,7 @@ def plot_phases(rows, title, out_path):
         total = number(row, "ms_per_step")
         rest = total - sum(values)
         values.append(rest if math.isfinite(rest) and rest > 0 else 0.0)
-        labels.append("%s\n%s (%d)" % (series_key(row), row["case"].split("_")[-1],
-                                       int(number(row, "nodes"))))
+        labels.append("%s\n%d nodes" % (series_key(row), int(number(row, "nodes"))))
         stacks.append(values)
     names = [name for _, name in phases] + ["other"]
     fig, ax = plt.subplots(figsize=(max(7.5, 0.8 * len(rows) + 3), 5.5))
@@ -125,7 +124,7 @@ def plot_phases(rows, title, out_path):
     ax.set_yscale("log" if any(b > 100 * min(bottoms) for b in bottoms if b > 0) else "linear")
     ax.set_ylabel("ms per step (mean%s)" % (", steps in contact" if contact else ""))
     ax.set_title("%s: phase split of a step" % title)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="upper left", framealpha=0.8)
     ax.grid(True, axis="y", alpha=0.3)
     fig.tight_layout()
     fig.savefig(out_path, dpi=110)

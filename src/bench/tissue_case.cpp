@@ -319,6 +319,16 @@ std::vector<BenchmarkVariant> benchVariants(const BenchmarkScene& scene) {
   return {{"", scene}};
 }
 
+std::string referenceGroup(const BenchmarkVariant& variant) {
+  const auto solver_only = [](const std::string& key) {
+    for (const char* k :
+         {"solvers", "integrators", "models", "mesh.resolutions", "mesh.element_types"})
+      if (key == k) return true;
+    return key.rfind("pcg.", 0) == 0 || key.rfind("newton.", 0) == 0;
+  };
+  return std::all_of(variant.keys.begin(), variant.keys.end(), solver_only) ? "" : variant.name;
+}
+
 std::vector<CaseSpec> expandSweep(const BenchmarkScene& scene) {
   std::vector<CaseSpec> cases;
   for (ElementType type : scene.element_types)

@@ -225,7 +225,7 @@ int main(int argc, char** argv) {
   if (!tools::openCsv("contact_bench", args.csv, csv)) return 1;
   std::cout << kHeader << std::endl;
   if (csv) csv << kHeader << "\n";
-  // Reference per variant and mesh: the same press solved tightly (NaN if it failed).
+  // Reference per reference group and mesh: the same press solved tightly (NaN if it failed).
   std::map<std::string, Eigen::Vector3d> references;
   int failures = 0;
   for (const BenchmarkVariant& variant : variants) {
@@ -237,7 +237,7 @@ int main(int argc, char** argv) {
                                std::to_string(spec.resolution.x()) + " cells, " +
                                solverName(spec.solver);
       tools::progress("contact_bench", tools::caseCounter(i, cases.size()) + what);
-      const std::string mesh = variant.name + "/" + caseLabel(scene, spec);
+      const std::string mesh = referenceGroup(variant) + "/" + caseLabel(scene, spec);
       if (references.count(mesh) == 0) {
         tools::progress("contact_bench", "reference for " + mesh);
         const std::optional<std::string> text =

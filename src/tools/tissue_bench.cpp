@@ -54,10 +54,10 @@ int main(int argc, char** argv) {
   if (csv) csv << caseCsvHeader() << "\n";
   std::cout << caseCsvHeader() << std::endl;
   int failures = 0;
+  // self_reference scenes: one reference run per reference group, mesh and model, in a child
+  // process; the case children inherit its positions.
+  std::map<std::string, Eigen::VectorXd> references;
   for (const BenchmarkVariant& variant : benchVariants(scene)) {
-    // self_reference scenes: one reference run per mesh and model, in a child process; the
-    // case children inherit its positions.
-    std::map<std::string, Eigen::VectorXd> references;
     const bool self_reference = variant.scene.measure.type == "self_reference";
     const std::vector<CaseSpec> cases = expandSweep(variant.scene);
     for (std::size_t i = 0; i < cases.size(); ++i) {
@@ -70,7 +70,8 @@ int main(int argc, char** argv) {
                                         ", resolution " + std::to_string(spec.resolution.x()));
       const Eigen::VectorXd* reference_x = nullptr;
       if (self_reference) {
-        const std::string key = selfReferenceKey(variant.scene, spec);
+        const std::string key =
+            referenceGroup(variant) + "/" + selfReferenceKey(variant.scene, spec);
         if (references.count(key) == 0) {
           surgical_sim::tools::progress("tissue_bench", "reference for " + key);
           const std::optional<std::string> bytes =

@@ -164,6 +164,24 @@ TEST(TissueCase, PrecomputedSelfReferenceGivesTheSameError) {
   EXPECT_EQ(selfReferenceKey(scene, spec), "sagging_tet4_1x1x1/corotational/dynamic");
 }
 
+TEST(TissueCase, VariantsChangingOnlyTheSolversShareTheReference) {
+  const BenchmarkScene scene = selfReferencedBox("box", R"(
+variants:
+  - name: before
+  - name: after
+    solvers: [pcg_cholesky_reuse]
+    pcg: {tolerance: 1.0e-8}
+    mesh: {resolutions: [[1, 1, 1], [2, 1, 1]]}
+  - name: stiffer
+    material: {young_modulus: 40.0e3}
+)");
+  const std::vector<BenchmarkVariant> variants = benchVariants(scene);
+  ASSERT_EQ(variants.size(), 3u);
+  EXPECT_EQ(referenceGroup(variants[0]), "");
+  EXPECT_EQ(referenceGroup(variants[1]), "");
+  EXPECT_EQ(referenceGroup(variants[2]), "stiffer");
+}
+
 TEST(TissueCase, ScenesWithoutVariantsRunAsOneUnnamedVariant) {
   const BenchmarkScene scene = selfReferencedBox("plain", "");
   const std::vector<BenchmarkVariant> variants = benchVariants(scene);

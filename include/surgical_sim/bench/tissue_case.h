@@ -90,6 +90,12 @@ double percentile99(std::vector<double> values);
 /// The configurations a bench runs for `scene`: its variants, or the scene itself (named "").
 std::vector<BenchmarkVariant> benchVariants(const BenchmarkScene& scene);
 
+/// Name of the reference group of `variant`: "" when the variant sets only keys that leave the
+/// tight reference runs unchanged (solvers, integrators, models, pcg.*, newton.*,
+/// mesh.resolutions, mesh.element_types), so all such variants share their references; else
+/// the variant's name.
+std::string referenceGroup(const BenchmarkVariant& variant);
+
 /// All cases of a scene's sweep, in a stable order. Models that only support linear tets
 /// (mass_spring, ems) are skipped for tet10.
 std::vector<CaseSpec> expandSweep(const BenchmarkScene& scene);

@@ -813,6 +813,19 @@ YAML::Node overlaid(const YAML::Node& base, const YAML::Node& overlay) {
 
 BenchmarkScene parseBenchmark(const YAML::Node& root, const std::string& path);
 
+/// The dotted paths of the leaves (non-map values) of `node` under `prefix`, appended to `out`.
+void appendLeafKeys(const YAML::Node& node, const std::string& prefix,
+                    std::vector<std::string>& out) {
+  if (!node.IsMap()) {
+    out.push_back(prefix);
+    return;
+  }
+  for (const auto& entry : node) {
+    const std::string key = entry.first.as<std::string>();
+    appendLeafKeys(entry.second, prefix.empty() ? key : prefix + "." + key, out);
+  }
+}
+
 /// The optional 'variants' list: each item a name and keys laid over the rest of the file
 /// (overlaid()), parsed as a whole benchmark file of its own.
 std::vector<BenchmarkVariant> readVariants(const KeyReader& r, const YAML::Node& root,
@@ -828,7 +841,8 @@ std::vector<BenchmarkVariant> readVariants(const KeyReader& r, const YAML::Node&
     YAML::Node overlay = YAML::Clone(item.node());
     overlay.remove("name");
     try {
-      variants.push_back({name, parseBenchmark(overlaid(base, overlay), path)});
+      variants.push_back({name, parseBenchmark(overlaid(base, overlay), path), {}});
+      appendLeafKeys(overlay, "", variants.back().keys);
     } catch (const std::invalid_argument& e) {
       item.fail("name", "variant '" + name + "' with its keys laid over the file: " + e.what());
     }

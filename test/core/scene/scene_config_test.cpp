@@ -306,6 +306,9 @@ variants:
   EXPECT_DOUBLE_EQ(after.material.density, 1000.0);
   EXPECT_DOUBLE_EQ(after.pcg_tolerance, 1e-8);
   EXPECT_EQ(after.name, "unit");
+  EXPECT_TRUE(s.variants[0].keys.empty());
+  EXPECT_EQ(s.variants[1].keys,
+            (std::vector<std::string>{"solvers", "material.young_modulus", "pcg.tolerance"}));
 }
 
 TEST(BenchmarkScene, BadVariantsAreNamed) {

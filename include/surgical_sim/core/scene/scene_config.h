@@ -204,6 +204,7 @@ struct BenchmarkScene : SceneBase {
 struct BenchmarkVariant {
   std::string name;  ///< [A-Za-z][A-Za-z0-9_]*, unique in the file
   BenchmarkScene scene;
+  std::vector<std::string> keys;  ///< the dotted keys the item sets, e.g. "pcg.tolerance"
 };
 
 /// Working-memory budget of one case of a scene [bytes]: a generated mesh whose estimate
