@@ -40,11 +40,12 @@ struct CaseResult {
   int nodes = 0;     ///< model nodes (efg: particles)
   int elements = 0;  ///< mesh elements (efg: integration points)
   int dofs = 0;
-  double dt = 0.0;             ///< [s]
-  double ms_per_step = 0.0;    ///< mean wall time of one integrator step [ms]
-  int steps = 0;               ///< integrator steps taken
-  double ms_p99 = 0.0;         ///< 99th percentile of the step wall times [ms]
-  double first_step_ms = 0.0;  ///< the first step (pattern analysis, first factor) [ms]
+  double dt = 0.0;              ///< [s]
+  double ms_per_step = 0.0;     ///< mean wall time of one integrator step [ms]
+  int steps = 0;                ///< integrator steps taken
+  double ms_p99 = 0.0;          ///< 99th percentile of the step wall times [ms]
+  double first_step_ms = 0.0;   ///< the first step (pattern analysis, first factor) [ms]
+  double ms_after_first = 0.0;  ///< mean of the steps after the first [ms] (0: one step)
   /// Mean per step of the integrator's phase times (StepReport::phases) [s].
   StepPhaseTimes phases;
   double linear_iterations = 0.0;  ///< mean linear iterations per step (1 per direct solve)
@@ -131,10 +132,10 @@ std::string caseLabel(const BenchmarkScene& scene, const CaseSpec& spec);
 std::string caseStatus(const CaseResult& result);
 
 /// CSV header of tissue_bench rows: case,variant,model,integrator,solver,nodes,elements,dofs,dt,
-/// ms_per_step,steps,ms_p99,first_step_ms,forces_ms,assembly_ms,factor_ms,solve_ms,other_ms,
-/// linear_iterations,peak_rss_mb,forces_gflops,forces_gbs,assembly_gflops,assembly_gbs,
-/// factor_gflops,factor_gbs,solve_gflops,solve_gbs,error_rel,settled,status (phase times are
-/// means per step; other_ms = ms_per_step - the four phases).
+/// ms_per_step,steps,ms_p99,first_step_ms,ms_after_first,forces_ms,assembly_ms,factor_ms,
+/// solve_ms,other_ms,linear_iterations,peak_rss_mb,forces_gflops,forces_gbs,assembly_gflops,
+/// assembly_gbs,factor_gflops,factor_gbs,solve_gflops,solve_gbs,error_rel,settled,status (phase
+/// times are means per step; other_ms = ms_per_step - the four phases).
 const char* caseCsvHeader();
 /// One CSV row (no newline) for `result`, labelled `label` (caseLabel()), of the variant named
 /// `variant` ("" for a file without variants).
