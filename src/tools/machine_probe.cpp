@@ -17,7 +17,7 @@ constexpr const char* kUsage =
     "Measures the limits the benches compare their phases with, on 1 and 2 threads:\n"
     "  triad          a = b + s c over 3 arrays of 2^25 doubles (768 MB, far beyond the caches),\n"
     "                 GB/s counting 24 bytes per element (STREAM's convention), best of 5\n"
-    "  blocked_dgemm  C = A B, n = 1024, our cache-blocked kernel (AVX2 + FMA when available),\n"
+    "  blocked_dgemm  C = A B, n = 1000, our cache-blocked kernel (AVX2 + FMA when available),\n"
     "                 GFLOP/s (2 n^3 flops), best of 3\n"
     "  blas_dgemm     the same through the system BLAS dgemm_ (CHOLMOD's)\n"
     "One CSV row per probe and thread count on stdout: probe,threads,rate,unit,seconds,max_error.\n"
@@ -60,7 +60,7 @@ int main(int argc, char** argv) {
   std::ofstream csv;
   if (!surgical_sim::tools::openCsv("machine_probe", csv_path, csv)) return 1;
   const std::size_t triad_n = quick ? (std::size_t{1} << 22) : (std::size_t{1} << 25);
-  const int gemm_n = quick ? 256 : 1024;
+  const int gemm_n = quick ? 256 : 1000;
   const char* header = "probe,threads,rate,unit,seconds,max_error";
   std::cout << header << "\n";
   if (csv) csv << header << "\n";
