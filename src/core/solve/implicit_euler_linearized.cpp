@@ -3,7 +3,6 @@
 #include <cmath>
 
 #include "surgical_sim/core/common/stopwatch.h"
-
 #include "surgical_sim/core/solve/dirichlet_projection.h"
 #include "surgical_sim/core/solve/mechanical_energy.h"
 

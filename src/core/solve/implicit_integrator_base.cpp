@@ -5,7 +5,6 @@
 #include <utility>
 
 #include "surgical_sim/core/common/stopwatch.h"
-
 #include "surgical_sim/core/solve/dirichlet_projection.h"
 #include "surgical_sim/core/solve/dynamics_problem_check.h"
 

@@ -5,7 +5,6 @@
 #include <utility>
 
 #include "surgical_sim/core/common/stopwatch.h"
-
 #include "surgical_sim/core/solve/absolute_product_norm.h"
 #include "surgical_sim/core/solve/armijo_line_search.h"
 #include "surgical_sim/core/solve/newton_constants.h"
