@@ -442,13 +442,17 @@ CaseResult runTissueCase(const BenchmarkScene& scene, const CaseSpec& spec,
   } else {  // self_reference: same mesh, tight Newton (measure.reference_solver)
     const Eigen::VectorXd ref_x =
         reference_x != nullptr ? *reference_x : selfReferencePositions(scene, spec);
-    if (ref_x.size() != run.x.size())
-      throw std::invalid_argument("runTissueCase: reference positions of size " +
-                                  std::to_string(ref_x.size()) + " for a case of " +
-                                  std::to_string(run.x.size()) + " DOFs");
     result.measured = (run.x - x0).norm();
-    result.reference = (ref_x - x0).norm();
-    result.error_rel = (run.x - ref_x).norm() / result.reference;
+    if (ref_x.size() == 0) {  // no reference run: error_rel NaN (below)
+      result.reference = std::numeric_limits<double>::quiet_NaN();
+    } else {
+      if (ref_x.size() != run.x.size())
+        throw std::invalid_argument("runTissueCase: reference positions of size " +
+                                    std::to_string(ref_x.size()) + " for a case of " +
+                                    std::to_string(run.x.size()) + " DOFs");
+      result.reference = (ref_x - x0).norm();
+      result.error_rel = (run.x - ref_x).norm() / result.reference;
+    }
   }
   // A relative error against a zero or non-finite reference (e.g. a self_reference scene with
   // no load) is meaningless; uniaxial_svk_force normalises by a non-zero force instead.

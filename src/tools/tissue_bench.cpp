@@ -80,7 +80,7 @@ int main(int argc, char** argv) {
                 return std::string(reinterpret_cast<const char*>(x.data()),
                                    sizeof(double) * static_cast<std::size_t>(x.size()));
               });
-          Eigen::VectorXd& x = references[key];  // empty when the reference failed
+          Eigen::VectorXd& x = references[key];  // stays empty when the reference failed
           if (bytes) {
             x.resize(static_cast<Eigen::Index>(bytes->size() / sizeof(double)));
             std::memcpy(x.data(), bytes->data(),
@@ -88,10 +88,7 @@ int main(int argc, char** argv) {
           }
         }
         reference_x = &references[key];
-        if (reference_x->size() == 0) {
-          ++failures;
-          continue;
-        }
+        if (reference_x->size() == 0) ++failures;  // the case still runs, its error_rel NaN
       }
       const std::optional<std::string> row =
           surgical_sim::tools::runCaseInChild("tissue_bench", "case " + what, [&] {

@@ -161,6 +161,11 @@ TEST(TissueCase, PrecomputedSelfReferenceGivesTheSameError) {
   EXPECT_DOUBLE_EQ(given.reference, computed.reference);
   const Eigen::VectorXd short_ref = x_ref.head(3);
   EXPECT_THROW(runTissueCase(scene, spec, &short_ref), std::invalid_argument);
+  const Eigen::VectorXd no_ref;  // the reference run failed
+  const CaseResult unmeasured = runTissueCase(scene, spec, &no_ref);
+  EXPECT_TRUE(std::isnan(unmeasured.error_rel));
+  EXPECT_EQ(unmeasured.status, StepStatus::Ok);
+  EXPECT_GT(unmeasured.ms_per_step, 0.0);
   EXPECT_EQ(selfReferenceKey(scene, spec), "sagging_tet4_1x1x1/corotational/dynamic");
 }
 

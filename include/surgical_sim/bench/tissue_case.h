@@ -107,7 +107,8 @@ RuntimeScene caseScene(const BenchmarkScene& scene, const CaseSpec& spec);
 
 /// Runs one case headless and measures it against the scene's reference. A self_reference scene
 /// compares with `reference_x`, the selfReferencePositions() of a case with the same
-/// selfReferenceKey(), or computes them when it is nullptr.
+/// selfReferenceKey(), or computes them when it is nullptr; an empty reference_x (the reference
+/// run failed) gives error_rel NaN.
 /// @throws std::invalid_argument when the scene and case do not fit (e.g. an empty BC region),
 ///         or reference_x does not have the case's size.
 CaseResult runTissueCase(const BenchmarkScene& scene, const CaseSpec& spec,
