@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <sstream>
@@ -319,10 +320,14 @@ std::vector<BenchmarkVariant> benchVariants(const BenchmarkScene& scene) {
   return {{"", scene}};
 }
 
+void applyBenchThreads(const BenchmarkScene& scene) {
+  if (scene.threads) setenv("SURGICAL_SIM_THREADS", std::to_string(*scene.threads).c_str(), 1);
+}
+
 std::string referenceGroup(const BenchmarkVariant& variant) {
   const auto solver_only = [](const std::string& key) {
     for (const char* k :
-         {"solvers", "integrators", "models", "mesh.resolutions", "mesh.element_types"})
+         {"solvers", "integrators", "models", "threads", "mesh.resolutions", "mesh.element_types"})
       if (key == k) return true;
     return key.rfind("pcg.", 0) == 0 || key.rfind("newton.", 0) == 0;
   };

@@ -111,7 +111,7 @@ Row runCase(const BenchmarkScene& scene, const CaseSpec& spec) {
   TissueSimulation sim(caseScene(scene, spec));
   Row row;
   row.spec = spec;
-  row.nodes = sim.mesh().numNodes();
+  row.nodes = sim.model().numNodes();  // DOF nodes (efg: particles)
   row.dofs = 3 * row.nodes;
   std::vector<double> step_ms, latency_ms;
   // Sums over the steps in contact, divided by their number below.
@@ -241,8 +241,10 @@ int main(int argc, char** argv) {
       if (references.count(mesh) == 0) {
         tools::progress("contact_bench", "reference for " + mesh);
         const std::optional<std::string> text =
-            tools::runCaseInChild("contact_bench", "reference for " + mesh,
-                                  [&] { return forceText(referenceForce(scene, spec)); });
+            tools::runCaseInChild("contact_bench", "reference for " + mesh, [&] {
+              applyBenchThreads(scene);
+              return forceText(referenceForce(scene, spec));
+            });
         references[mesh] =
             text ? parseForce(*text)
                  : Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
@@ -250,6 +252,7 @@ int main(int argc, char** argv) {
       // The child sends the force, a line break and the row without its error column.
       const std::optional<std::string> text =
           tools::runCaseInChild("contact_bench", "case " + what, [&] {
+            applyBenchThreads(scene);
             const Row r = runCase(scene, spec);
             return forceText(r.force) + "\n" + csvRow(scene.name, variant.name, r);
           });

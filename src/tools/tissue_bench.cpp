@@ -76,6 +76,7 @@ int main(int argc, char** argv) {
           surgical_sim::tools::progress("tissue_bench", "reference for " + key);
           const std::optional<std::string> bytes =
               surgical_sim::tools::runCaseInChild("tissue_bench", "reference for " + key, [&] {
+                applyBenchThreads(variant.scene);
                 const Eigen::VectorXd x = selfReferencePositions(variant.scene, spec);
                 return std::string(reinterpret_cast<const char*>(x.data()),
                                    sizeof(double) * static_cast<std::size_t>(x.size()));
@@ -92,6 +93,7 @@ int main(int argc, char** argv) {
       }
       const std::optional<std::string> row =
           surgical_sim::tools::runCaseInChild("tissue_bench", "case " + what, [&] {
+            applyBenchThreads(variant.scene);
             return caseCsvRow(caseLabel(variant.scene, spec),
                               runTissueCase(variant.scene, spec, reference_x), variant.name);
           });

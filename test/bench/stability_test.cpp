@@ -1,7 +1,9 @@
 // Stability over stiff and extreme cases (BENCHMARKS.md "Stability"): every model x implicit
-// integrator returns finite results and bounded energy, or a clear failure status, never a crash.
+// integrator returns finite results, bounded energy and (Newton, quasi-static) Ok steps in
+// equilibrium, or a clear failure status, never a crash.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -12,6 +14,7 @@
 #include "surgical_sim/core/mesh/mesh_check.h"
 #include "surgical_sim/core/scene/scene_build.h"
 #include "surgical_sim/core/scene/scene_config.h"
+#include "surgical_sim/core/solve/absolute_product_norm.h"
 #include "surgical_sim/core/solve/make_integrator.h"
 #include "surgical_sim/core/solve/make_linear_solver.h"
 #include "surgical_sim/core/tissue/model_factory.h"
@@ -81,6 +84,32 @@ struct Rig {
   }
 };
 
+/// Equilibrium of a step from (x0, v0) to rig.state over dt, recomputed from the model (no
+/// damping in the rig): the residual |M (x - x0 - dt v0) / dt^2 - f_int(x) - f_ext| on the free
+/// DOFs (no inertia term for quasi-static steps), the largest of its terms' norms, and the
+/// round-off scale of f_int(x), || |K| |x| ||.
+struct Equilibrium {
+  double residual = 0.0;   ///< [N]
+  double scale = 0.0;      ///< [N]
+  double round_off = 0.0;  ///< [N]
+};
+
+Equilibrium equilibrium(const Rig& rig, const Eigen::VectorXd& x0, const Eigen::VectorXd& v0,
+                        double dt, bool quasi_static) {
+  const Eigen::VectorXd& x = rig.state.x;
+  Eigen::VectorXd internal = Eigen::VectorXd::Zero(x.size());
+  rig.model->addInternalForce(x, internal);
+  Eigen::VectorXd inertia = Eigen::VectorXd::Zero(x.size());
+  if (!quasi_static) inertia = rig.model->lumpedMass().cwiseProduct(x - x0 - dt * v0) / (dt * dt);
+  Eigen::VectorXd r = inertia - internal - rig.problem.external_force;
+  for (const int d : rig.problem.dirichlet.dofs) r[d] = internal[d] = inertia[d] = 0.0;
+  Eigen::SparseMatrix<double> K = rig.model->stiffnessPattern();
+  rig.model->assembleStiffness(x, TangentMode::ProjectedSpd, K);
+  Eigen::VectorXd work(x.size());
+  return {r.norm(), std::max({inertia.norm(), internal.norm(), rig.problem.external_force.norm()}),
+          absoluteProductNorm(K, x, work)};
+}
+
 bool isFailureStatus(StepStatus s) {
   return s == StepStatus::SolverFailed || s == StepStatus::NonFinite || s == StepStatus::BlowUp;
 }
@@ -99,10 +128,18 @@ TEST(Stability, EveryModelAndImplicitIntegratorOverStiffnessPoissonAndTimeStep) 
             const double e0 = rig.totalEnergy();
             bool failed = false;
             for (int k = 0; k < 5 && !failed; ++k) {
+              const Eigen::VectorXd x0 = rig.state.x;
+              const Eigen::VectorXd v0 = rig.state.v;
               const StepReport r = rig.integrator->step(rig.problem, dt, rig.state);
               ASSERT_TRUE(rig.state.x.allFinite());
               ASSERT_TRUE(rig.state.v.allFinite());
               failed = isFailureStatus(r.status);
+              // An Ok Newton / quasi-static step is in equilibrium (its tolerance is 1e-8 of the
+              // step's first residual, or the round-off floor 1e-13 || |K| |x| ||).
+              if (r.status == StepStatus::Ok && integrator != "implicit_euler_linearized") {
+                const Equilibrium eq = equilibrium(rig, x0, v0, dt, integrator == "quasi_static");
+                EXPECT_LT(eq.residual, 1e-6 * eq.scale + 1e-12 * eq.round_off) << "step " << k;
+              }
             }
             if (failed) continue;  // a clear status, state restored and finite
             // No energy is created: implicit Euler dissipates, quasi-static minimises.

@@ -91,8 +91,13 @@ double percentile99(std::vector<double> values);
 /// The configurations a bench runs for `scene`: its variants, or the scene itself (named "").
 std::vector<BenchmarkVariant> benchVariants(const BenchmarkScene& scene);
 
+/// Sets SURGICAL_SIM_THREADS to scene.threads when the scene gives it (thread count of the
+/// element loops and triangular solves). Changes this process's environment: call it in the
+/// process that runs the case (the benches' child), before building anything.
+void applyBenchThreads(const BenchmarkScene& scene);
+
 /// Name of the reference group of `variant`: "" when the variant sets only keys that leave the
-/// tight reference runs unchanged (solvers, integrators, models, pcg.*, newton.*,
+/// tight reference runs unchanged (solvers, integrators, models, pcg.*, newton.*, threads,
 /// mesh.resolutions, mesh.element_types), so all such variants share their references; else
 /// the variant's name.
 std::string referenceGroup(const BenchmarkVariant& variant);

@@ -60,6 +60,7 @@ ContactSolver::ContactSolver(const ContactSolverSettings& settings, int max_cont
   q_.setZero(max_contacts);
   lambda_.setZero(max_contacts);
   active_.reserve(static_cast<size_t>(max_contacts));
+  column_slot_.reserve(static_cast<size_t>(max_contacts));
   tools_.assign(static_cast<size_t>(max_contacts), 0);
   contact_normals_.setZero(3, max_contacts);
   dn_du_.assign(static_cast<size_t>(max_contacts), Eigen::Matrix3d::Zero());
@@ -163,32 +164,19 @@ StepStatus ContactSolver::solveContacts(Integrator& integrator, const SurfaceMap
     dn_dx_[static_cast<size_t>(i)] = contact.dn_dx;
   }
   if (coupling_.size() < static_cast<size_t>(m * m)) coupling_.resize(static_cast<size_t>(m * m));
-  for (Eigen::Index j = 0; j < m; ++j) {
-    const ContactPoint& contact = contacts[static_cast<size_t>(j)];
-    addColumn(mapping, contact, 1.0, column_);
-    const bool ok = integrator.applyStepCompliance(column_, response_);
-    for (int k = 0; k < 3; ++k) {
-      const SurfaceMapping::Row support = mapping.row(contact.nodes[k]);
-      for (int a = 0; a < support.size; ++a) column_.segment<3>(3 * support.nodes[a]).setZero();
-    }
-    if (!ok) return StepStatus::SolverFailed;
-    for (Eigen::Index i = 0; i < m; ++i) {
-      const ContactPoint& row = contacts[static_cast<size_t>(i)];
-      W_(i, j) = rowDot(mapping, row, response_);
-      Eigen::Matrix<double, 9, 1>& coupling = coupling_[static_cast<size_t>(i * m + j)];
-      for (int k = 0; k < 3; ++k)
-        coupling.segment<3>(3 * k) = mapping.vertexValue(row.nodes[k], response_);
-    }
-  }
+  column_slot_.assign(static_cast<size_t>(m), -1);
+  columns_used_ = 0;
+  column_failed_ = false;
+  // W starts as the tool-body coupling C: contacts of one tool share its displacement
+  // -c_t sum lambda_j n_j. computeColumn adds the columns of H S H^T.
   auto W = W_.topLeftCorner(m, m);
-  W = 0.5 * (W + W.transpose()).eval();
-  // Tool-body coupling: contacts of one tool share its displacement -c_t sum lambda_j n_j.
-  for (Eigen::Index i = 0; i < m; ++i) {
-    const int tool = tools_[static_cast<size_t>(i)];
+  for (Eigen::Index j = 0; j < m; ++j) {
+    const int tool = tools_[static_cast<size_t>(j)];
     const double compliance = compliance_[static_cast<size_t>(tool)];
-    for (Eigen::Index j = 0; j < m; ++j) {
-      if (tools_[static_cast<size_t>(j)] != tool) continue;
-      W(i, j) += compliance * contact_normals_.col(i).dot(contact_normals_.col(j));
+    for (Eigen::Index i = 0; i < m; ++i) {
+      W(i, j) = tools_[static_cast<size_t>(i)] == tool
+                    ? compliance * contact_normals_.col(i).dot(contact_normals_.col(j))
+                    : 0.0;
     }
   }
   count_ = m;
@@ -196,12 +184,30 @@ StepStatus ContactSolver::solveContacts(Integrator& integrator, const SurfaceMap
   auto lambda = lambda_.head(m);
   lambda.setZero();
   const double tolerance = settings_.relative_tolerance * q_scale;
-  report_ =
-      solveLcpProjectedGaussSeidel(W, q_.head(m), settings_.max_iterations, tolerance, lambda);
-  const PgsReport refined = refineLcpActiveSet(
-      W, q_.head(m), tolerance, kPivotsPerContact * static_cast<int>(m), lambda, active_set_);
-  if (refined.converged) report_ = refined;
-  if (!lambda.allFinite()) {
+  const int max_pivots = kPivotsPerContact * static_cast<int>(m);
+  // Two captured pointers: std::function keeps them without allocating.
+  const ColumnInputs inputs{&integrator, &mapping, &contacts};
+  const LcpColumnSource source = [this, &inputs](Eigen::Index j) {
+    return computeColumn(inputs, j);
+  };
+  report_ = PgsReport();
+  if (!settings_.full_delassus) {
+    // Only the columns the active set needs, from the penetrating contacts on.
+    for (Eigen::Index i = 0; i < m; ++i) lambda[i] = q_[i] < 0.0 ? 1.0 : 0.0;
+    report_ = refineLcpActiveSet(W, q_.head(m), tolerance, max_pivots, lambda, active_set_, source);
+    if (!report_.converged) lambda.setZero();
+  }
+  if (!report_.converged) {
+    for (Eigen::Index j = 0; j < m && !column_failed_; ++j) source(j);
+    if (!column_failed_) {
+      report_ =
+          solveLcpProjectedGaussSeidel(W, q_.head(m), settings_.max_iterations, tolerance, lambda);
+      const PgsReport refined =
+          refineLcpActiveSet(W, q_.head(m), tolerance, max_pivots, lambda, active_set_);
+      if (refined.converged) report_ = refined;
+    }
+  }
+  if (column_failed_ || !lambda.allFinite()) {
     count_ = 0;
     return StepStatus::SolverFailed;
   }
@@ -209,18 +215,70 @@ StepStatus ContactSolver::solveContacts(Integrator& integrator, const SurfaceMap
   for (Eigen::Index i = 0; i < m; ++i) {
     addColumn(mapping, contacts[static_cast<size_t>(i)], lambda[i], tissue_force_);
   }
-  correction_ = tissue_force_ - applied_force;
-  if (correction_.squaredNorm() > 0.0) {
-    if (!integrator.applyStepCompliance(correction_, response_)) {
-      tissue_force_.setZero();
-      count_ = 0;
-      return StepStatus::SolverFailed;
-    }
-    state.x += response_;
-    if (update_velocity) state.v += response_ / dt;
+  if (!correct(integrator, applied_force, dt, update_velocity, state)) {
+    tissue_force_.setZero();
+    count_ = 0;
+    return StepStatus::SolverFailed;
   }
   if (capped) return StepStatus::ContactLimited;
   return report_.converged || m == 0 ? StepStatus::Ok : StepStatus::NotConverged;
+}
+
+bool ContactSolver::computeColumn(const ColumnInputs& inputs, Eigen::Index j) {
+  const SurfaceMapping& mapping = *inputs.mapping;
+  const std::vector<ContactPoint>& contacts = *inputs.contacts;
+  if (column_failed_) return false;
+  if (column_slot_[static_cast<size_t>(j)] >= 0) return true;
+  const auto slot = static_cast<size_t>(columns_used_);
+  if (columns_.size() <= slot) columns_.emplace_back();
+  Eigen::VectorXd& response = columns_[slot];
+  const ContactPoint& contact = contacts[static_cast<size_t>(j)];
+  addColumn(mapping, contact, 1.0, column_);
+  const bool ok = inputs.integrator->applyStepCompliance(column_, response);
+  for (int k = 0; k < 3; ++k) {
+    const SurfaceMapping::Row support = mapping.row(contact.nodes[k]);
+    for (int a = 0; a < support.size; ++a) column_.segment<3>(3 * support.nodes[a]).setZero();
+  }
+  if (!ok) {
+    column_failed_ = true;
+    return false;
+  }
+  column_slot_[static_cast<size_t>(j)] = columns_used_++;
+  const Eigen::Index m = count_;
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const ContactPoint& row = contacts[static_cast<size_t>(i)];
+    W_(i, j) += rowDot(mapping, row, response);
+    Eigen::Matrix<double, 9, 1>& coupling = coupling_[static_cast<size_t>(i * m + j)];
+    for (int k = 0; k < 3; ++k)
+      coupling.segment<3>(3 * k) = mapping.vertexValue(row.nodes[k], response);
+  }
+  // H S H^T is symmetric: the two computed entries of a pair become their mean.
+  for (Eigen::Index i = 0; i < m; ++i) {
+    if (i == j || column_slot_[static_cast<size_t>(i)] < 0) continue;
+    const double mean = 0.5 * (W_(i, j) + W_(j, i));
+    W_(i, j) = mean;
+    W_(j, i) = mean;
+  }
+  return true;
+}
+
+bool ContactSolver::correct(Integrator& integrator, const Eigen::VectorXd& applied_force, double dt,
+                            bool update_velocity, SimulationState& state) {
+  correction_ = tissue_force_ - applied_force;
+  if (!(correction_.squaredNorm() > 0.0)) return true;
+  if (settings_.full_delassus) {
+    if (!integrator.applyStepCompliance(correction_, response_)) return false;
+  } else {
+    // S (H^T lambda - F_a) from the computed columns (lambda_j > 0 only for those) and S F_a.
+    response_ = -carried_;
+    for (Eigen::Index j = 0; j < count_; ++j) {
+      if (lambda_[j] != 0.0)
+        response_ += lambda_[j] * columns_[static_cast<size_t>(column_slot_[j])];
+    }
+  }
+  state.x += response_;
+  if (update_velocity) state.v += response_ / dt;
+  return true;
 }
 
 bool ContactSolver::capToolForces() {

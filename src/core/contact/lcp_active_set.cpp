@@ -20,7 +20,7 @@ LcpActiveSetWorkspace::LcpActiveSetWorkspace(Eigen::Index capacity)
 PgsReport refineLcpActiveSet(const Eigen::Ref<const Eigen::MatrixXd>& W,
                              const Eigen::Ref<const Eigen::VectorXd>& q, double tolerance,
                              int max_pivots, Eigen::Ref<Eigen::VectorXd> lambda,
-                             LcpActiveSetWorkspace& workspace) {
+                             LcpActiveSetWorkspace& workspace, const LcpColumnSource& source) {
   PgsReport report;
   const Eigen::Index m = q.size();
   if (m > workspace.factor_.rows()) return report;
@@ -34,6 +34,11 @@ PgsReport refineLcpActiveSet(const Eigen::Ref<const Eigen::MatrixXd>& W,
       if (in_set[static_cast<size_t>(i)]) active.push_back(i);
     }
     const auto a = static_cast<Eigen::Index>(active.size());
+    if (source) {
+      for (const Eigen::Index j : active) {
+        if (!source(j)) return report;
+      }
+    }
     auto lambda_a = workspace.solution_.head(a);
     if (a > 0) {
       Eigen::Ref<Eigen::MatrixXd> Waa = workspace.factor_.topLeftCorner(a, a);

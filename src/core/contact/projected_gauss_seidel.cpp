@@ -11,7 +11,7 @@ double lcpMinMapResidual(const Eigen::Ref<const Eigen::MatrixXd>& W,
   double residual = 0.0;
   for (Eigen::Index i = 0; i < q.size(); ++i) {
     if (!(W(i, i) > 0.0)) continue;
-    const double w = q[i] + W.col(i).dot(lambda);  // W symmetric: column = row
+    const double w = q[i] + W.row(i).dot(lambda);  // reads only the columns of lambda_j != 0
     residual = std::max(residual, std::abs(std::min(lambda[i] * W(i, i), w)));
   }
   return residual;
@@ -29,7 +29,7 @@ PgsReport solveLcpProjectedGaussSeidel(const Eigen::Ref<const Eigen::MatrixXd>& 
   for (int sweep = 1; sweep <= max_iterations; ++sweep) {
     for (Eigen::Index i = 0; i < m; ++i) {
       if (!(W(i, i) > 0.0)) continue;
-      const double w = q[i] + W.col(i).dot(lambda);  // W symmetric: column = row
+      const double w = q[i] + W.row(i).dot(lambda);  // reads only the columns of lambda_j != 0
       lambda[i] = std::max(0.0, lambda[i] - w / W(i, i));
     }
     report.iterations = sweep;

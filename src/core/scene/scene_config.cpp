@@ -15,6 +15,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "surgical_sim/core/common/thread_pool.h"
 #include "surgical_sim/core/cutting/blade_sweep.h"
 #include "surgical_sim/core/mesh/length_unit.h"
 
@@ -854,10 +855,10 @@ std::vector<BenchmarkVariant> readVariants(const KeyReader& r, const YAML::Node&
 BenchmarkScene parseBenchmark(const YAML::Node& root, const std::string& path) {
   const KeyReader r(root, "", path);
   rejectForeignKeys(r, kRuntimeKeys, kRuntimeMeshKeys);
-  r.onlyKeys({"name",        "description", "mesh",    "material",     "models",  "integrators",
-              "solvers",     "time_step",   "steps",   "load_factors", "gravity", "damping",
-              "newton",      "pcg",         "fixed",   "prescribed",   "measure", "tools",
-              "tissue_pose", "efg",         "variants"});
+  r.onlyKeys({"name",        "description", "mesh",     "material",     "models",  "integrators",
+              "solvers",     "time_step",   "steps",    "load_factors", "gravity", "damping",
+              "newton",      "pcg",         "fixed",    "prescribed",   "measure", "tools",
+              "tissue_pose", "efg",         "variants", "threads"});
   BenchmarkScene s;
   s.path = path;
   readBase(r, {"resolutions", "element_types"}, s);
@@ -884,6 +885,7 @@ BenchmarkScene parseBenchmark(const YAML::Node& root, const std::string& path) {
   s.integrators = readEnums(r, "integrators", kIntegratorNames);
   s.solvers = readEnums(r, "solvers", kSolverNames);
   s.steps = r.integer("steps", 1, 1000000);
+  if (r.has("threads")) s.threads = r.integer("threads", 1, kMaxThreads);
   if (r.has("load_factors")) s.load_factors = r.numbers("load_factors");
   for (double f : s.load_factors)
     checkRange(r, "load_factors", f, -kMaxLoadFactor, kMaxLoadFactor, "");

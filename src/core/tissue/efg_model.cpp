@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -39,21 +40,23 @@ void scatter(const NodeMatrix<K>& fe, const Eigen::MatrixXi& neighbours, int e,
   for (int a = 0; a < fe.cols(); ++a) f.segment<3>(3 * neighbours(a, e)) += fe.col(a);
 }
 
-// Ke = w (mu (h_a . h_b) I + mu h_b h_a^T + lambda h_a h_b^T) with h_a = R grad_a: the fixed-R
-// tangent R K0 R^T of isotropic linear elasticity at one point.
 template <int K>
-void rotatedLinearStiffness(const Eigen::Matrix3d& R, double mu, double lambda,
-                            const GradientMap<K>& grad, double w, ElementMatrix<K>& Ke) {
-  const NodeMatrix<K> H = R * grad.transpose();
-  const double w_mu = w * mu;
-  const double w_lambda = w * lambda;
-  for (int a = 0; a < H.cols(); ++a) {
-    for (int b = a; b < H.cols(); ++b) {
-      Eigen::Matrix3d Kab = (w_mu * H.col(a).dot(H.col(b))) * Eigen::Matrix3d::Identity();
-      Kab.noalias() += w_mu * H.col(b) * H.col(a).transpose();
-      Kab.noalias() += w_lambda * H.col(a) * H.col(b).transpose();
-      Ke.template block<3, 3>(3 * a, 3 * b) = Kab;
-      if (b != a) Ke.template block<3, 3>(3 * b, 3 * a) = Kab.transpose();
+using RankVector = Eigen::Matrix<double, dofs(K), 1, Eigen::ColMajor, 3 * maxNeighbours(K), 1>;
+
+// The fixed-R tangent R K0 R^T of isotropic linear elasticity summed over the points of a group,
+// from L = sum_p w_p vec(H_p) vec(H_p)^T with H_p = R_p grad_p^T (3 x k, vec: entry 3 a + i =
+// H(i, a)). Per point, block (a, b) is w (mu (h_a . h_b) I + mu h_b h_a^T + lambda h_a h_b^T),
+// so the sum is Ke_ab = lambda L_ab + mu L_ba + mu tr(L_ab) I (L_ab: the 3 x 3 block of L).
+template <int K>
+void rotatedLinearStiffness(const ElementMatrix<K>& L, double mu, double lambda,
+                            ElementMatrix<K>& Ke) {
+  const Eigen::Index k = L.rows() / 3;
+  for (Eigen::Index a = 0; a < k; ++a) {
+    for (Eigen::Index b = 0; b < k; ++b) {
+      const auto Lab = L.template block<3, 3>(3 * a, 3 * b);
+      Ke.template block<3, 3>(3 * a, 3 * b) =
+          lambda * Lab + mu * L.template block<3, 3>(3 * b, 3 * a);
+      Ke.template block<3, 3>(3 * a, 3 * b).diagonal().array() += mu * Lab.trace();
     }
   }
 }
@@ -69,6 +72,9 @@ EfgModel::EfgModel(const TetMesh& mesh, const Material& material, const EfgOptio
       k_(options.neighbours) {
   const int n = static_cast<int>(grid_.particles.cols());
   const int m = static_cast<int>(grid_.integration_points.cols());
+  // Canonical order, so that IPs with the same particles have identical columns.
+  for (int e = 0; e < m; ++e)
+    std::sort(grid_.neighbours.col(e).begin(), grid_.neighbours.col(e).end());
   rest_positions_ = Eigen::Map<const Eigen::VectorXd>(grid_.particles.data(), 3 * n);
   body_weight_ = Eigen::VectorXd::Zero(n);
   Eigen::VectorXd node_mass = Eigen::VectorXd::Zero(n);
@@ -112,7 +118,32 @@ EfgModel::EfgModel(const TetMesh& mesh, const Material& material, const EfgOptio
   }
   lumped_mass_.resize(3 * n);
   for (int i = 0; i < n; ++i) lumped_mass_.segment<3>(3 * i).setConstant(node_mass(i));
-  setGroups(n, grid_.neighbours);
+  groupIntegrationPoints();
+  setGroups(n, group_nodes_);
+}
+
+void EfgModel::groupIntegrationPoints() {
+  const Eigen::MatrixXi& nb = grid_.neighbours;  // columns sorted
+  group_ips_.resize(static_cast<size_t>(nb.cols()));
+  std::iota(group_ips_.begin(), group_ips_.end(), 0);
+  const auto column = [&](int e) { return nb.col(e); };
+  std::stable_sort(group_ips_.begin(), group_ips_.end(), [&](int a, int b) {
+    return std::lexicographical_compare(column(a).begin(), column(a).end(), column(b).begin(),
+                                        column(b).end());
+  });
+  group_first_.clear();
+  std::vector<int> first_ips;
+  for (int p = 0; p < static_cast<int>(group_ips_.size()); ++p) {
+    if (p == 0 || column(group_ips_[static_cast<size_t>(p)]) !=
+                      column(group_ips_[static_cast<size_t>(p) - 1])) {
+      group_first_.push_back(p);
+      first_ips.push_back(group_ips_[static_cast<size_t>(p)]);
+    }
+  }
+  group_first_.push_back(static_cast<int>(group_ips_.size()));
+  group_nodes_.resize(nb.rows(), static_cast<Eigen::Index>(first_ips.size()));
+  for (size_t g = 0; g < first_ips.size(); ++g)
+    group_nodes_.col(static_cast<Eigen::Index>(g)) = nb.col(first_ips[g]);
 }
 
 Eigen::Map<const Eigen::VectorXd> EfgModel::shapeValues(int e) const {
@@ -174,63 +205,88 @@ Eigen::Matrix3d EfgModel::rotatedStress(const Eigen::Matrix3d& F, const Eigen::M
 template <int K>
 double EfgModel::energyImpl(const Eigen::VectorXd& x) const {
   double energy = 0.0;
-  for (int e = 0; e < grid_.neighbours.cols(); ++e) {
-    const NodeMatrix<K> xe = gather<K>(x, grid_.neighbours, e);
-    const GradientMap<K> G(gradients_.data() + static_cast<size_t>(e) * k_ * 3, k_, 3);
-    const Eigen::Matrix3d F = xe * G;
-    double psi = 0.0;
-    if (options_.rotation == EfgRotation::Polar) {
-      psi = law_.energyDensity(F);
-    } else {
-      const Eigen::Matrix3d RtF = matchingRotation(xe, e).transpose() * F;
-      const Eigen::Matrix3d eps = 0.5 * (RtF + RtF.transpose()) - Eigen::Matrix3d::Identity();
-      psi = mu_ * eps.squaredNorm() + 0.5 * lambda_ * eps.trace() * eps.trace();
+  for (int g = 0; g < group_nodes_.cols(); ++g) {
+    const NodeMatrix<K> xe = gather<K>(x, group_nodes_, g);
+    for (int p = group_first_[g]; p < group_first_[g + 1]; ++p) {
+      const int e = group_ips_[p];
+      const GradientMap<K> G(gradients_.data() + static_cast<size_t>(e) * k_ * 3, k_, 3);
+      const Eigen::Matrix3d F = xe * G;
+      double psi = 0.0;
+      if (options_.rotation == EfgRotation::Polar) {
+        psi = law_.energyDensity(F);
+      } else {
+        const Eigen::Matrix3d RtF = matchingRotation(xe, e).transpose() * F;
+        const Eigen::Matrix3d eps = 0.5 * (RtF + RtF.transpose()) - Eigen::Matrix3d::Identity();
+        psi = mu_ * eps.squaredNorm() + 0.5 * lambda_ * eps.trace() * eps.trace();
+      }
+      energy += grid_.volumes(e) * psi;
     }
-    energy += grid_.volumes(e) * psi;
   }
   return energy;
 }
 
 template <int K>
 void EfgModel::forceImpl(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
-  for (int e = 0; e < grid_.neighbours.cols(); ++e) {
-    const NodeMatrix<K> xe = gather<K>(x, grid_.neighbours, e);
-    const GradientMap<K> G(gradients_.data() + static_cast<size_t>(e) * k_ * 3, k_, 3);
-    const Eigen::Matrix3d F = xe * G;
-    const Eigen::Matrix3d P = options_.rotation == EfgRotation::Polar
-                                  ? law_.firstPiola(F)
-                                  : rotatedStress(F, matchingRotation(xe, e));
-    const NodeMatrix<K> fe = (-grid_.volumes(e) * P) * G.transpose();
-    scatter<K>(fe, grid_.neighbours, e, f);
+  for (int g = 0; g < group_nodes_.cols(); ++g) {
+    const NodeMatrix<K> xe = gather<K>(x, group_nodes_, g);
+    NodeMatrix<K> fe = NodeMatrix<K>::Zero(3, k_);
+    for (int p = group_first_[g]; p < group_first_[g + 1]; ++p) {
+      const int e = group_ips_[p];
+      const GradientMap<K> G(gradients_.data() + static_cast<size_t>(e) * k_ * 3, k_, 3);
+      const Eigen::Matrix3d F = xe * G;
+      const Eigen::Matrix3d P = options_.rotation == EfgRotation::Polar
+                                    ? law_.firstPiola(F)
+                                    : rotatedStress(F, matchingRotation(xe, e));
+      fe.noalias() -= (grid_.volumes(e) * P) * G.transpose();
+    }
+    scatter<K>(fe, group_nodes_, g, f);
   }
 }
 
 template <int K, typename Sink>
 void EfgModel::stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
                              Sink&& sink) const {
+  // Rotated linear tangents (shape matching, projected polar) accumulate L (see
+  // rotatedLinearStiffness) over the group; the exact polar tangent accumulates Ke directly.
+  const bool rotated_linear =
+      options_.rotation == EfgRotation::ShapeMatching || mode == TangentMode::ProjectedSpd;
   ElementMatrix<K> Ke(3 * k_, 3 * k_);
-  for (int e = 0; e < grid_.neighbours.cols(); ++e) {
-    const NodeMatrix<K> xe = gather<K>(x, grid_.neighbours, e);
-    const GradientMap<K> G(gradients_.data() + static_cast<size_t>(e) * k_ * 3, k_, 3);
-    const double w = grid_.volumes(e);
-    const Eigen::Matrix3d F = xe * G;
-    Eigen::Matrix3d P;
-    if (options_.rotation == EfgRotation::ShapeMatching) {
-      const Eigen::Matrix3d R = matchingRotation(xe, e);
-      P = rotatedStress(F, R);
-      rotatedLinearStiffness<K>(R, mu_, lambda_, G, w, Ke);
-    } else if (mode == TangentMode::ProjectedSpd) {
-      const RotatedLinearStressAndTangent point = *law_.rotatedLinearStressAndTangent(F);
-      P = point.P;
-      rotatedLinearStiffness<K>(point.R, point.mu, point.lambda, G, w, Ke);
-    } else {
-      const StressAndTangent point = law_.stressAndTangent(F, mode);
-      P = point.P;
-      Ke.setZero();
-      addPointStiffness(point.dPdF, G, w, Ke);
+  ElementMatrix<K> L(3 * k_, 3 * k_);
+  NodeMatrix<K> fe(3, k_);
+  NodeMatrix<K> H(3, k_);
+  for (int g = 0; g < group_nodes_.cols(); ++g) {
+    const NodeMatrix<K> xe = gather<K>(x, group_nodes_, g);
+    (rotated_linear ? L : Ke).setZero();
+    fe.setZero();
+    for (int p = group_first_[g]; p < group_first_[g + 1]; ++p) {
+      const int e = group_ips_[p];
+      const GradientMap<K> G(gradients_.data() + static_cast<size_t>(e) * k_ * 3, k_, 3);
+      const double w = grid_.volumes(e);
+      const Eigen::Matrix3d F = xe * G;
+      Eigen::Matrix3d P;
+      if (rotated_linear) {
+        Eigen::Matrix3d R;
+        if (options_.rotation == EfgRotation::ShapeMatching) {
+          R = matchingRotation(xe, e);
+          P = rotatedStress(F, R);
+        } else {
+          const RotatedLinearStressAndTangent point = *law_.rotatedLinearStressAndTangent(F);
+          R = point.R;
+          P = point.P;
+        }
+        H.noalias() = R * G.transpose();
+        const Eigen::Map<const RankVector<K>> h(H.data(), 3 * k_);
+        L.noalias() += (w * h) * h.transpose();
+      } else {
+        const StressAndTangent point = law_.stressAndTangent(F, mode);
+        P = point.P;
+        addPointStiffness(point.dPdF, G, w, Ke);
+      }
+      if (f != nullptr) fe.noalias() -= (w * P) * G.transpose();
     }
-    if (f != nullptr) scatter<K>(NodeMatrix<K>((-w * P) * G.transpose()), grid_.neighbours, e, *f);
-    sink(e, Ke);
+    if (rotated_linear) rotatedLinearStiffness<K>(L, mu_, lambda_, Ke);
+    if (f != nullptr) scatter<K>(fe, group_nodes_, g, *f);
+    sink(g, Ke);
   }
 }
 
@@ -248,7 +304,7 @@ void EfgModel::addInternalForce(const Eigen::VectorXd& x, Eigen::VectorXd& f) co
 
 void EfgModel::addGroupStiffness(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
                                  double* values) const {
-  const auto sink = [&](int e, const auto& Ke) { scatterGroup(e, Ke, values); };
+  const auto sink = [&](int g, const auto& Ke) { scatterGroup(g, Ke, values); };
   if (k_ == 8) {
     stiffnessImpl<8>(x, mode, f, sink);
   } else {
@@ -259,15 +315,14 @@ void EfgModel::addGroupStiffness(const Eigen::VectorXd& x, TangentMode mode, Eig
 void EfgModel::applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
                               Eigen::VectorXd& y) const {
   y.setZero(rest_positions_.size());
-  const auto multiply = [&](int e, const auto& Ke) {
+  const auto multiply = [&](int g, const auto& Ke) {
     constexpr int kSize = std::decay_t<decltype(Ke)>::RowsAtCompileTime;
     constexpr int kK = kSize == Eigen::Dynamic ? Eigen::Dynamic : kSize / 3;
-    const NodeMatrix<kK> ve = gather<kK>(v, grid_.neighbours, e);
-    const Eigen::Map<const Eigen::Matrix<double, kSize, 1, 0, 3 * maxNeighbours(kK), 1>> vv(
-        ve.data(), 3 * k_);
-    const Eigen::Matrix<double, kSize, 1, 0, 3 * maxNeighbours(kK), 1> ye = Ke * vv;
+    const NodeMatrix<kK> ve = gather<kK>(v, group_nodes_, g);
+    const Eigen::Map<const RankVector<kK>> vv(ve.data(), 3 * k_);
+    const RankVector<kK> ye = Ke * vv;
     for (int a = 0; a < k_; ++a)
-      y.segment<3>(3 * grid_.neighbours(a, e)) += ye.template segment<3>(3 * a);
+      y.segment<3>(3 * group_nodes_(a, g)) += ye.template segment<3>(3 * a);
   };
   if (k_ == 8) {
     stiffnessImpl<8>(x, mode, nullptr, multiply);

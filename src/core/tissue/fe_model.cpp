@@ -134,73 +134,80 @@ Eigen::VectorXd FeModel::bodyForce(const Eigen::Vector3d& a) const {
 
 template <int NPE, int NQ>
 double FeModel::energyImpl(const Eigen::VectorXd& x) const {
-  double energy = 0.0;
-  for (int e = 0; e < elements_.cols(); ++e) {
-    const Eigen::Matrix<double, 3, NPE> xe = gatherNodes<NPE>(x, elements_, e);
-    for (int q = 0; q < NQ; ++q) {
-      const size_t k = static_cast<size_t>(e) * NQ + q;
-      const Gradients<NPE> G(rest_gradients_.data() + k * NPE * 3);
-      const Eigen::Matrix3d F = xe * G;
-      energy += weight_det_j_[k] * law_->energyDensity(F);
+  return schedule().sumOverChunks([&](int begin, int end) {
+    double energy = 0.0;
+    for (int e = begin; e < end; ++e) {
+      const Eigen::Matrix<double, 3, NPE> xe = gatherNodes<NPE>(x, elements_, e);
+      for (int q = 0; q < NQ; ++q) {
+        const size_t k = static_cast<size_t>(e) * NQ + q;
+        const Gradients<NPE> G(rest_gradients_.data() + k * NPE * 3);
+        const Eigen::Matrix3d F = xe * G;
+        energy += weight_det_j_[k] * law_->energyDensity(F);
+      }
     }
-  }
-  return energy;
+    return energy;
+  });
 }
 
 template <int NPE, int NQ>
 void FeModel::forceImpl(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
-  for (int e = 0; e < elements_.cols(); ++e) {
-    const Eigen::Matrix<double, 3, NPE> xe = gatherNodes<NPE>(x, elements_, e);
-    Eigen::Matrix<double, 3, NPE> fe = Eigen::Matrix<double, 3, NPE>::Zero();
-    for (int q = 0; q < NQ; ++q) {
-      const size_t k = static_cast<size_t>(e) * NQ + q;
-      const Gradients<NPE> G(rest_gradients_.data() + k * NPE * 3);
-      addPointForce<NPE>(law_->firstPiola(xe * G), G, weight_det_j_[k], fe);
+  schedule().forEachChunk([&](int begin, int end) {
+    for (int e = begin; e < end; ++e) {
+      const Eigen::Matrix<double, 3, NPE> xe = gatherNodes<NPE>(x, elements_, e);
+      Eigen::Matrix<double, 3, NPE> fe = Eigen::Matrix<double, 3, NPE>::Zero();
+      for (int q = 0; q < NQ; ++q) {
+        const size_t k = static_cast<size_t>(e) * NQ + q;
+        const Gradients<NPE> G(rest_gradients_.data() + k * NPE * 3);
+        addPointForce<NPE>(law_->firstPiola(xe * G), G, weight_det_j_[k], fe);
+      }
+      scatterForce<NPE>(fe, elements_, e, f);
     }
-    scatterForce<NPE>(fe, elements_, e, f);
-  }
+  });
 }
 
 template <int NPE, int NQ, typename Sink>
 void FeModel::stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
                             Sink&& sink) const {
-  ElementMatrix<NPE> Ke;
-  Eigen::Matrix<double, 3, NPE> fe;
-  // The tangent at one point; with f, the stress from the same law call goes into fe.
-  const auto point_tangent = [&](const Gradients<NPE>& G, const Eigen::Matrix3d& F,
-                                 double w) -> Matrix9d {
-    if (f == nullptr) return law_->tangent(F, mode);
-    const StressAndTangent point = law_->stressAndTangent(F, mode);
-    addPointForce<NPE>(point.P, G, w, fe);
-    return point.dPdF;
-  };
-  for (int e = 0; e < elements_.cols(); ++e) {
-    const Eigen::Matrix<double, 3, NPE> xe = gatherNodes<NPE>(x, elements_, e);
-    fe.setZero();
-    if constexpr (NPE == 4 && NQ == 1) {
-      const Gradients<4> G(rest_gradients_.data() + static_cast<size_t>(e) * 12);
-      const double w = weight_det_j_[e];
-      const Eigen::Matrix3d F = xe * G;
-      const std::optional<RotatedLinearStressAndTangent> rotated =
-          mode == TangentMode::ProjectedSpd ? law_->rotatedLinearStressAndTangent(F) : std::nullopt;
-      if (rotated) {
-        tet4RotatedLinearStiffness(*rotated, G, w, Ke);
-        if (f != nullptr) addPointForce<4>(rotated->P, G, w, fe);
+  schedule().forEachChunk([&](int begin, int end) {
+    ElementMatrix<NPE> Ke;
+    Eigen::Matrix<double, 3, NPE> fe;
+    // The tangent at one point; with f, the stress from the same law call goes into fe.
+    const auto point_tangent = [&](const Gradients<NPE>& G, const Eigen::Matrix3d& F,
+                                   double w) -> Matrix9d {
+      if (f == nullptr) return law_->tangent(F, mode);
+      const StressAndTangent point = law_->stressAndTangent(F, mode);
+      addPointForce<NPE>(point.P, G, w, fe);
+      return point.dPdF;
+    };
+    for (int e = begin; e < end; ++e) {
+      const Eigen::Matrix<double, 3, NPE> xe = gatherNodes<NPE>(x, elements_, e);
+      fe.setZero();
+      if constexpr (NPE == 4 && NQ == 1) {
+        const Gradients<4> G(rest_gradients_.data() + static_cast<size_t>(e) * 12);
+        const double w = weight_det_j_[e];
+        const Eigen::Matrix3d F = xe * G;
+        const std::optional<RotatedLinearStressAndTangent> rotated =
+            mode == TangentMode::ProjectedSpd ? law_->rotatedLinearStressAndTangent(F)
+                                              : std::nullopt;
+        if (rotated) {
+          tet4RotatedLinearStiffness(*rotated, G, w, Ke);
+          if (f != nullptr) addPointForce<4>(rotated->P, G, w, fe);
+        } else {
+          tet4Stiffness(point_tangent(G, F, w), G, w, Ke);
+        }
       } else {
-        tet4Stiffness(point_tangent(G, F, w), G, w, Ke);
+        Ke.setZero();
+        for (int q = 0; q < NQ; ++q) {
+          const size_t k = static_cast<size_t>(e) * NQ + q;
+          const Gradients<NPE> G(rest_gradients_.data() + k * NPE * 3);
+          const double w = weight_det_j_[k];
+          addPointStiffness(point_tangent(G, xe * G, w), G, w, Ke);
+        }
       }
-    } else {
-      Ke.setZero();
-      for (int q = 0; q < NQ; ++q) {
-        const size_t k = static_cast<size_t>(e) * NQ + q;
-        const Gradients<NPE> G(rest_gradients_.data() + k * NPE * 3);
-        const double w = weight_det_j_[k];
-        addPointStiffness(point_tangent(G, xe * G, w), G, w, Ke);
-      }
+      if (f != nullptr) scatterForce<NPE>(fe, elements_, e, *f);
+      sink(e, Ke);
     }
-    if (f != nullptr) scatterForce<NPE>(fe, elements_, e, *f);
-    sink(e, Ke);
-  }
+  });
 }
 
 double FeModel::energy(const Eigen::VectorXd& x) const {

@@ -19,6 +19,7 @@ void GroupAssembledModel::addInternalForceAndStiffness(const Eigen::VectorXd& x,
 void GroupAssembledModel::setGroups(int num_nodes, const Eigen::MatrixXi& groups) {
   pattern_ = makeBlockPattern(num_nodes, groups);
   scatter_ = BlockScatterMap(pattern_, groups);
+  schedule_ = GroupSchedule(num_nodes, groups, defaultThreadCount());
 }
 
 double* GroupAssembledModel::zeroedValues(Eigen::SparseMatrix<double>& K) const {

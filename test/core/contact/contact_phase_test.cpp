@@ -258,6 +258,20 @@ TEST(ContactPhase, GraspMovesAttachedNodesWithTheTool) {
   EXPECT_EQ(p.problem.dirichlet.dofs.size(), p.base_bc.dofs.size());
 }
 
+TEST(ContactPhase, JawsClosedOnNothingStillCollide) {
+  Palpation p;
+  p.contact->setGrasp(0, true);
+  ASSERT_EQ(p.step(Palpation::pose(-0.01)), StepStatus::Ok);  // closed 1 cm above the surface
+  EXPECT_EQ(p.problem.dirichlet.dofs.size(), p.base_bc.dofs.size());  // nothing captured
+  EXPECT_FALSE(p.contact->linearization(0).in_contact);
+  const double depth = 1e-3;
+  for (int s = 1; s <= 5; ++s) ASSERT_EQ(p.step(Palpation::pose(depth * s / 5)), StepStatus::Ok);
+  const ContactLinearization& lin = p.contact->linearization(0);
+  ASSERT_TRUE(lin.in_contact);
+  EXPECT_GT(lin.f0_S.z(), 0.0);  // the closed tool pushes the tissue and feels it
+  EXPECT_LT(p.maxNodePenetration(Palpation::pose(depth)), 0.02 * depth);
+}
+
 TEST(ProxyContact, ForceIsStiffnessTimesPenetration) {
   Palpation p(ContactResponse::Proxy, "implicit_euler_linearized");
   // The tip point (centre of the tool's end sphere) goes from 1 mm above to 2 mm below the top.

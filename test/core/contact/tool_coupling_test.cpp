@@ -1,5 +1,6 @@
 // ContactSolver with the tool coupled to its commanded pose (ToolCoupling): pen-and-paper answers
-// for contacts on fixed and on compliant nodes, the force cap and the linearization.
+// for contacts on fixed and on compliant nodes, the force cap and the linearization; computing
+// only the compliance columns the LCP needs equals computing the whole Delassus operator.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -25,9 +26,12 @@ class FixedCompliance : public Integrator {
   StepReport step(const DynamicsProblem&, double, SimulationState&) override { return {}; }
   void reset() override {}
   bool applyStepCompliance(const Eigen::VectorXd& f, Eigen::VectorXd& dx) override {
+    ++calls;
     dx = S_ * f;
     return true;
   }
+
+  int calls = 0;  ///< applyStepCompliance calls
 
  private:
   Eigen::MatrixXd S_;
@@ -56,10 +60,11 @@ struct Solve {
       : integrator(std::move(S)),
         solver(settings(), 16, std::vector<ToolCoupling>(tools, {kCoupling, max_force})) {}
 
-  static ContactSolverSettings settings() {
+  static ContactSolverSettings settings(bool full_delassus = false) {
     ContactSolverSettings s;
     s.max_iterations = 500;
     s.relative_tolerance = 1e-10;
+    s.full_delassus = full_delassus;
     return s;
   }
 
@@ -238,6 +243,61 @@ TEST(ToolCoupling, LinearizationEqualsFiniteDifferencesOfTheSolvedForce) {
                                                            << K_fd;
     // Bounded by the coupling: no direction is stiffer than k_c.
     EXPECT_LE(lin.K_S.norm(), 3.0 * kCoupling);
+  }
+}
+
+TEST(ToolCoupling, NeededColumnsOnlyEqualTheWholeDelassusOperator) {
+  // Ten contacts of two tools, some separated (positive gaps), over steps that carry the last
+  // force into the next: the multipliers, the corrected state, the tissue force and the
+  // linearization agree, with fewer compliance solves.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<ContactPoint> contacts;
+  for (int i = 0; i < 10; ++i) {
+    const Eigen::Vector3d n(0.3 * u(rng), 0.3 * u(rng), -1.0);
+    contacts.push_back(contactOnNode(i % 8, n, 1e-3 * (u(rng) - 0.3), i % 3 == 2 ? 1 : 0));
+    contacts.back().weights = Eigen::Vector3d(0.6, 0.3, 0.1);
+  }
+  FixedCompliance full_integrator(coupledCompliance(2e-4));
+  FixedCompliance needed_integrator(coupledCompliance(2e-4));
+  const std::vector<ToolCoupling> tools(2, {kCoupling, 1e3, 50.0});
+  ContactSolver full(Solve::settings(true), 16, tools);
+  ContactSolver needed(Solve::settings(false), 16, tools);
+  SimulationState full_state, needed_state;
+  full_state.x = full_state.v = needed_state.x = needed_state.v = Eigen::VectorXd::Zero(24);
+  for (int step = 0; step < 3; ++step) {
+    SCOPED_TRACE(step);
+    const Eigen::VectorXd full_applied =
+        full.tissueForce().size() == 24 ? full.tissueForce() : Eigen::VectorXd::Zero(24).eval();
+    const Eigen::VectorXd needed_applied =
+        needed.tissueForce().size() == 24 ? needed.tissueForce() : Eigen::VectorXd::Zero(24).eval();
+    full_integrator.calls = needed_integrator.calls = 0;
+    ASSERT_EQ(
+        full.solve(full_integrator, eightNodes(), contacts, full_applied, 0.01, true, full_state),
+        StepStatus::Ok);
+    ASSERT_EQ(needed.solve(needed_integrator, eightNodes(), contacts, needed_applied, 0.01, true,
+                           needed_state),
+              StepStatus::Ok);
+    const auto lambda = full.multipliers();
+    const Eigen::Index active = (lambda.array() > 0.0).count();
+    ASSERT_GT(active, 0);
+    ASSERT_LT(active, 10);
+    EXPECT_LT((needed.multipliers() - lambda).norm(), 1e-8 * lambda.norm());
+    EXPECT_LT((needed_state.x - full_state.x).norm(), 1e-8 * full_state.x.norm());
+    EXPECT_LT((needed_state.v - full_state.v).norm(), 1e-8 * full_state.v.norm());
+    EXPECT_LT((needed.tissueForce() - full.tissueForce()).norm(), 1e-8 * full.tissueForce().norm());
+    for (int tool = 0; tool < 2; ++tool) {
+      ContactLinearization a, b;
+      full.linearize(tool, Eigen::Vector3d::Zero(), a);
+      needed.linearize(tool, Eigen::Vector3d::Zero(), b);
+      EXPECT_EQ(a.contacts, b.contacts);
+      EXPECT_LT((a.K_S - b.K_S).norm(), 1e-8 * a.K_S.norm()) << tool;
+    }
+    // Whole operator: carried force, every column, correction. Needed: the active columns (and
+    // any the pivoting tried) and the carried force.
+    EXPECT_EQ(full_integrator.calls, 10 + 1 + (step > 0 ? 1 : 0));
+    EXPECT_LE(needed_integrator.calls, full_integrator.calls - 2);
+    EXPECT_GE(needed_integrator.calls, active + (step > 0 ? 1 : 0));
   }
 }
 

@@ -307,6 +307,7 @@ variants:
   EXPECT_DOUBLE_EQ(after.pcg_tolerance, 1e-8);
   EXPECT_EQ(after.name, "unit");
   EXPECT_TRUE(s.variants[0].keys.empty());
+  EXPECT_FALSE(before.threads);
   EXPECT_EQ(s.variants[1].keys,
             (std::vector<std::string>{"solvers", "material.young_modulus", "pcg.tolerance"}));
 }
@@ -314,6 +315,9 @@ variants:
 TEST(BenchmarkScene, BadVariantsAreNamed) {
   const std::string base(kValidScene);
   expectRejected(base + "variants: []\n", {"key 'variants'", "at least one"});
+  expectRejected(base + "variants: [{name: a, threads: 0}]\n",
+                 {"key 'variants[0].name'", "key 'threads'"});
+  EXPECT_EQ(*parseBenchmarkScene(base + "threads: 2\n", "t.yaml").threads, 2);
   expectRejected(base + "variants: [{name: a}, {name: a}]\n",
                  {"key 'variants[1].name'", "duplicate variant name 'a'"});
   expectRejected(base + "variants: [{name: 2x}]\n", {"key 'variants[0].name'"});

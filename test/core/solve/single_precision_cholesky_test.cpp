@@ -4,7 +4,9 @@
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <cstring>
 #include <limits>
+#include <stdexcept>
 
 #include "solve_test_util.h"
 #include "surgical_sim/core/solve/cholmod_solver.h"
@@ -61,6 +63,22 @@ TEST_F(CopiedFactor, SolvesLikeTheDoubleFactorToSinglePrecision) {
   ASSERT_TRUE(cholmod.solveWithFactor(b2, exact2));
   single.solve(b2, z);
   EXPECT_LT((z - exact2).norm() / exact2.norm(), 1e-5);
+}
+
+TEST_F(CopiedFactor, OneAndTwoThreadsGiveBitIdenticalSolutions) {
+  SinglePrecisionCholesky one(1);
+  SinglePrecisionCholesky two(2);
+  ASSERT_TRUE(one.assign(cholmod));
+  ASSERT_TRUE(two.assign(cholmod));
+  Eigen::VectorXd z_one, z_two;
+  for (const Eigen::VectorXd& rhs : {b, (-3.0 * b.reverse()).eval()}) {
+    one.solve(rhs, z_one);
+    two.solve(rhs, z_two);
+    ASSERT_EQ(z_one.size(), A.rows());
+    EXPECT_EQ(std::memcmp(z_one.data(), z_two.data(), sizeof(double) * z_one.size()), 0);
+    EXPECT_LT((rhs - A * z_two).norm() / rhs.norm(), 1e-5);
+  }
+  EXPECT_THROW(SinglePrecisionCholesky(0), std::invalid_argument);
 }
 
 TEST_F(CopiedFactor, KeepsItsRelativeAccuracyForTinyHugeAndZeroRightHandSides) {

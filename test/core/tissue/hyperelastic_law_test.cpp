@@ -4,8 +4,10 @@
 #include <cmath>
 #include <memory>
 #include <random>
+#include <vector>
 
 #include "surgical_sim/core/tissue/corotational_law.h"
+#include "surgical_sim/core/tissue/psd_projection.h"
 #include "surgical_sim/core/tissue/signed_svd.h"
 #include "surgical_sim/core/tissue/st_venant_kirchhoff_law.h"
 #include "surgical_sim/core/tissue/stable_neo_hookean_law.h"
@@ -211,6 +213,31 @@ TEST(StableNeoHookeanLaw, FiniteForInvertedAndNearlyIncompressible) {
   }
   // Inverted along z: the volume term pushes J back towards 1 (dpsi/dF_zz < 0 at F_zz < 0).
   EXPECT_LT(law.firstPiola(Eigen::Vector3d(1.0, 1.0, -0.3).asDiagonal())(2, 2), 0.0);
+}
+
+TEST(StableNeoHookeanLaw, ClosedFormProjectionEqualsTheClampedEigenvaluesOfTheExactTangent) {
+  // Compressed, stretched, inverted, flat and nearly incompressible: the closed-form eigensystem
+  // gives the projection a 9 x 9 eigensolver gives.
+  std::mt19937 rng(13);
+  for (const double nu : {0.3, 0.49}) {
+    const Material m = test::testMaterial(nu);
+    const StableNeoHookeanLaw law(m);
+    std::vector<Eigen::Matrix3d> cases = {Eigen::Matrix3d::Identity(),
+                                          Eigen::Vector3d(0.5, 0.6, 0.7).asDiagonal(),
+                                          Eigen::Vector3d(1.6, 1.2, 0.9).asDiagonal(),
+                                          Eigen::Vector3d(1.0, 1.0, -0.3).asDiagonal(),
+                                          Eigen::Vector3d(1.0, 1.0, 0.0).asDiagonal(),
+                                          Eigen::Vector3d(1.1, 1.1, 1.1).asDiagonal()};
+    for (int trial = 0; trial < 20; ++trial) cases.push_back(randomF(rng, 0.5, trial % 2 == 1));
+    for (const Eigen::Matrix3d& F : cases) {
+      Matrix9d expected = law.firstPiolaDerivative(F);
+      projectToPsd(expected);
+      const Matrix9d projected = law.projectedFirstPiolaDerivative(F);
+      EXPECT_LT((projected - expected).norm(), 1e-10 * (m.young_modulus + expected.norm()))
+          << "nu " << nu << " F\n"
+          << F;
+    }
+  }
 }
 
 TEST(HyperelasticLaw, InvalidMaterialThrows) {

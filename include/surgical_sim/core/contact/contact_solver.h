@@ -20,6 +20,12 @@ struct ContactSolverSettings {
   /// Converged when the LCP min-map residual is below relative_tolerance x max_i |q_i|
   /// (q: free gaps) [-], in (0, 1).
   double relative_tolerance = 1e-8;
+  /// Compute the compliance column S h_j of every contact (the whole Delassus operator) and start
+  /// the LCP with projected Gauss-Seidel. false (default): compute only the columns of the
+  /// contacts the active-set LCP makes active, starting from the penetrating ones, and the
+  /// correction from those columns; the whole operator only if that LCP does not converge. Both
+  /// give the same answer to the linear solver's and the LCP's tolerance.
+  bool full_delassus = false;
 };
 
 /// @throws std::invalid_argument naming "contact.solver.max_iterations" or
@@ -52,7 +58,8 @@ void validateToolCoupling(const ToolCoupling& coupling);
 ///  2. H has one row per contact, n^T times the barycentric weights on the triangle's 3 surface
 ///     vertices mapped to the model's DOFs: h = sum_k w_k (A_k^T n) with A_k the vertex's row of
 ///     the SurfaceMapping (for a tet model the identity on the surface nodes);
-///     S = Integrator::applyStepCompliance (one call per contact column); the gaps are measured
+///     S = Integrator::applyStepCompliance (one call per contact column that step 3 needs: the
+///     columns of the contacts it makes active, or all with full_delassus); the gaps are measured
 ///     with the tool at its commanded pose, and the massless tool body of tool t (ToolCoupling)
 ///     sits at the offset d_t from it where the spring-damper balances the contact force
 ///     (backward Euler): (k_t + b_t/dt) d_t = (b_t/dt) d_t,prev - sum_{j of t} lambda_j n_j.
@@ -66,7 +73,10 @@ void validateToolCoupling(const ToolCoupling& coupling);
 ///     principal pivoting (refineLcpActiveSet; lambda [N]: the new contact force replaces F_a);
 ///     a tool whose multipliers sum above its max_force gets them scaled to sum to max_force
 ///     (contradictory normals on fixed nodes make the LCP infeasible; the cap bounds the answer);
-///  4. correction dx = S (H^T lambda - F_a): x += dx, v += dx / dt.
+///     (without full_delassus, the active-set pivoting runs first, from the penetrating contacts,
+///     computing the columns of the contacts it activates; Gauss-Seidel only if it fails);
+///  4. correction dx = S (H^T lambda - F_a): x += dx, v += dx / dt (without full_delassus, as
+///     sum lambda_j S h_j - S F_a from the computed columns, no further solve).
 /// tissueForce() = H^T lambda is the force on the tissue to carry into the next free step; the
 /// force of the tissue on tool t is -sum_{i of t} lambda_i n_i, of magnitude <= max_force.
 ///
@@ -120,7 +130,9 @@ class ContactSolver {
   void linearize(int tool, const Eigen::Vector3d& p0_S, ContactLinearization& out);
   /// Multipliers lambda [N] of the last solve, one per contact.
   Eigen::Ref<const Eigen::VectorXd> multipliers() const { return lambda_.head(count_); }
-  /// Delassus operator W = H S H^T [m/N] of the last solve, count x count.
+  /// Delassus operator W = H S H^T + C [m/N] of the last solve, count x count; without
+  /// full_delassus, columns of contacts whose compliance column was not needed hold C alone
+  /// (rows and columns of the active contacts are complete).
   Eigen::Ref<const Eigen::MatrixXd> delassus() const { return W_.topLeftCorner(count_, count_); }
   /// Free gaps with the carried force removed, q [m], of the last solve.
   Eigen::Ref<const Eigen::VectorXd> freeGaps() const { return q_.head(count_); }
@@ -136,6 +148,19 @@ class ContactSolver {
   /// Scales each tool's multipliers whose sum exceeds its max_force down to it (force_scale_);
   /// returns whether any tool was capped.
   bool capToolForces();
+  /// What computeColumn needs of the current solve.
+  struct ColumnInputs {
+    Integrator* integrator;
+    const SurfaceMapping* mapping;
+    const std::vector<ContactPoint>* contacts;
+  };
+  /// If not done yet in this solve: column j of H S H^T into W_ (pairs of computed entries
+  /// symmetrized), the response S h_j kept for the correction and coupling_. False if the step
+  /// compliance fails (column_failed_ is then set).
+  bool computeColumn(const ColumnInputs& inputs, Eigen::Index j);
+  /// Correction dx = S (H^T lambda - F_a) (step 4) applied to state; false if S fails.
+  bool correct(Integrator& integrator, const Eigen::VectorXd& applied_force, double dt,
+               bool update_velocity, SimulationState& state);
   /// solve() between the coupling updates.
   StepStatus solveContacts(Integrator& integrator, const SurfaceMapping& mapping,
                            const std::vector<ContactPoint>& contacts,
@@ -173,6 +198,10 @@ class ContactSolver {
   std::vector<Eigen::Matrix<double, 9, 1>> coupling_;
   Eigen::MatrixXd solved_;                                                   ///< max x 3, W_AA^-1 E
   Eigen::VectorXd tissue_force_, column_, response_, carried_, correction_;  ///< 3n
+  std::vector<Eigen::VectorXd> columns_;  ///< S h_j of the computed columns (3n each), by slot
+  std::vector<int> column_slot_;          ///< per contact: its slot in columns_, -1 not computed
+  int columns_used_ = 0;                  ///< slots of columns_ filled in this solve
+  bool column_failed_ = false;            ///< a compliance column failed in this solve
   PgsReport report_;
   LcpActiveSetWorkspace active_set_;
 };

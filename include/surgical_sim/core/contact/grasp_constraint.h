@@ -29,7 +29,9 @@ class GraspConstraint {
   void update(bool closed, const Eigen::Isometry3d& X_ST, const SurfaceMapping& mapping,
               const Eigen::VectorXd& x, const std::vector<std::uint8_t>& fixed_mask);
 
-  bool active() const { return closed_; }
+  /// True while the jaws are closed on tissue (at least one attached node). Closed jaws that
+  /// captured nothing hold nothing: the tool then collides like any other tool.
+  bool active() const { return closed_ && !nodes_.empty(); }
   /// Number of constrained DOFs (3 per attached node; 0 when open).
   int numDofs() const { return closed_ ? 3 * static_cast<int>(nodes_.size()) : 0; }
   /// Appends the attached DOFs (node-major) to dofs (capacity kept).

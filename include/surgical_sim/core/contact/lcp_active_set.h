@@ -1,11 +1,17 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <vector>
 
 #include "surgical_sim/core/contact/projected_gauss_seidel.h"
 
 namespace surgical_sim::core {
+
+/// Makes column j of the W of refineLcpActiveSet available (it may compute it on demand: the
+/// refinement reads only the columns of active contacts); false if it cannot (the refinement then
+/// stops, not converged).
+using LcpColumnSource = std::function<bool(Eigen::Index j)>;
 
 /// Preallocated storage of refineLcpActiveSet for up to `capacity` contacts.
 class LcpActiveSetWorkspace {
@@ -15,7 +21,8 @@ class LcpActiveSetWorkspace {
  private:
   friend PgsReport refineLcpActiveSet(const Eigen::Ref<const Eigen::MatrixXd>&,
                                       const Eigen::Ref<const Eigen::VectorXd>&, double, int,
-                                      Eigen::Ref<Eigen::VectorXd>, LcpActiveSetWorkspace&);
+                                      Eigen::Ref<Eigen::VectorXd>, LcpActiveSetWorkspace&,
+                                      const LcpColumnSource&);
   Eigen::MatrixXd factor_;
   Eigen::VectorXd solution_;
   std::vector<Eigen::Index> active_;
@@ -31,10 +38,13 @@ class LcpActiveSetWorkspace {
 /// On success `lambda` holds the solution (inactive entries 0) and the report is converged with
 /// the min-map residual of solveLcpProjectedGaussSeidel; otherwise `lambda` is left untouched and
 /// the report is not converged. Allocation-free while q.size() <= the workspace capacity (larger
-/// problems are refused: report not converged, lambda untouched).
+/// problems are refused: report not converged, lambda untouched). With a column source, only the
+/// columns of W it has made available (source(j) before column j of an active contact is read)
+/// need to hold W's values; the min-map residual then reads W lambda, which needs no other column.
 PgsReport refineLcpActiveSet(const Eigen::Ref<const Eigen::MatrixXd>& W,
                              const Eigen::Ref<const Eigen::VectorXd>& q, double tolerance,
                              int max_pivots, Eigen::Ref<Eigen::VectorXd> lambda,
-                             LcpActiveSetWorkspace& workspace);
+                             LcpActiveSetWorkspace& workspace,
+                             const LcpColumnSource& source = nullptr);
 
 }  // namespace surgical_sim::core

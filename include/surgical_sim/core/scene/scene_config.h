@@ -190,7 +190,10 @@ struct BenchmarkScene : SceneBase {
   std::vector<ModelKind> models;
   std::vector<IntegratorKind> integrators;
   std::vector<SolverKind> solvers;
-  int steps = 1;                     ///< steps per case (quasi_static: load increments)
+  int steps = 1;  ///< steps per case (quasi_static: load increments)
+  /// Key 'threads': SURGICAL_SIM_THREADS for the benches' case processes, [1, kMaxThreads];
+  /// unset: the environment's (docs/models.md).
+  std::optional<int> threads;
   std::vector<double> load_factors;  ///< load path (quasi-static stretch values etc.)
   std::vector<PrescribedBc> prescribed;
   MeasureSpec measure;

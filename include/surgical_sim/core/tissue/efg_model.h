@@ -51,7 +51,8 @@ class EfgModel final : public GroupAssembledModel {
                       Eigen::VectorXd& y) const override;
 
   const EfgOptions& options() const { return options_; }
-  /// The grids: particles (= restPositions()), IPs, their volumes and neighbours.
+  /// The grids: particles (= restPositions()), IPs, their volumes and neighbours (each IP's in
+  /// ascending particle order).
   const EfgGrid& grid() const { return grid_; }
   /// phi_a(x_e) [-] of IP e's neighbours (grid().neighbours.col(e)), size k.
   Eigen::Map<const Eigen::VectorXd> shapeValues(int e) const;
@@ -69,10 +70,14 @@ class EfgModel final : public GroupAssembledModel {
   double energyImpl(const Eigen::VectorXd& x) const;
   template <int K>
   void forceImpl(const Eigen::VectorXd& x, Eigen::VectorXd& f) const;
-  /// IP stiffness matrices passed to sink(e, Ke); with a non-null f, also f += the force.
+  /// Group stiffness matrices (the sum over the group's IPs) passed to sink(g, Ke); with a
+  /// non-null f, also f += the force.
   template <int K, typename Sink>
   void stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
                      Sink&& sink) const;
+  /// Groups the IPs that share their particles (grid().neighbours column): group_ips_,
+  /// group_first_, group_nodes_.
+  void groupIntegrationPoints();
   /// One IP pass for the stiffness and, with f, the force.
   void addGroupStiffness(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
                          double* values) const override;
@@ -93,6 +98,12 @@ class EfgModel final : public GroupAssembledModel {
   std::vector<double> gradients_;     ///< per IP: d phi / dX, k x 3 col-major [1/m]
   std::vector<double> matching_;      ///< per IP: shape-matching weights, k x 3 col-major [1/m]
   std::vector<double> support_;       ///< per IP: kernel support radius h [m]
+  /// IPs with the same particles form a group (with 8 neighbours: the 8 IPs of a DOF cell), whose
+  /// stiffness and force are summed before one scatter: group g holds IPs
+  /// group_ips_[group_first_[g] .. group_first_[g + 1]) on particles group_nodes_.col(g).
+  std::vector<int> group_ips_;
+  std::vector<int> group_first_;  ///< size groups + 1
+  Eigen::MatrixXi group_nodes_;   ///< k x groups
 };
 
 }  // namespace surgical_sim::core

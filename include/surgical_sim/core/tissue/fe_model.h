@@ -19,10 +19,12 @@ namespace surgical_sim::core {
 /// Precomputed in the constructor: rest gradients dN/dX and weight * det J per element and
 /// quadrature point, the lumped (HRZ) mass, the consistent body-force weights, the stiffness
 /// pattern and the element-to-nonzero scatter map. Energy, force and stiffness evaluation allocate
-/// nothing. Element stiffness K_e = sum_q w_q detJ_q G_q^T (dP/dF) G_q, G_q = d vec(F)/d x_e;
-/// a projected Tet4 tangent that the law gives as a rotated isotropic linear tensor
-/// (HyperelasticLaw::rotatedLinearStressAndTangent, corotational) is assembled blockwise as
-/// R K0 R^T without the 9 x 9 matrix.
+/// nothing and run their element loops on threads() threads in the order of schedule(), so their
+/// results are bit-identical for any thread count. Element stiffness
+/// K_e = sum_q w_q detJ_q G_q^T (dP/dF) G_q, G_q = d vec(F)/d x_e; a projected Tet4 tangent that
+/// the law gives as a rotated isotropic linear tensor (HyperelasticLaw::
+/// rotatedLinearStressAndTangent, corotational) is assembled blockwise as R K0 R^T without the
+/// 9 x 9 matrix.
 ///
 /// Masses: Tet4 rho V / 4 per node; Tet10 HRZ lumping (diagonal of the consistent mass scaled to
 /// the element mass, all positive). bodyForce is the consistent integral of rho N_a a (Tet10

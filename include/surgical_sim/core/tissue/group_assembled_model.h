@@ -4,6 +4,7 @@
 #include <Eigen/SparseCore>
 
 #include "surgical_sim/core/tissue/block_sparsity.h"
+#include "surgical_sim/core/tissue/group_schedule.h"
 #include "surgical_sim/core/tissue/tissue_model.h"
 
 namespace surgical_sim::core {
@@ -11,9 +12,15 @@ namespace surgical_sim::core {
 /// A TissueModel whose stiffness is a sum of dense group matrices (elements, springs, the
 /// neighbourhoods of integration points) scatter-added into one block pattern. It holds the rest
 /// positions, the lumped mass and the pattern, and checks and zeroes K before an assembly; a model
-/// only supplies the group matrices (addGroupStiffness).
+/// only supplies the group matrices (addGroupStiffness). Models that loop over their groups with
+/// schedule() use threads() threads (default defaultThreadCount()) with results bit-identical
+/// for any thread count.
 class GroupAssembledModel : public TissueModel {
  public:
+  /// Threads of the group loops (1: the calling thread alone); copies of the model share them.
+  /// @throws std::invalid_argument naming "threads" outside [1, kMaxThreads].
+  void setThreads(int threads) { schedule_.setThreads(threads); }
+  int threads() const { return schedule_.threads(); }
   const Eigen::VectorXd& restPositions() const final { return rest_positions_; }
   const Eigen::VectorXd& lumpedMass() const final { return lumped_mass_; }
   const Eigen::SparseMatrix<double>& stiffnessPattern() const final { return pattern_; }
@@ -26,8 +33,12 @@ class GroupAssembledModel : public TissueModel {
                                     Eigen::SparseMatrix<double>& K) const final;
 
  protected:
-  /// Builds the pattern and the scatter map of `groups` (k x g node indices in [0, num_nodes)).
+  /// Builds the pattern, the scatter map and the schedule of `groups` (k x g node indices in
+  /// [0, num_nodes)).
+  /// @throws std::invalid_argument if SURGICAL_SIM_THREADS is invalid (defaultThreadCount).
   void setGroups(int num_nodes, const Eigen::MatrixXi& groups);
+  /// The parallel order of the groups passed to setGroups.
+  const GroupSchedule& schedule() const { return schedule_; }
   /// Scatter-adds every group's stiffness matrix K_g = -df_g/dx_g at x into `values` (the
   /// pattern's value array, zeroed) through scatterGroup(); with a non-null f, also f += the
   /// internal force (in the same pass where the model can).
@@ -47,6 +58,7 @@ class GroupAssembledModel : public TissueModel {
 
   Eigen::SparseMatrix<double> pattern_;
   BlockScatterMap scatter_;
+  GroupSchedule schedule_;
 };
 
 }  // namespace surgical_sim::core

@@ -13,7 +13,9 @@ namespace surgical_sim::core {
 /// so P(I) = 0 and, because of the shift lambda' = lambda + mu, the linearisation at F = I is
 /// exactly linear elasticity with the material's (mu, lambda): dP = 2 mu sym(dF) + lambda tr(dF) I.
 /// Exact tangent: mu I + lambda' vec(cof) vec(cof)^T + (lambda' (J - 1) - mu) d2J/dF2.
-/// Projected tangent: eigenvalues of the 9 x 9 exact tangent clamped at 0.
+/// Projected tangent: eigenvalues of the 9 x 9 exact tangent clamped at 0, from its closed-form
+/// eigensystem in the frame of the signed SVD of F (a 3 x 3 scaling block and three twist / flip
+/// pairs, as in Smith et al.), without a 9 x 9 eigensolver.
 class StableNeoHookeanLaw final : public HyperelasticLaw {
  public:
   /// @throws std::invalid_argument if the material is out of range (see Material::create).

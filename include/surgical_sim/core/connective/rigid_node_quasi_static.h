@@ -1,0 +1,48 @@
+#pragma once
+
+#include <Eigen/Core>
+
+#include "surgical_sim/core/common/status.h"
+#include "surgical_sim/core/connective/rigid_node_problem.h"
+#include "surgical_sim/core/connective/rigid_node_tangent_system.h"
+
+namespace surgical_sim::core {
+
+/// Settings of RigidNodeQuasiStatic.
+struct RigidNodeNewtonSettings {
+  int max_iterations = 50;           ///< Newton iterations, >= 1
+  double relative_tolerance = 1e-9;  ///< |r| <= tol (|f_int| + |f_load|), in (0, 1)
+  int max_halvings = 30;             ///< line-search halvings, >= 0
+};
+
+/// Quasi-static equilibrium f_int(q) + f_body(q) + f_ext = 0 of a rigid-node model by Newton's
+/// method: dq = A^-1 r with A the projected symmetrized tangent (RigidNodeTangentSystem), r the
+/// residual force on free DOFs, q <- q (+) s dq (applyRigidNodeIncrement), s from an Armijo line
+/// search on Pi(q) = W(q) + V_body(q) - f_ext . (sum of accepted increments) (external torques
+/// act as dead loads in the rotation increments). Fixed DOFs keep the values they have in q.
+class RigidNodeQuasiStatic {
+ public:
+  /// @throws std::invalid_argument naming a setting out of range
+  explicit RigidNodeQuasiStatic(const RigidNodeNewtonSettings& settings = {});
+
+  /// Solves in place from q. Ok when converged; NotConverged (last accepted iterate kept) at the
+  /// iteration cap or when the line search finds no decrease; SolverFailed / NonFinite with q
+  /// restored. report.residual: |r| / (|f_int| + |f_load|) at the end.
+  /// @throws std::invalid_argument for a malformed problem (checkRigidNodeProblem) or a q of
+  ///         the wrong size
+  StepReport solve(const RigidNodeProblem& problem, RigidNodeConfiguration& q);
+
+  /// The tangent system of the last solve (its stiffness at the last assembled iterate).
+  const RigidNodeTangentSystem& system() const { return system_; }
+
+ private:
+  double merit(const RigidNodeProblem& problem, const RigidNodeConfiguration& q,
+               const Eigen::VectorXd& travelled, double* scale) const;
+
+  RigidNodeNewtonSettings settings_;
+  RigidNodeTangentSystem system_;
+  RigidNodeConfiguration start_, base_, trial_;
+  Eigen::VectorXd residual_, increment_, travelled_, trial_travelled_, load_;
+};
+
+}  // namespace surgical_sim::core

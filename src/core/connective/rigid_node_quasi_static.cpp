@@ -1,0 +1,103 @@
+#include "surgical_sim/core/connective/rigid_node_quasi_static.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "surgical_sim/core/common/validate.h"
+#include "surgical_sim/core/solve/armijo_line_search.h"
+#include "surgical_sim/core/solve/dirichlet_projection.h"
+
+namespace surgical_sim::core {
+
+RigidNodeQuasiStatic::RigidNodeQuasiStatic(const RigidNodeNewtonSettings& settings)
+    : settings_(settings) {
+  if (settings_.max_iterations < 1 || settings_.max_halvings < 0) {
+    std::ostringstream msg;
+    msg << "RigidNodeNewtonSettings: max_iterations = " << settings_.max_iterations
+        << " must be >= 1 and max_halvings = " << settings_.max_halvings << " >= 0";
+    throw std::invalid_argument(msg.str());
+  }
+  requireInHalfOpenRange("RigidNodeNewtonSettings.relative_tolerance", settings_.relative_tolerance,
+                         1e-16, 1.0, "");
+}
+
+double RigidNodeQuasiStatic::merit(const RigidNodeProblem& problem, const RigidNodeConfiguration& q,
+                                   const Eigen::VectorXd& travelled, double* scale) const {
+  const double elastic = problem.model->energy(q);
+  const double body = problem.model->bodyForcePotential(q, problem.body_acceleration);
+  const double external =
+      problem.external_force.size() == 0 ? 0.0 : -problem.external_force.dot(travelled);
+  *scale = std::abs(elastic) + std::abs(body) + std::abs(external);
+  return elastic + body + external;
+}
+
+StepReport RigidNodeQuasiStatic::solve(const RigidNodeProblem& problem, RigidNodeConfiguration& q) {
+  checkRigidNodeProblem(problem);
+  const RigidNodeModel& model = *problem.model;
+  if (q.numNodes() != model.numNodes() || q.q_TN.size() != q.p_TN.size()) {
+    std::ostringstream msg;
+    msg << "RigidNodeQuasiStatic::solve: configuration of " << q.numNodes()
+        << " rigid nodes for a model of " << model.numNodes();
+    throw std::invalid_argument(msg.str());
+  }
+  StepReport report;
+  start_ = q;
+  travelled_.setZero(model.numDofs());
+  load_.setZero(model.numDofs());
+  model.addBodyForce(q, problem.body_acceleration, load_);
+  if (problem.external_force.size() != 0) load_ += problem.external_force;
+  const double load_scale = load_.norm();
+
+  for (int iteration = 0;; ++iteration) {
+    if (!system_.assemble(problem, q, 0.0, 1.0)) {
+      q = start_;
+      report.status = StepStatus::SolverFailed;
+      return report;
+    }
+    residual_ = system_.totalForce();
+    zeroDirichletEntries(problem.fixed_dofs, residual_);
+    const double scale = system_.internalForce().norm() + load_scale;
+    const double norm = residual_.norm();
+    if (!std::isfinite(norm)) {
+      q = start_;
+      report.status = StepStatus::NonFinite;
+      return report;
+    }
+    report.residual = scale > 0.0 ? norm / scale : 0.0;
+    if (norm <= settings_.relative_tolerance * scale) break;
+    if (iteration == settings_.max_iterations) {
+      report.status = StepStatus::NotConverged;
+      break;
+    }
+    if (!system_.solve(residual_, increment_).ok) {
+      q = start_;
+      report.status = StepStatus::SolverFailed;
+      return report;
+    }
+    double merit_scale = 0.0;
+    const double merit0 = merit(problem, q, travelled_, &merit_scale);
+    base_ = q;
+    const LineSearchResult line = armijoLineSearch(
+        merit0, -residual_.dot(increment_), merit_scale, settings_.max_halvings, [&](double s) {
+          trial_ = base_;
+          applyRigidNodeIncrement(increment_, s, trial_);
+          trial_travelled_ = travelled_ + s * increment_;
+          double unused = 0.0;
+          return merit(problem, trial_, trial_travelled_, &unused);
+        });
+    ++report.newton_iterations;
+    ++report.linear_iterations;
+    if (!line.accepted) {
+      report.status = StepStatus::NotConverged;
+      break;
+    }
+    q = trial_;
+    travelled_ = trial_travelled_;
+  }
+  double unused = 0.0;
+  report.energy = merit(problem, q, travelled_, &unused);
+  return report;
+}
+
+}  // namespace surgical_sim::core
