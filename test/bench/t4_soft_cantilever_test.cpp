@@ -19,9 +19,15 @@ namespace {
 /// scene's measure region (as tissue_bench measures it), all three components.
 Eigen::Vector3d efgTipDisplacement(const BenchmarkScene& scene, const CaseSpec& spec) {
   TissueSimulation sim(caseScene(scene, spec));
+  const auto& efg = dynamic_cast<const EfgModel&>(sim.model());
+  // The particle grid is mirror-symmetric about y = 0 (the spacings divide the width).
+  const Eigen::Matrix3Xd& particles = efg.grid().particles;
+  for (Eigen::Index a = 0; a < particles.cols(); ++a) {
+    const Eigen::Vector3d mirror(particles(0, a), -particles(1, a), particles(2, a));
+    EXPECT_LT((particles.colwise() - mirror).colwise().norm().minCoeff(), 1e-12) << a;
+  }
   const SimulationStepStats stats = sim.step();
   EXPECT_EQ(stats.report.status, StepStatus::Ok);
-  const auto& efg = dynamic_cast<const EfgModel&>(sim.model());
   const Eigen::Map<const Eigen::VectorXd> nodes(sim.mesh().nodes.data(), sim.mesh().nodes.size());
   const std::vector<int> dofs = regionDofs(nodes, scene.measure.region, Eigen::Vector3i(1, 0, 0));
   Eigen::Matrix3Xd tip(3, static_cast<Eigen::Index>(dofs.size()));
