@@ -18,6 +18,7 @@
 #include "surgical_sim/core/common/thread_pool.h"
 #include "surgical_sim/core/cutting/blade_sweep.h"
 #include "surgical_sim/core/mesh/length_unit.h"
+#include "surgical_sim/core/mesh/surface_generators.h"
 
 namespace surgical_sim::core {
 namespace {
@@ -277,7 +278,7 @@ MeshSpec readMesh(const KeyReader& scene, const std::set<std::string>& extra) {
   known.insert(extra.begin(), extra.end());
   r.onlyKeys(known);
   MeshSpec m;
-  m.generator = r.choice("generator", {"box", "beam", "hex_beam", "organ_blob", "file"});
+  m.generator = r.choice("generator", {"box", "beam", "hex_beam", "organ_blob", "liver", "file"});
   if (r.has("split")) {
     if (m.generator != "box" && m.generator != "beam")
       r.fail("split", "the cell split applies to the box and beam generators only");
@@ -316,10 +317,17 @@ Eigen::Vector3i readResolution(const KeyReader& mesh, const std::string& key,
                                const YAML::Node& item, const std::string& generator) {
   if (!item.IsSequence() || item.size() != 3)
     mesh.fail(key, "each resolution is a list of 3 integers");
-  // box/beam use all three counts; hex_beam [along, rings, -]; organ_blob [per_axis, -, -].
-  const int used = generator == "hex_beam" ? 2 : generator == "organ_blob" ? 1 : 3;
+  // box/beam use all three counts; hex_beam [along, rings, -]; organ_blob [per_axis, -, -];
+  // liver [subdivisions, -, -].
+  const int used = generator == "hex_beam"                             ? 2
+                   : generator == "organ_blob" || generator == "liver" ? 1
+                                                                       : 3;
   Eigen::Vector3i cells;
   for (int i = 0; i < 3; ++i) cells[i] = mesh.toInteger(item[i], key, i < used, 4096);
+  if (generator == "liver" && cells[0] > kMaxSurfaceSubdivisions) {
+    mesh.fail(key, "liver subdivisions = " + std::to_string(cells[0]) + " is out of range: [0, " +
+                       std::to_string(kMaxSurfaceSubdivisions) + "] (20 4^s triangles)");
+  }
   return cells;
 }
 
@@ -756,10 +764,18 @@ RuntimeScene parseRuntime(const YAML::Node& root, const std::string& path) {
   } else if (mesh.has("resolution")) {
     mesh.fail("resolution", "a mesh file has its own resolution");
   }
-  if (mesh.has("element_type"))
+  if (mesh.has("element_type")) {
+    if (isSurfaceGenerator(s.mesh.generator))
+      mesh.fail("element_type", "the liver generator makes a closed surface, without elements");
     s.element_type = elementType(mesh.choice("element_type", {"tet4", "tet10"}));
+  }
   checkBudget(mesh, "resolution", s.mesh, s.resolution, s.element_type);
   s.model = readEnum(r, "model", kModelNames);
+  if (isSurfaceGenerator(s.mesh.generator) && s.model != ModelKind::Efg) {
+    r.fail("model", std::string(modelName(s.model)) +
+                        " needs a tet mesh; mesh.generator liver is a closed surface, which only "
+                        "model efg fills");
+  }
   if (linearTetOnly(s.model) && s.element_type == ElementType::Tet10)
     r.fail("model", std::string(modelName(s.model)) + " is defined on tet4 meshes only");
   if (s.model == ModelKind::Efg && s.efg_spacings.empty())
@@ -863,6 +879,10 @@ BenchmarkScene parseBenchmark(const YAML::Node& root, const std::string& path) {
   s.path = path;
   readBase(r, {"resolutions", "element_types"}, s);
   const KeyReader mesh = r.child("mesh");
+  if (isSurfaceGenerator(s.mesh.generator))
+    mesh.fail("generator",
+              "liver (a closed surface) is for runtime efg scenes; a benchmark "
+              "file needs a tet mesh");
   if (s.mesh.generator == "file") {
     s.resolutions = {Eigen::Vector3i::Zero()};
   } else {
@@ -957,6 +977,8 @@ MeshSizeEstimate estimateMeshSize(const MeshSpec& spec, const Eigen::Vector3i& r
   } else if (spec.generator == "organ_blob") {
     e.nodes = std::pow(cells[0] + 1.0, 3);
     e.elements = 6.0 * std::pow(cells[0], 3);
+  } else if (spec.generator == "liver") {
+    e.nodes = 10.0 * std::pow(4.0, cells[0]) + 2.0;  // surface vertices, no elements
   } else if (spec.generator == "hex_beam") {
     const double rings = cells[1];
     e.nodes = (3.0 * rings * (rings + 1.0) + 1.0) * (cells[0] + 1.0);

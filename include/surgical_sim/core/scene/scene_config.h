@@ -31,9 +31,10 @@ struct Region {
 /// Where the mesh comes from: exactly one generator and its geometry (the resolution and element
 /// type are chosen by the runtime scene, or swept by a benchmark scene).
 struct MeshSpec {
-  std::string generator;  ///< "box", "beam", "hex_beam", "organ_blob" or "file"
-  // box / beam / organ_blob
-  Eigen::Vector3d size = Eigen::Vector3d::Zero();    ///< box/beam edge lengths, blob semi-axes [m]
+  std::string generator;  ///< "box", "beam", "hex_beam", "organ_blob", "liver" or "file"
+  // box / beam / organ_blob / liver
+  Eigen::Vector3d size =
+      Eigen::Vector3d::Zero();  ///< box/beam edge lengths, blob/liver semi-axes [m]
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  ///< box min corner [m]
   CellSplit split = CellSplit::Symmetric;            ///< box / beam cell split (mesh.split)
   // hex_beam
@@ -43,6 +44,10 @@ struct MeshSpec {
   std::string file;            ///< Gmsh .msh path (relative paths: to the scene file)
   double metres_per_unit = 1;  ///< from mesh.unit ("m", "cm", "mm", "um")
 };
+
+/// True for a generator that makes a closed triangle surface instead of a tet mesh ("liver":
+/// makeLiverSurface()); only the efg model fills such a body.
+inline bool isSurfaceGenerator(const std::string& generator) { return generator == "liver"; }
 
 /// A group of constrained DOFs: the listed components of every node in region.
 struct FixedBc {
@@ -184,7 +189,8 @@ struct BenchmarkVariant;
 /// is measured against.
 struct BenchmarkScene : SceneBase {
   /// Sweep of resolutions: cells along x,y,z (box/beam), {cells_along, rings, -} (hex_beam),
-  /// {cells_per_axis, -, -} (organ_blob); a file mesh has one implicit resolution.
+  /// {cells_per_axis, -, -} (organ_blob); a file mesh has one implicit resolution. (Runtime
+  /// scenes also take {subdivisions, -, -} for the liver surface.)
   std::vector<Eigen::Vector3i> resolutions;
   std::vector<ElementType> element_types;  ///< sweep of element types (tet4, tet10)
   std::vector<ModelKind> models;
