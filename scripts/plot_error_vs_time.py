@@ -2,7 +2,8 @@
 """Plots relative error against ms per step from one or more tissue_bench / *_bench CSV files.
 
 usage: plot_error_vs_time.py CSV [CSV ...] OUT.png TITLE
-Each series is one (model, integrator, solver) triple; points are resolutions, labelled by dofs.
+Each series is one (model, integrator, solver) triple, prefixed by the variant when the CSV has
+one; points are resolutions, labelled by dofs.
 """
 import csv
 import math
@@ -36,6 +37,8 @@ def main(argv):
                 if not (math.isfinite(err) and ms > 0):
                     continue
                 key = "%s / %s / %s" % (row["model"], row["integrator"], row["solver"])
+                if row.get("variant"):
+                    key = "%s: %s" % (row["variant"], key)
                 elem = "tet10" if "tet10" in row["case"] else "tet4"
                 series.setdefault((key, elem), []).append((ms, max(err, 1e-16), int(row["dofs"])))
     fig, ax = plt.subplots(figsize=(8, 5.5))

@@ -2,11 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 
+#include "surgical_sim/bench/machine_probe.h"
+#include "surgical_sim/bench/phase_work.h"
 #include "surgical_sim/core/common/stopwatch.h"
 #include "surgical_sim/core/mesh/generators.h"
 #include "surgical_sim/core/mesh/gmsh_reader.h"
@@ -166,6 +170,9 @@ struct RunOutcome {
   Eigen::VectorXd x;
   double seconds = 0.0;
   int steps = 0;
+  std::vector<double> step_ms;  ///< wall time of every step [ms]
+  StepPhaseTimes phases;        ///< summed over the steps [s]
+  long linear_iterations = 0;   ///< summed over the steps
   StepStatus status = StepStatus::Ok;
   std::vector<double> step_changes;  ///< |x_k - x_(k-1)|_inf of every step k [m]
   std::vector<double> path_values;   ///< uniaxial: measured force at each load factor
@@ -199,7 +206,14 @@ RunOutcome runLoading(const BenchmarkScene& scene, CaseSetup& c, Integrator& int
     previous_x = state.x;
     Stopwatch watch;
     const StepReport r = integrator.step(c.problem, dt, state);
-    out.seconds += watch.seconds();
+    const double seconds = watch.seconds();
+    out.seconds += seconds;
+    out.step_ms.push_back(1e3 * seconds);
+    out.phases.forces += r.phases.forces;
+    out.phases.assembly += r.phases.assembly;
+    out.phases.factorization += r.phases.factorization;
+    out.phases.linear_solve += r.phases.linear_solve;
+    out.linear_iterations += r.linear_iterations;
     ++out.steps;
     out.step_changes.push_back((state.x - previous_x).lpNorm<Eigen::Infinity>());
     if (r.status != StepStatus::Ok) recordStatus(out, r.status);
@@ -251,7 +265,74 @@ bool settledAtEnd(const RunOutcome& run, const Eigen::VectorXd& x0, bool quasi_s
                      run.step_changes.end(), [&](double change) { return change <= bound; });
 }
 
+/// Throughput of a linearized implicit Euler run of case `c` (see CaseResult::rates).
+PhaseRates phaseRates(const CaseSetup& c, const CaseSpec& spec, const RunOutcome& run) {
+  PhaseRates r;
+  if (spec.integrator != IntegratorKind::ImplicitEulerLinearized || run.steps == 0) return r;
+  const Eigen::SparseMatrix<double>& pattern = c.model->stiffnessPattern();
+  WorkShape shape;
+  shape.model = spec.model;
+  shape.element_type = spec.element_type;
+  shape.solver = spec.solver;
+  shape.elements = c.mesh.numElements();
+  shape.dofs = static_cast<double>(pattern.rows());
+  shape.matrix_nonzeros = static_cast<double>(pattern.nonZeros());
+  if (spec.solver == SolverKind::Cholmod || spec.solver == SolverKind::PcgCholeskyReuse ||
+      spec.solver == SolverKind::PcgCholeskyBackground)
+    std::tie(shape.factor_nonzeros, shape.factor_flops) = choleskyFactorSize(pattern);
+  const StepWork work = estimateStepWork(shape);
+  const auto rate = [](double amount, double count, double seconds) {
+    return seconds > 0.0 ? amount * count / seconds / 1e9 : kNoRate;
+  };
+  const double steps = run.steps;
+  const auto iterations = static_cast<double>(run.linear_iterations);
+  r.forces_gflops = rate(work.forces.flops, steps, run.phases.forces);
+  r.forces_gbs = rate(work.forces.bytes, steps, run.phases.forces);
+  r.assembly_gflops = rate(work.assembly.flops, steps, run.phases.assembly);
+  r.assembly_gbs = rate(work.assembly.bytes, steps, run.phases.assembly);
+  r.factorization_gflops = rate(work.factorization.flops, steps, run.phases.factorization);
+  r.factorization_gbs = rate(work.factorization.bytes, steps, run.phases.factorization);
+  r.solve_gflops = rate(work.solve_iteration.flops, iterations, run.phases.linear_solve);
+  r.solve_gbs = rate(work.solve_iteration.bytes, iterations, run.phases.linear_solve);
+  return r;
+}
+
 }  // namespace
+
+double percentile99(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto k = static_cast<size_t>(std::ceil(0.99 * static_cast<double>(values.size()))) - 1;
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
+  return values[k];
+}
+
+BenchmarkScene tightReferenceScene(const BenchmarkScene& scene) {
+  BenchmarkScene tight = scene;
+  tight.newton_tolerance = kReferenceTolerance;
+  tight.newton_max_iterations = kReferenceNewtonIterations;
+  tight.pcg_tolerance = kReferenceTolerance;
+  tight.pcg_max_iterations.reset();
+  return tight;
+}
+
+std::vector<BenchmarkVariant> benchVariants(const BenchmarkScene& scene) {
+  if (!scene.variants.empty()) return scene.variants;
+  return {{"", scene}};
+}
+
+void applyBenchThreads(const BenchmarkScene& scene) {
+  if (scene.threads) setenv("SURGICAL_SIM_THREADS", std::to_string(*scene.threads).c_str(), 1);
+}
+
+std::string referenceGroup(const BenchmarkVariant& variant) {
+  const auto solver_only = [](const std::string& key) {
+    for (const char* k :
+         {"solvers", "integrators", "models", "threads", "mesh.resolutions", "mesh.element_types"})
+      if (key == k) return true;
+    return key.rfind("pcg.", 0) == 0 || key.rfind("newton.", 0) == 0;
+  };
+  return std::all_of(variant.keys.begin(), variant.keys.end(), solver_only) ? "" : variant.name;
+}
 
 std::vector<CaseSpec> expandSweep(const BenchmarkScene& scene) {
   std::vector<CaseSpec> cases;
@@ -281,7 +362,24 @@ RuntimeScene caseScene(const BenchmarkScene& scene, const CaseSpec& spec) {
   return one;
 }
 
-CaseResult runTissueCase(const BenchmarkScene& scene, const CaseSpec& spec) {
+Eigen::VectorXd selfReferencePositions(const BenchmarkScene& scene, const CaseSpec& spec) {
+  CaseSetup ref_setup = setUp(scene, spec);
+  const IntegratorKind ref_integrator = spec.integrator == IntegratorKind::QuasiStatic
+                                            ? IntegratorKind::QuasiStatic
+                                            : IntegratorKind::ImplicitEulerNewton;
+  const BenchmarkScene ref_scene = tightReferenceScene(scene);
+  auto ref = makeSceneIntegrator(ref_scene, ref_integrator, scene.measure.reference_solver,
+                                 ref_scene.newton_tolerance);
+  return runLoading(ref_scene, ref_setup, *ref).x;
+}
+
+std::string selfReferenceKey(const BenchmarkScene& scene, const CaseSpec& spec) {
+  return caseLabel(scene, spec) + "/" + modelName(spec.model) +
+         (spec.integrator == IntegratorKind::QuasiStatic ? "/quasi_static" : "/dynamic");
+}
+
+CaseResult runTissueCase(const BenchmarkScene& scene, const CaseSpec& spec,
+                         const Eigen::VectorXd* reference_x) {
   CaseSetup c = setUp(scene, spec);
   CaseResult result;
   result.spec = spec;
@@ -297,6 +395,18 @@ CaseResult runTissueCase(const BenchmarkScene& scene, const CaseSpec& spec) {
   const RunOutcome run = runLoading(scene, c, *integrator);
   result.steps = run.steps;
   result.ms_per_step = run.steps > 0 ? 1e3 * run.seconds / run.steps : 0.0;
+  result.ms_p99 = percentile99(run.step_ms);
+  result.first_step_ms = run.step_ms.empty() ? 0.0 : run.step_ms.front();
+  if (run.steps > 1)
+    result.ms_after_first = (1e3 * run.seconds - result.first_step_ms) / (run.steps - 1);
+  const double per_step = run.steps > 0 ? 1.0 / run.steps : 0.0;
+  result.phases.forces = per_step * run.phases.forces;
+  result.phases.assembly = per_step * run.phases.assembly;
+  result.phases.factorization = per_step * run.phases.factorization;
+  result.phases.linear_solve = per_step * run.phases.linear_solve;
+  result.linear_iterations = per_step * static_cast<double>(run.linear_iterations);
+  result.peak_rss_bytes = peakResidentBytes();
+  result.rates = phaseRates(c, spec, run);
   result.status = run.status;
 
   const MeasureSpec& m = scene.measure;
@@ -334,16 +444,20 @@ CaseResult runTissueCase(const BenchmarkScene& scene, const CaseSpec& spec) {
       }
     }
     result.error_rel = worst;
-  } else {  // self_reference: same mesh, tight Newton + CHOLMOD
-    CaseSetup ref_setup = setUp(scene, spec);
-    const IntegratorKind ref_integrator = spec.integrator == IntegratorKind::QuasiStatic
-                                              ? IntegratorKind::QuasiStatic
-                                              : IntegratorKind::ImplicitEulerNewton;
-    auto ref = makeSceneIntegrator(scene, ref_integrator, SolverKind::Cholmod, 1e-10);
-    const RunOutcome ref_run = runLoading(scene, ref_setup, *ref);
+  } else {  // self_reference: same mesh, tight Newton (measure.reference_solver)
+    const Eigen::VectorXd ref_x =
+        reference_x != nullptr ? *reference_x : selfReferencePositions(scene, spec);
     result.measured = (run.x - x0).norm();
-    result.reference = (ref_run.x - x0).norm();
-    result.error_rel = (run.x - ref_run.x).norm() / result.reference;
+    if (ref_x.size() == 0) {  // no reference run: error_rel NaN (below)
+      result.reference = std::numeric_limits<double>::quiet_NaN();
+    } else {
+      if (ref_x.size() != run.x.size())
+        throw std::invalid_argument("runTissueCase: reference positions of size " +
+                                    std::to_string(ref_x.size()) + " for a case of " +
+                                    std::to_string(run.x.size()) + " DOFs");
+      result.reference = (ref_x - x0).norm();
+      result.error_rel = (run.x - ref_x).norm() / result.reference;
+    }
   }
   // A relative error against a zero or non-finite reference (e.g. a self_reference scene with
   // no load) is meaningless; uniaxial_svk_force normalises by a non-zero force instead.
@@ -372,15 +486,25 @@ std::string caseStatus(const CaseResult& r) {
 }
 
 const char* caseCsvHeader() {
-  return "case,model,integrator,solver,nodes,elements,dofs,dt,ms_per_step,steps,error_rel,settled,"
-         "status";
+  return "case,variant,model,integrator,solver,nodes,elements,dofs,dt,ms_per_step,steps,ms_p99,"
+         "first_step_ms,ms_after_first,forces_ms,assembly_ms,factor_ms,solve_ms,other_ms,"
+         "linear_iterations,peak_rss_mb,forces_gflops,forces_gbs,assembly_gflops,assembly_gbs,"
+         "factor_gflops,factor_gbs,solve_gflops,solve_gbs,error_rel,settled,status";
 }
 
-std::string caseCsvRow(const std::string& label, const CaseResult& r) {
+std::string caseCsvRow(const std::string& label, const CaseResult& r, const std::string& variant) {
   std::ostringstream row;
-  row << label << "," << modelName(r.spec.model) << "," << integratorName(r.spec.integrator) << ","
-      << solverName(r.spec.solver) << "," << r.nodes << "," << r.elements << "," << r.dofs << ","
-      << r.dt << "," << r.ms_per_step << "," << r.steps << "," << r.error_rel << ","
+  row << label << "," << variant << "," << modelName(r.spec.model) << ","
+      << integratorName(r.spec.integrator) << "," << solverName(r.spec.solver) << "," << r.nodes
+      << "," << r.elements << "," << r.dofs << "," << r.dt << "," << r.ms_per_step << "," << r.steps
+      << "," << r.ms_p99 << "," << r.first_step_ms << "," << r.ms_after_first << ","
+      << 1e3 * r.phases.forces << "," << 1e3 * r.phases.assembly << ","
+      << 1e3 * r.phases.factorization << "," << 1e3 * r.phases.linear_solve << ","
+      << r.ms_per_step - 1e3 * r.phases.sum() << "," << r.linear_iterations << ","
+      << r.peak_rss_bytes / 1e6 << "," << r.rates.forces_gflops << "," << r.rates.forces_gbs << ","
+      << r.rates.assembly_gflops << "," << r.rates.assembly_gbs << ","
+      << r.rates.factorization_gflops << "," << r.rates.factorization_gbs << ","
+      << r.rates.solve_gflops << "," << r.rates.solve_gbs << "," << r.error_rel << ","
       << (r.settled ? 1 : 0) << "," << caseStatus(r);
   return row.str();
 }

@@ -4,11 +4,14 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <initializer_list>
 #include <iostream>
+#include <optional>
 #include <string>
 
 #include "package_dirs.h"
+#include "surgical_sim/bench/fuzz_child.h"
 
 namespace surgical_sim::tools {
 
@@ -76,6 +79,38 @@ inline bool runPlotScript(const std::string& tool, const std::string& script,
   if (std::system(cmd.c_str()) == 0) return true;
   std::cerr << tool << ": plotting failed (" << cmd << ")\n";
   return false;
+}
+
+/// Wall time limit of one benchmark case run in a child process (runCaseInChild) [s].
+inline constexpr double kCaseTimeoutSeconds = 4.0 * 3600.0;
+
+/// Runs `work` in a child process (bench::runInChild, no memory limit, kCaseTimeoutSeconds), so
+/// that the child's peak resident memory is the case's own and a crash ends only the case.
+/// Returns the text `work` returned; nullopt, after "<tool>: <what> failed: <why>" on stderr,
+/// when it threw, crashed or timed out.
+inline std::optional<std::string> runCaseInChild(const std::string& tool, const std::string& what,
+                                                 const std::function<std::string()>& work) {
+  const std::string ok = "ok\n";
+  const bench::ChildResult child = bench::runInChild(
+      [&]() -> std::string {
+        try {
+          return ok + work();
+        } catch (const std::exception& e) {
+          return std::string("error\n") + e.what();
+        }
+      },
+      kCaseTimeoutSeconds, RLIM_INFINITY);
+  if (child.end == bench::ChildResult::End::Finished && child.output.rfind(ok, 0) == 0)
+    return child.output.substr(ok.size());
+  std::string why = "crashed";
+  if (child.end == bench::ChildResult::End::Finished)
+    why = child.output.substr(child.output.find('\n') + 1);
+  else if (child.end == bench::ChildResult::End::Signalled)
+    why = "killed by signal " + std::to_string(child.signal);
+  else if (child.end == bench::ChildResult::End::TimedOut)
+    why = "no result after " + std::to_string(kCaseTimeoutSeconds) + " s";
+  std::cerr << tool << ": " << what << " failed: " << why << "\n";
+  return std::nullopt;
 }
 
 }  // namespace surgical_sim::tools

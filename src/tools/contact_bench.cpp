@@ -2,22 +2,29 @@
 // scene's sweep it presses the scene's first tool 6 mm into the top of the body over the first
 // two thirds of `steps` (at the body's highest point), holds for the rest, and reports per case: ms
 // per step while in contact (mean, p99) split into collision / integrate / contact, the
-// tool-pose-to-contact-model latency (setToolPose() until the new linearization is available; mean,
-// p99) and the final tool force, with its error against the same press on the same mesh solved
-// tightly (Newton implicit Euler, CHOLMOD, tolerance 1e-10; one reference run per mesh).
+// integration split into its phases (StepPhaseTimes) and the contact phase into compliance
+// solves, LCP and linearization (ContactTimings), the first step's time, the linear iterations,
+// the tool-pose-to-contact-model latency (setToolPose() until the new linearization is available;
+// mean, p99), the peak resident memory and the final tool force, with its error against the same
+// press on the same mesh solved tightly (Newton implicit Euler with measure.reference_solver,
+// tolerance 1e-10; one reference run per mesh). Each case and each reference runs in its own
+// child process, so peak_rss_mb is that case's own peak (plus the loaded scene's few MB).
 // Usage: contact_bench <scene.yaml> [--csv FILE] [--plot FILE]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <limits>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "bench_cli.h"
+#include "surgical_sim/bench/machine_probe.h"
 #include "surgical_sim/bench/tissue_case.h"
 #include "surgical_sim/core/scene/scene_config.h"
 #include "surgical_sim/core/scene/tissue_simulation.h"
@@ -31,9 +38,11 @@ constexpr double kPressFraction = 2.0 / 3.0;  // share of the steps spent pressi
 
 constexpr const char* kUsage =
     "usage: contact_bench <scene.yaml> [--csv FILE] [--plot FILE]\n"
-    "Tool-in-contact cost of every case of the scene's sweep: ms per step (collision, integrate,\n"
-    "contact), pose-to-contact-model latency and the tool force against a tight solve of the\n"
-    "same mesh (Newton implicit Euler, CHOLMOD, tolerance 1e-10).\n"
+    "Tool-in-contact cost of every case of the scene's sweep: ms per step (collision, integrate\n"
+    "and its phases, contact: compliance solves, LCP, linearization), linear iterations,\n"
+    "pose-to-contact-model latency, peak resident memory (each case in its own process) and the\n"
+    "tool force against a tight solve of the same mesh (Newton implicit Euler,\n"
+    "measure.reference_solver, default cholmod, tolerance 1e-10).\n"
     "  --csv FILE   one row per case\n"
     "  --plot FILE  error against run time (PNG; needs --csv)\n";
 
@@ -42,13 +51,16 @@ int usage(const std::string& msg) {
   return 2;
 }
 
+/// One case; times are means over the steps in contact [ms].
 struct Row {
   CaseSpec spec;
   int nodes = 0, dofs = 0, contacts = 0, contact_steps = 0;
-  double ms_mean = 0, ms_p99 = 0, collision_ms = 0, integrate_ms = 0, contact_ms = 0;
-  double latency_mean_ms = 0, latency_p99_ms = 0;
+  double ms_mean = 0, ms_p99 = 0, first_step_ms = 0, collision_ms = 0, integrate_ms = 0,
+         contact_ms = 0;
+  double forces_ms = 0, assembly_ms = 0, factor_ms = 0, solve_ms = 0, linear_iterations = 0;
+  double compliance_ms = 0, compliance_solves = 0, lcp_ms = 0, linearization_ms = 0;
+  double latency_mean_ms = 0, latency_p99_ms = 0, peak_rss_mb = 0;
   Eigen::Vector3d force = Eigen::Vector3d::Zero();
-  double error_rel = std::numeric_limits<double>::quiet_NaN();
   StepStatus status = StepStatus::Ok;
 };
 
@@ -56,13 +68,6 @@ double mean(const std::vector<double>& v) {
   double sum = 0.0;
   for (const double x : v) sum += x;
   return v.empty() ? 0.0 : sum / static_cast<double>(v.size());
-}
-
-double p99(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  const auto k = static_cast<size_t>(std::ceil(0.99 * static_cast<double>(v.size()))) - 1;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-  return v[k];
 }
 
 /// Presses the scene's first tool into the top of the body (see the file comment) and calls
@@ -88,16 +93,15 @@ void press(const BenchmarkScene& scene, TissueSimulation& sim, OnStep&& onStep) 
   }
 }
 
-/// The final tool force of the press on the case's mesh with Newton implicit Euler and CHOLMOD
-/// at tolerance 1e-10 [N].
-Eigen::Vector3d referenceForce(BenchmarkScene scene, CaseSpec spec) {
+/// The final tool force of the press on the case's mesh with Newton implicit Euler and
+/// measure.reference_solver at tolerance 1e-10 (tightReferenceScene()) [N].
+Eigen::Vector3d referenceForce(const BenchmarkScene& scene, CaseSpec spec) {
   spec.integrator = IntegratorKind::ImplicitEulerNewton;
-  spec.solver = SolverKind::Cholmod;
-  scene.newton_tolerance = 1e-10;
-  scene.newton_max_iterations = 50;
-  TissueSimulation sim(caseScene(scene, spec));
+  spec.solver = scene.measure.reference_solver;
+  const BenchmarkScene tight = tightReferenceScene(scene);
+  TissueSimulation sim(caseScene(tight, spec));
   Eigen::Vector3d force = Eigen::Vector3d::Zero();
-  press(scene, sim, [&](const SimulationStepStats&, const ContactLinearization& lin, double) {
+  press(tight, sim, [&](const SimulationStepStats&, const ContactLinearization& lin, double) {
     force = lin.f0_S;
   });
   return force;
@@ -110,105 +114,172 @@ Row runCase(const BenchmarkScene& scene, const CaseSpec& spec) {
   row.nodes = sim.model().numNodes();  // DOF nodes (efg: particles)
   row.dofs = 3 * row.nodes;
   std::vector<double> step_ms, latency_ms;
-  double collision = 0, integrate = 0, contact = 0;
+  // Sums over the steps in contact, divided by their number below.
+  Row sum;
+  bool first = true;
   press(scene, sim,
         [&](const SimulationStepStats& stats, const ContactLinearization& lin, double latency) {
           if (stats.report.status != StepStatus::Ok && row.status == StepStatus::Ok) {
             row.status = stats.report.status;
           }
+          if (first) row.first_step_ms = 1e3 * stats.step_seconds;
+          first = false;
           if (stats.contacts == 0) return;
           step_ms.push_back(1e3 * stats.step_seconds);
           latency_ms.push_back(latency);
-          collision += 1e3 * stats.collision_seconds;
-          integrate += 1e3 * stats.integrate_seconds;
-          contact += 1e3 * stats.contact_seconds;
+          const StepPhaseTimes& phases = stats.report.phases;
+          const ContactTimings& contact = stats.contact_timings;
+          sum.collision_ms += 1e3 * stats.collision_seconds;
+          sum.integrate_ms += 1e3 * stats.integrate_seconds;
+          sum.contact_ms += 1e3 * stats.contact_seconds;
+          sum.forces_ms += 1e3 * phases.forces;
+          sum.assembly_ms += 1e3 * phases.assembly;
+          sum.factor_ms += 1e3 * phases.factorization;
+          sum.solve_ms += 1e3 * phases.linear_solve;
+          sum.linear_iterations += stats.report.linear_iterations;
+          sum.compliance_ms += contact.compliance_ms;
+          sum.compliance_solves += static_cast<double>(contact.compliance_solves);
+          sum.lcp_ms += contact.lcp_ms;
+          sum.linearization_ms += contact.linearization_ms;
           row.contacts = std::max(row.contacts, stats.contacts);
           row.force = lin.f0_S;
         });
+  row.peak_rss_mb = peakResidentBytes() / 1e6;
   row.contact_steps = static_cast<int>(step_ms.size());
   const double n = std::max<double>(1.0, row.contact_steps);
   row.ms_mean = mean(step_ms);
-  row.ms_p99 = p99(step_ms);
-  row.collision_ms = collision / n;
-  row.integrate_ms = integrate / n;
-  row.contact_ms = contact / n;
+  row.ms_p99 = percentile99(step_ms);
+  for (auto field :
+       {&Row::collision_ms, &Row::integrate_ms, &Row::contact_ms, &Row::forces_ms,
+        &Row::assembly_ms, &Row::factor_ms, &Row::solve_ms, &Row::linear_iterations,
+        &Row::compliance_ms, &Row::compliance_solves, &Row::lcp_ms, &Row::linearization_ms})
+    row.*field = sum.*field / n;
   row.latency_mean_ms = mean(latency_ms);
-  row.latency_p99_ms = p99(latency_ms);
+  row.latency_p99_ms = percentile99(latency_ms);
   return row;
 }
 
-std::string csvRow(const std::string& scene_name, const Row& r) {
+std::string csvRow(const std::string& scene_name, const std::string& variant, const Row& r) {
   std::ostringstream os;
-  os << scene_name << "_" << r.spec.resolution.x() << "," << modelName(r.spec.model) << ","
-     << integratorName(r.spec.integrator) << "," << solverName(r.spec.solver) << "," << r.nodes
-     << "," << r.dofs << "," << r.contact_steps << "," << r.contacts << "," << r.ms_mean << ","
-     << r.ms_p99 << "," << r.collision_ms << "," << r.integrate_ms << "," << r.contact_ms << ","
-     << r.latency_mean_ms << "," << r.latency_p99_ms << "," << r.force.z() << "," << r.error_rel
-     << "," << toString(r.status);
+  os << scene_name << "_" << r.spec.resolution.x() << "," << variant << ","
+     << modelName(r.spec.model) << "," << integratorName(r.spec.integrator) << ","
+     << solverName(r.spec.solver) << "," << r.nodes << "," << r.dofs << "," << r.contact_steps
+     << "," << r.contacts << "," << r.ms_mean << "," << r.ms_p99 << "," << r.first_step_ms << ","
+     << r.collision_ms << "," << r.integrate_ms << "," << r.contact_ms << "," << r.forces_ms << ","
+     << r.assembly_ms << "," << r.factor_ms << "," << r.solve_ms << "," << r.linear_iterations
+     << "," << r.compliance_ms << "," << r.compliance_solves << "," << r.lcp_ms << ","
+     << r.linearization_ms << "," << r.latency_mean_ms << "," << r.latency_p99_ms << ","
+     << r.peak_rss_mb << "," << r.force.x() << "," << r.force.y() << "," << r.force.z() << ","
+     << toString(r.status);
   return os.str();
 }
 
+/// A force [N] as three numbers at full precision, and back (NaN components if unreadable).
+std::string forceText(const Eigen::Vector3d& f) {
+  std::ostringstream os;
+  os.precision(17);
+  os << f.x() << " " << f.y() << " " << f.z();
+  return os.str();
+}
+
+Eigen::Vector3d parseForce(const std::string& text) {
+  Eigen::Vector3d f = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  std::istringstream is(text);
+  for (int k = 0; k < 3; ++k) {
+    std::string word;
+    if (!(is >> word)) break;
+    f[k] = std::strtod(word.c_str(), nullptr);  // reads "nan" and "inf" too
+  }
+  return f;
+}
+
 constexpr const char* kHeader =
-    "case,model,integrator,solver,nodes,dofs,contact_steps,max_contacts,ms_per_step,ms_p99,"
-    "collision_ms,integrate_ms,contact_ms,latency_mean_ms,latency_p99_ms,force_z,error_rel,"
-    "status";
+    "case,variant,model,integrator,solver,nodes,dofs,contact_steps,max_contacts,ms_per_step,ms_p99,"
+    "first_step_ms,collision_ms,integrate_ms,contact_ms,forces_ms,assembly_ms,factor_ms,solve_ms,"
+    "linear_iterations,compliance_ms,compliance_solves,lcp_ms,linearization_ms,latency_mean_ms,"
+    "latency_p99_ms,peak_rss_mb,force_x,force_y,force_z,status,error_rel";
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (surgical_sim::tools::wantsHelp(argc, argv)) {
+  namespace tools = surgical_sim::tools;
+  if (tools::wantsHelp(argc, argv)) {
     std::cout << kUsage;
     return 0;
   }
-  surgical_sim::tools::SceneBenchArgs args;
-  const std::string error = surgical_sim::tools::parseSceneBenchArgs(argc, argv, args);
+  tools::SceneBenchArgs args;
+  const std::string error = tools::parseSceneBenchArgs(argc, argv, args);
   if (!error.empty()) return usage(error);
 
-  std::vector<Row> rows;
-  BenchmarkScene scene;
+  std::vector<BenchmarkVariant> variants;
   try {
-    scene = loadBenchmarkScene(args.scene);
-    if (scene.tools.empty()) return usage("scene " + args.scene + " has no tools");
-    const std::vector<CaseSpec> cases = expandSweep(scene);
-    for (std::size_t i = 0; i < cases.size(); ++i) {
-      surgical_sim::tools::progress("contact_bench",
-                                    surgical_sim::tools::caseCounter(i, cases.size()) +
-                                        std::to_string(cases[i].resolution.x()) + " cells, " +
-                                        solverName(cases[i].solver));
-      rows.push_back(runCase(scene, cases[i]));
-    }
+    const BenchmarkScene file = loadBenchmarkScene(args.scene);
+    variants = benchVariants(file);
+    for (const BenchmarkVariant& v : variants)
+      if (v.scene.tools.empty()) return usage("scene " + args.scene + " has no tools");
   } catch (const std::exception& e) {
     std::cerr << "contact_bench: " << e.what() << "\n";
     return 1;
   }
-  // Reference per mesh: the same press solved tightly on that mesh.
-  std::map<std::string, Eigen::Vector3d> references;
-  for (Row& r : rows) {
-    const std::string mesh = caseLabel(scene, r.spec);
-    if (references.count(mesh) == 0) {
-      surgical_sim::tools::progress("contact_bench", "reference for " + mesh);
-      references[mesh] = referenceForce(scene, r.spec);
-    }
-    const Eigen::Vector3d& f_ref = references[mesh];
-    if (f_ref.allFinite() && f_ref.norm() > 0.0 && r.force.allFinite()) {
-      r.error_rel = (r.force - f_ref).norm() / f_ref.norm();
-    }
-  }
   std::ofstream csv;
-  if (!surgical_sim::tools::openCsv("contact_bench", args.csv, csv)) return 1;
-  std::cout << kHeader << "\n";
+  if (!tools::openCsv("contact_bench", args.csv, csv)) return 1;
+  std::cout << kHeader << std::endl;
   if (csv) csv << kHeader << "\n";
-  for (const Row& r : rows) {
-    std::cout << csvRow(scene.name, r) << "\n";
-    if (csv) csv << csvRow(scene.name, r) << "\n";
+  // Reference per reference group and mesh: the same press solved tightly (NaN if it failed).
+  std::map<std::string, Eigen::Vector3d> references;
+  int failures = 0;
+  for (const BenchmarkVariant& variant : variants) {
+    const BenchmarkScene& scene = variant.scene;
+    const std::vector<CaseSpec> cases = expandSweep(scene);
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+      const CaseSpec& spec = cases[i];
+      const std::string what = (variant.name.empty() ? "" : variant.name + ": ") +
+                               std::to_string(spec.resolution.x()) + " cells, " +
+                               solverName(spec.solver);
+      tools::progress("contact_bench", tools::caseCounter(i, cases.size()) + what);
+      const std::string mesh = referenceGroup(variant) + "/" + caseLabel(scene, spec);
+      if (references.count(mesh) == 0) {
+        tools::progress("contact_bench", "reference for " + mesh);
+        const std::optional<std::string> text =
+            tools::runCaseInChild("contact_bench", "reference for " + mesh, [&] {
+              applyBenchThreads(scene);
+              return forceText(referenceForce(scene, spec));
+            });
+        references[mesh] =
+            text ? parseForce(*text)
+                 : Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+      }
+      // The child sends the force, a line break and the row without its error column.
+      const std::optional<std::string> text =
+          tools::runCaseInChild("contact_bench", "case " + what, [&] {
+            applyBenchThreads(scene);
+            const Row r = runCase(scene, spec);
+            return forceText(r.force) + "\n" + csvRow(scene.name, variant.name, r);
+          });
+      if (!text) {
+        ++failures;
+        continue;
+      }
+      const std::size_t line_end = text->find('\n');
+      const Eigen::Vector3d force = parseForce(text->substr(0, line_end));
+      const Eigen::Vector3d& f_ref = references[mesh];
+      double error_rel = std::numeric_limits<double>::quiet_NaN();
+      if (f_ref.allFinite() && f_ref.norm() > 0.0 && force.allFinite())
+        error_rel = (force - f_ref).norm() / f_ref.norm();
+      std::ostringstream row;
+      row << text->substr(line_end + 1) << "," << error_rel;
+      std::cout << row.str() << std::endl;
+      if (csv) csv << row.str() << "\n" << std::flush;
+    }
   }
   if (!args.plot.empty()) {
     csv.close();
-    if (!surgical_sim::tools::runPlotScript(
+    if (!tools::runPlotScript(
             "contact_bench", "plot_error_vs_time.py",
-            {args.csv, args.plot, scene.name + " (force vs tight Newton + CHOLMOD, same mesh)"})) {
+            {args.csv, args.plot,
+             variants.front().scene.name + " (force vs tight Newton, same mesh)"})) {
       return 1;
     }
   }
-  return 0;
+  return failures == 0 ? 0 : 1;
 }

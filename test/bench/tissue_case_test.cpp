@@ -121,6 +121,81 @@ TEST(TissueCase, LoadedSelfReferenceHasFiniteError) {
   EXPECT_LT(r.error_rel, 1.0);
 }
 
+TEST(TissueCase, LinearizedRunReportsItsPhasesRatesAndMemory) {
+  const BenchmarkScene scene = selfReferencedBox("sagging", "gravity: [0, 0, -9.81]\n");
+  const CaseResult r = runTissueCase(scene, expandSweep(scene).front());
+  ASSERT_EQ(r.status, StepStatus::Ok);
+  // Each step's phases are disjoint parts of it, so their means are at most the mean step.
+  EXPECT_GT(r.phases.forces, 0.0);
+  EXPECT_GT(r.phases.factorization, 0.0);
+  EXPECT_LE(1e3 * r.phases.sum(), r.ms_per_step);
+  EXPECT_GT(r.first_step_ms, 0.0);
+  EXPECT_GE(r.ms_p99, r.ms_per_step);          // two steps: the p99 is the slower one
+  EXPECT_DOUBLE_EQ(r.linear_iterations, 1.0);  // one direct solve per step
+  EXPECT_GT(r.peak_rss_bytes, 1e6);
+  for (const double rate :
+       {r.rates.forces_gflops, r.rates.forces_gbs, r.rates.assembly_gbs,
+        r.rates.factorization_gflops, r.rates.solve_gflops, r.rates.solve_gbs}) {
+    EXPECT_TRUE(std::isfinite(rate));
+    EXPECT_GT(rate, 0.0);
+  }
+  const std::string row = caseCsvRow("sagging", r, "after");
+  EXPECT_EQ(row.rfind("sagging,after,corotational,", 0), 0u) << row;
+}
+
+TEST(TissueCase, NewtonRunHasNoRateEstimates) {
+  const BenchmarkScene scene = saggingCantilever("implicit_euler_newton", 0.01, 1);
+  const CaseResult r = runTissueCase(scene, expandSweep(scene).front());
+  EXPECT_GT(r.phases.forces, 0.0);
+  EXPECT_TRUE(std::isnan(r.rates.forces_gflops));
+  EXPECT_TRUE(std::isnan(r.rates.solve_gbs));
+}
+
+TEST(TissueCase, PrecomputedSelfReferenceGivesTheSameError) {
+  const BenchmarkScene scene = selfReferencedBox("sagging", "gravity: [0, 0, -9.81]\n");
+  const CaseSpec spec = expandSweep(scene).front();
+  const CaseResult computed = runTissueCase(scene, spec);
+  const Eigen::VectorXd x_ref = selfReferencePositions(scene, spec);
+  const CaseResult given = runTissueCase(scene, spec, &x_ref);
+  EXPECT_DOUBLE_EQ(given.error_rel, computed.error_rel);
+  EXPECT_DOUBLE_EQ(given.reference, computed.reference);
+  const Eigen::VectorXd short_ref = x_ref.head(3);
+  EXPECT_THROW(runTissueCase(scene, spec, &short_ref), std::invalid_argument);
+  const Eigen::VectorXd no_ref;  // the reference run failed
+  const CaseResult unmeasured = runTissueCase(scene, spec, &no_ref);
+  EXPECT_TRUE(std::isnan(unmeasured.error_rel));
+  EXPECT_EQ(unmeasured.status, StepStatus::Ok);
+  EXPECT_GT(unmeasured.ms_per_step, 0.0);
+  EXPECT_EQ(selfReferenceKey(scene, spec), "sagging_tet4_1x1x1/corotational/dynamic");
+}
+
+TEST(TissueCase, VariantsChangingOnlyTheSolversShareTheReference) {
+  const BenchmarkScene scene = selfReferencedBox("box", R"(
+variants:
+  - name: before
+  - name: after
+    solvers: [pcg_cholesky_reuse]
+    pcg: {tolerance: 1.0e-8}
+    threads: 2
+    mesh: {resolutions: [[1, 1, 1], [2, 1, 1]]}
+  - name: stiffer
+    material: {young_modulus: 40.0e3}
+)");
+  const std::vector<BenchmarkVariant> variants = benchVariants(scene);
+  ASSERT_EQ(variants.size(), 3u);
+  EXPECT_EQ(referenceGroup(variants[0]), "");
+  EXPECT_EQ(referenceGroup(variants[1]), "");
+  EXPECT_EQ(referenceGroup(variants[2]), "stiffer");
+}
+
+TEST(TissueCase, ScenesWithoutVariantsRunAsOneUnnamedVariant) {
+  const BenchmarkScene scene = selfReferencedBox("plain", "");
+  const std::vector<BenchmarkVariant> variants = benchVariants(scene);
+  ASSERT_EQ(variants.size(), 1u);
+  EXPECT_EQ(variants.front().name, "");
+  EXPECT_EQ(variants.front().scene.name, "plain");
+}
+
 TEST(TissueCase, MeshBeyondTheBudgetIsRejectedBeforeBuilding) {
   MeshSpec spec;
   spec.generator = "box";

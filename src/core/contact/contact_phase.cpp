@@ -191,8 +191,14 @@ StepStatus ContactPhase::finishStep(Integrator& integrator, const TissueModel& m
   }
   timings_.collision_ms = watch.milliseconds();
   watch.restart();
+  const Integrator::ComplianceUse compliance_before = integrator.complianceUse();
   StepStatus status =
       solver_.solve(integrator, mapping_, contacts_, applied_force_, dt, update_velocity_, state);
+  const Integrator::ComplianceUse compliance_after = integrator.complianceUse();
+  timings_.compliance_ms = 1e3 * (compliance_after.seconds - compliance_before.seconds);
+  timings_.compliance_solves = compliance_after.calls - compliance_before.calls;
+  timings_.lcp_ms = watch.milliseconds() - timings_.compliance_ms;
+  const Stopwatch linearization_watch;
   // The proxies follow the corrected surface.
   if (std::any_of(tools_.begin(), tools_.end(), [](const Tool& t) { return t.proxy && t.posed; }))
     mapping_.apply(state.x, surface_x_);
@@ -221,6 +227,7 @@ StepStatus ContactPhase::finishStep(Integrator& integrator, const TissueModel& m
       tool.linearization.f0_S += tool.grasp->toolForce(internal_force_);
     }
   }
+  timings_.linearization_ms = linearization_watch.milliseconds();
   timings_.contact_ms = watch.milliseconds();
   return status;
 }

@@ -5,6 +5,7 @@
 #include "surgical_sim/core/mesh/generators.h"
 #include "surgical_sim/core/mesh/gmsh_reader.h"
 #include "surgical_sim/core/mesh/mesh_check.h"
+#include "surgical_sim/core/mesh/surface_generators.h"
 #include "surgical_sim/core/solve/make_integrator.h"
 #include "surgical_sim/core/solve/make_linear_solver.h"
 
@@ -14,6 +15,10 @@ TetMesh buildSceneMesh(const MeshSpec& spec, const Eigen::Vector3i& res, Element
   const std::string problem = meshBudgetProblem(spec, res, type);
   if (!problem.empty())
     throw std::invalid_argument("buildSceneMesh: key 'mesh.resolution': " + problem);
+  if (isSurfaceGenerator(spec.generator)) {
+    throw std::invalid_argument("buildSceneMesh: key 'mesh.generator': " + spec.generator +
+                                " makes a closed surface, not a tet mesh (buildSceneSurface)");
+  }
   if (spec.generator == "file") {
     const std::string key = "buildSceneMesh: key 'mesh.file': ";
     TetMesh mesh;
@@ -36,6 +41,14 @@ TetMesh buildSceneMesh(const MeshSpec& spec, const Eigen::Vector3i& res, Element
   if (spec.generator == "hex_beam")
     return makeHexagonalBeam(spec.hex_side, spec.hex_length, res[0], res[1], type);
   return makeOrganBlob(spec.size, res[0], type);
+}
+
+TriMesh buildSceneSurface(const MeshSpec& spec, const Eigen::Vector3i& resolution) {
+  if (!isSurfaceGenerator(spec.generator)) {
+    throw std::invalid_argument("buildSceneSurface: key 'mesh.generator': " + spec.generator +
+                                " makes a tet mesh, not a closed surface (buildSceneMesh)");
+  }
+  return makeLiverSurface(spec.size, resolution[0]);
 }
 
 std::vector<int> regionDofs(const Eigen::VectorXd& rest, const Region& region,

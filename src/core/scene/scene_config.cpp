@@ -15,8 +15,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "surgical_sim/core/common/thread_pool.h"
 #include "surgical_sim/core/cutting/blade_sweep.h"
 #include "surgical_sim/core/mesh/length_unit.h"
+#include "surgical_sim/core/mesh/surface_generators.h"
 
 namespace surgical_sim::core {
 namespace {
@@ -276,7 +278,7 @@ MeshSpec readMesh(const KeyReader& scene, const std::set<std::string>& extra) {
   known.insert(extra.begin(), extra.end());
   r.onlyKeys(known);
   MeshSpec m;
-  m.generator = r.choice("generator", {"box", "beam", "hex_beam", "organ_blob", "file"});
+  m.generator = r.choice("generator", {"box", "beam", "hex_beam", "organ_blob", "liver", "file"});
   if (r.has("split")) {
     if (m.generator != "box" && m.generator != "beam")
       r.fail("split", "the cell split applies to the box and beam generators only");
@@ -315,10 +317,17 @@ Eigen::Vector3i readResolution(const KeyReader& mesh, const std::string& key,
                                const YAML::Node& item, const std::string& generator) {
   if (!item.IsSequence() || item.size() != 3)
     mesh.fail(key, "each resolution is a list of 3 integers");
-  // box/beam use all three counts; hex_beam [along, rings, -]; organ_blob [per_axis, -, -].
-  const int used = generator == "hex_beam" ? 2 : generator == "organ_blob" ? 1 : 3;
+  // box/beam use all three counts; hex_beam [along, rings, -]; organ_blob [per_axis, -, -];
+  // liver [subdivisions, -, -].
+  const int used = generator == "hex_beam"                             ? 2
+                   : generator == "organ_blob" || generator == "liver" ? 1
+                                                                       : 3;
   Eigen::Vector3i cells;
   for (int i = 0; i < 3; ++i) cells[i] = mesh.toInteger(item[i], key, i < used, 4096);
+  if (generator == "liver" && cells[0] > kMaxSurfaceSubdivisions) {
+    mesh.fail(key, "liver subdivisions = " + std::to_string(cells[0]) + " is out of range: [0, " +
+                       std::to_string(kMaxSurfaceSubdivisions) + "] (20 4^s triangles)");
+  }
   return cells;
 }
 
@@ -346,9 +355,14 @@ std::vector<Enum> readEnums(const KeyReader& r, const std::string& key,
 MeasureSpec readMeasure(const KeyReader& scene) {
   const KeyReader r = scene.child("measure");
   r.onlyKeys({"type", "region", "component", "reference", "reference_formula", "face_area",
-              "rest_length"});
+              "rest_length", "reference_solver"});
   MeasureSpec m;
   m.type = r.choice("type", {"tip_displacement", "uniaxial_svk_force", "self_reference"});
+  if (r.has("reference_solver")) {
+    if (m.type != "self_reference")
+      r.fail("reference_solver", "only a self_reference measure has a reference run");
+    m.reference_solver = readEnum(r, "reference_solver", kSolverNames);
+  }
   if (m.type == "self_reference") return m;
   m.region = readRegion(r, "region");
   m.component = r.choice("component", {"x", "y", "z"})[0] - 'x';
@@ -750,10 +764,18 @@ RuntimeScene parseRuntime(const YAML::Node& root, const std::string& path) {
   } else if (mesh.has("resolution")) {
     mesh.fail("resolution", "a mesh file has its own resolution");
   }
-  if (mesh.has("element_type"))
+  if (mesh.has("element_type")) {
+    if (isSurfaceGenerator(s.mesh.generator))
+      mesh.fail("element_type", "the liver generator makes a closed surface, without elements");
     s.element_type = elementType(mesh.choice("element_type", {"tet4", "tet10"}));
+  }
   checkBudget(mesh, "resolution", s.mesh, s.resolution, s.element_type);
   s.model = readEnum(r, "model", kModelNames);
+  if (isSurfaceGenerator(s.mesh.generator) && s.model != ModelKind::Efg) {
+    r.fail("model", std::string(modelName(s.model)) +
+                        " needs a tet mesh; mesh.generator liver is a closed surface, which only "
+                        "model efg fills");
+  }
   if (linearTetOnly(s.model) && s.element_type == ElementType::Tet10)
     r.fail("model", std::string(modelName(s.model)) + " is defined on tet4 meshes only");
   if (s.model == ModelKind::Efg && s.efg_spacings.empty())
@@ -793,17 +815,74 @@ RuntimeScene parseRuntime(const YAML::Node& root, const std::string& path) {
   return s;
 }
 
+/// `base` with `overlay` laid over it: maps merge key by key (recursively), anything else
+/// (scalars, lists) replaces. `base` is not changed.
+YAML::Node overlaid(const YAML::Node& base, const YAML::Node& overlay) {
+  if (!base.IsMap() || !overlay.IsMap()) return YAML::Clone(overlay);
+  YAML::Node merged = YAML::Clone(base);
+  for (const auto& entry : overlay) {
+    const std::string key = entry.first.as<std::string>();
+    merged[key] =
+        merged[key].IsDefined() ? overlaid(merged[key], entry.second) : YAML::Clone(entry.second);
+  }
+  return merged;
+}
+
+BenchmarkScene parseBenchmark(const YAML::Node& root, const std::string& path);
+
+/// The dotted paths of the leaves (non-map values) of `node` under `prefix`, appended to `out`.
+void appendLeafKeys(const YAML::Node& node, const std::string& prefix,
+                    std::vector<std::string>& out) {
+  if (!node.IsMap()) {
+    out.push_back(prefix);
+    return;
+  }
+  for (const auto& entry : node) {
+    const std::string key = entry.first.as<std::string>();
+    appendLeafKeys(entry.second, prefix.empty() ? key : prefix + "." + key, out);
+  }
+}
+
+/// The optional 'variants' list: each item a name and keys laid over the rest of the file
+/// (overlaid()), parsed as a whole benchmark file of its own.
+std::vector<BenchmarkVariant> readVariants(const KeyReader& r, const YAML::Node& root,
+                                           const std::string& path) {
+  std::vector<BenchmarkVariant> variants;
+  YAML::Node base = YAML::Clone(root);
+  base.remove("variants");
+  forEachItem(r, "variants", [&](const KeyReader& item) {
+    const std::string name = readIdentifier(item, "name");
+    for (const BenchmarkVariant& v : variants)
+      if (v.name == name) item.fail("name", "duplicate variant name '" + name + "'");
+    if (item.has("variants")) item.fail("variants", "a variant cannot have variants");
+    YAML::Node overlay = YAML::Clone(item.node());
+    overlay.remove("name");
+    try {
+      variants.push_back({name, parseBenchmark(overlaid(base, overlay), path), {}});
+      appendLeafKeys(overlay, "", variants.back().keys);
+    } catch (const std::invalid_argument& e) {
+      item.fail("name", "variant '" + name + "' with its keys laid over the file: " + e.what());
+    }
+  });
+  if (r.has("variants") && variants.empty()) r.fail("variants", "must list at least one variant");
+  return variants;
+}
+
 BenchmarkScene parseBenchmark(const YAML::Node& root, const std::string& path) {
   const KeyReader r(root, "", path);
   rejectForeignKeys(r, kRuntimeKeys, kRuntimeMeshKeys);
-  r.onlyKeys({"name",        "description", "mesh",      "material",    "models",
-              "integrators", "solvers",     "time_step", "steps",       "load_factors",
-              "gravity",     "damping",     "newton",    "pcg",         "fixed",
-              "prescribed",  "measure",     "tools",     "tissue_pose", "efg"});
+  r.onlyKeys({"name",        "description", "mesh",     "material",     "models",  "integrators",
+              "solvers",     "time_step",   "steps",    "load_factors", "gravity", "damping",
+              "newton",      "pcg",         "fixed",    "prescribed",   "measure", "tools",
+              "tissue_pose", "efg",         "variants", "threads"});
   BenchmarkScene s;
   s.path = path;
   readBase(r, {"resolutions", "element_types"}, s);
   const KeyReader mesh = r.child("mesh");
+  if (isSurfaceGenerator(s.mesh.generator))
+    mesh.fail("generator",
+              "liver (a closed surface) is for runtime efg scenes; a benchmark "
+              "file needs a tet mesh");
   if (s.mesh.generator == "file") {
     s.resolutions = {Eigen::Vector3i::Zero()};
   } else {
@@ -826,6 +905,7 @@ BenchmarkScene parseBenchmark(const YAML::Node& root, const std::string& path) {
   s.integrators = readEnums(r, "integrators", kIntegratorNames);
   s.solvers = readEnums(r, "solvers", kSolverNames);
   s.steps = r.integer("steps", 1, 1000000);
+  if (r.has("threads")) s.threads = r.integer("threads", 1, kMaxThreads);
   if (r.has("load_factors")) s.load_factors = r.numbers("load_factors");
   for (double f : s.load_factors)
     checkRange(r, "load_factors", f, -kMaxLoadFactor, kMaxLoadFactor, "");
@@ -843,6 +923,7 @@ BenchmarkScene parseBenchmark(const YAML::Node& root, const std::string& path) {
   if (!s.measure.reference_formula.empty() && s.gravity[s.measure.component] == 0.0)
     r.fail("gravity", "measure.reference_formula '" + s.measure.reference_formula +
                           "' needs a non-zero gravity component along measure.component");
+  s.variants = readVariants(r, root, path);
   return s;
 }
 
@@ -896,6 +977,8 @@ MeshSizeEstimate estimateMeshSize(const MeshSpec& spec, const Eigen::Vector3i& r
   } else if (spec.generator == "organ_blob") {
     e.nodes = std::pow(cells[0] + 1.0, 3);
     e.elements = 6.0 * std::pow(cells[0], 3);
+  } else if (spec.generator == "liver") {
+    e.nodes = 10.0 * std::pow(4.0, cells[0]) + 2.0;  // surface vertices, no elements
   } else if (spec.generator == "hex_beam") {
     const double rings = cells[1];
     e.nodes = (3.0 * rings * (rings + 1.0) + 1.0) * (cells[0] + 1.0);

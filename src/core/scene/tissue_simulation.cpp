@@ -1,6 +1,7 @@
 #include "surgical_sim/core/scene/tissue_simulation.h"
 
 #include <future>
+#include <numeric>
 #include <stdexcept>
 
 #include "surgical_sim/core/common/stopwatch.h"
@@ -8,6 +9,7 @@
 #include "surgical_sim/core/cutting/cut_tissue_model.h"
 #include "surgical_sim/core/mesh/mesh_check.h"
 #include "surgical_sim/core/scene/scene_build.h"
+#include "surgical_sim/core/tissue/efg_model.h"
 #include "surgical_sim/core/tissue/model_factory.h"
 #include "surgical_sim/core/tissue/surface_mapping.h"
 
@@ -40,8 +42,19 @@ std::invalid_argument efgCutError(const std::string& path) {
 
 TissueSimulation::TissueSimulation(const RuntimeScene& scene) : scene_(scene) {
   if (scene_.model == ModelKind::Efg && !scene_.blades.empty()) throw efgCutError(scene_.path);
-  original_mesh_ = buildSceneMesh(scene_.mesh, scene_.resolution, scene_.element_type);
-  requireValidMesh(original_mesh_);
+  if (isSurfaceGenerator(scene_.mesh.generator)) {
+    if (scene_.model != ModelKind::Efg) {
+      throw std::invalid_argument("scene " + scene_.path +
+                                  ": key 'model': " + modelName(scene_.model) +
+                                  " needs a tet mesh; a closed surface body needs model efg");
+    }
+    body_surface_ = buildSceneSurface(scene_.mesh, scene_.resolution);
+    original_mesh_.nodes = body_surface_->vertices;
+    original_mesh_.elements.resize(4, 0);
+  } else {
+    original_mesh_ = buildSceneMesh(scene_.mesh, scene_.resolution, scene_.element_type);
+    requireValidMesh(original_mesh_);
+  }
 
   integrator_ =
       makeSceneIntegrator(scene_, scene_.integrator, scene_.solver, scene_.newton_tolerance);
@@ -95,8 +108,15 @@ void TissueSimulation::reset() {
   pending_cuts_.clear();
   cut_faces_.clear();
   mesh_ = original_mesh_;
-  surface_ = extractSurface(mesh_);
-  installModel(makeTissueModel(scene_.model, mesh_, scene_.material, scene_.efg));
+  if (body_surface_) {
+    surface_.triangles = body_surface_->triangles;
+    surface_.nodes.resize(static_cast<std::size_t>(mesh_.numNodes()));
+    std::iota(surface_.nodes.begin(), surface_.nodes.end(), 0);
+    installModel(std::make_unique<EfgModel>(*body_surface_, scene_.material, scene_.efg));
+  } else {
+    surface_ = extractSurface(mesh_);
+    installModel(makeTissueModel(scene_.model, mesh_, scene_.material, scene_.efg));
+  }
   mapping_ = makeSurfaceMapping(*model_, mesh_, surface_);
   state_.x = model_->restPositions();
   mapping_.apply(state_.x, surface_x_);
@@ -197,6 +217,7 @@ SimulationStepStats TissueSimulation::step() {
         combined(stats.report.status, slipped ? combined(s, StepStatus::ContactLimited) : s);
     stats.collision_seconds = 1e-3 * contact_->timings().collision_ms;
     stats.contact_seconds = 1e-3 * contact_->timings().contact_ms;
+    stats.contact_timings = contact_->timings();
     stats.contacts = static_cast<int>(contact_->contacts().size());
     contact_nodes_.clear();
     for (const ContactPoint& c : contact_->contacts())

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "surgical_sim/core/common/stopwatch.h"
 #include "surgical_sim/core/solve/dirichlet_projection.h"
 #include "surgical_sim/core/solve/mechanical_energy.h"
 
@@ -51,20 +52,28 @@ StepReport ImplicitEulerLinearized::step(const DynamicsProblem& problem, double 
     state.v[d] = (bc.positions[static_cast<Eigen::Index>(k)] - state.x[d]) / dt;
   }
   rhs_ = problem.external_force;
-  model.addInternalForceAndStiffness(state.x, TangentMode::ProjectedSpd, rhs_, stiffness_);
+  StepPhaseTimes& phases = report.phases;
+  timed(phases.forces, [&] {
+    model.addInternalForceAndStiffness(state.x, TangentMode::ProjectedSpd, rhs_, stiffness_);
+  });
   if (alpha > 0.0) rhs_.array() -= alpha * mass.array() * state.v.array();
   product_.noalias() = stiffness_ * state.v;
   rhs_.noalias() -= (dt + beta) * product_;
   rhs_ *= dt;
   zeroDirichletEntries(bc.dofs, rhs_);
-  system_.assemble(mass, 1.0 + dt * alpha, stiffness_, dt * dt + dt * beta);
-  system_.projectDirichlet(mask_);
+  timed(phases.assembly, [&] {
+    system_.assemble(mass, 1.0 + dt * alpha, stiffness_, dt * dt + dt * beta);
+    system_.projectDirichlet(mask_);
+  });
   if (!rhs_.allFinite()) return restoreState(state, StepStatus::NonFinite, report);
-  solver_->setLinearizationState(model, state.x);
-  if (!solver_->factorize(system_.matrix()))
+  if (!timed(phases.factorization, [&] {
+        solver_->setLinearizationState(model, state.x);
+        return solver_->factorize(system_.matrix());
+      }))
     return restoreState(state, StepStatus::SolverFailed, report);
   dv_.setZero();
-  const LinearSolveReport solve = solver_->solve(rhs_, dv_);
+  const LinearSolveReport solve =
+      timed(phases.linear_solve, [&] { return solver_->solve(rhs_, dv_); });
   report.linear_iterations = solve.iterations;
   // An iterative solve stopped at its iteration cap is still a usable inexact Newton step (every
   // CG iterate reduces the energy-norm error; the energy safeguard below catches overshoot):

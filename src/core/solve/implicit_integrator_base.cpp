@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "surgical_sim/core/common/stopwatch.h"
 #include "surgical_sim/core/solve/dirichlet_projection.h"
 #include "surgical_sim/core/solve/dynamics_problem_check.h"
 
@@ -65,7 +66,10 @@ StepReport ImplicitIntegratorBase::restoreState(SimulationState& state, StepStat
 }
 
 bool ImplicitIntegratorBase::applyStepCompliance(const Eigen::VectorXd& f, Eigen::VectorXd& dx) {
-  return compliance_.apply(*solver_, mask_, f, dx, [this] { return factorizeCompliance(); });
+  ++compliance_use_.calls;
+  return timed(compliance_use_.seconds, [&] {
+    return compliance_.apply(*solver_, mask_, f, dx, [this] { return factorizeCompliance(); });
+  });
 }
 
 }  // namespace surgical_sim::core

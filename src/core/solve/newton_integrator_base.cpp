@@ -4,6 +4,7 @@
 #include <cmath>
 #include <utility>
 
+#include "surgical_sim/core/common/stopwatch.h"
 #include "surgical_sim/core/solve/absolute_product_norm.h"
 #include "surgical_sim/core/solve/armijo_line_search.h"
 #include "surgical_sim/core/solve/newton_constants.h"
@@ -26,15 +27,22 @@ void NewtonIntegratorBase::resizeWorkspace(Eigen::Index size) {
 
 bool NewtonIntegratorBase::newtonDirection(const DynamicsProblem& problem, const Eigen::VectorXd& x,
                                            TangentMode mode, StepReport& report) {
-  problem.model->assembleStiffness(x, mode, stiffness_);
+  StepPhaseTimes& phases = report.phases;
+  timed(phases.forces, [&] { problem.model->assembleStiffness(x, mode, stiffness_); });
   stiffness_round_off_ = absoluteProductNorm(stiffness_, x, work_);
-  assembleSystem();
-  system_.projectDirichlet(mask_);
-  solver_->setLinearizationState(*problem.model, x);
-  if (!solver_->factorize(system_.matrix())) return false;
+  timed(phases.assembly, [&] {
+    assembleSystem();
+    system_.projectDirichlet(mask_);
+  });
+  if (!timed(phases.factorization, [&] {
+        solver_->setLinearizationState(*problem.model, x);
+        return solver_->factorize(system_.matrix());
+      }))
+    return false;
   rhs_ = -residual_;
   dx_.setZero();
-  const LinearSolveReport solve = solver_->solve(rhs_, dx_);
+  const LinearSolveReport solve =
+      timed(phases.linear_solve, [&] { return solver_->solve(rhs_, dx_); });
   report.linear_iterations += solve.iterations;
   // A capped iterative solve is an inexact Newton direction; the line search and the residual
   // test decide what it is worth.
@@ -50,7 +58,8 @@ StepStatus NewtonIntegratorBase::solveNewton(const DynamicsProblem& problem, Eig
   bool search_failed = false;
   for (int iteration = 0;; ++iteration) {
     double terms = 0.0;
-    const double norm = computeResidual(problem, x, &terms);
+    const double norm =
+        timed(report.phases.forces, [&] { return computeResidual(problem, x, &terms); });
     if (!std::isfinite(norm)) return StepStatus::NonFinite;
     if (iteration == 0) reference = norm;
     // |r| over |r_0| raised to the round-off floor over the tolerance: converged iff <= tol.

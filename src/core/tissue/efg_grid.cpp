@@ -5,11 +5,15 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <stdexcept>
 #include <string>
 #include <tuple>
 #include <vector>
+
+#include "surgical_sim/core/mesh/surface_closure.h"
+#include "surgical_sim/core/mesh/surface_inside.h"
 
 namespace surgical_sim::core {
 namespace {
@@ -90,20 +94,21 @@ std::vector<GridIndex> neighbourOffsets() {
   return offsets;
 }
 
-}  // namespace
+// Marks the volume samples inside the body: (lattice origin [m], pitch [m], count per axis) ->
+// one byte per sample, as markInsideSamples.
+using SampleMarker = std::function<std::vector<std::uint8_t>(const Eigen::Vector3d&, double,
+                                                             const Eigen::Vector3i&)>;
 
-EfgGrid buildEfgGrid(const TetMesh& mesh, const EfgOptions& options) {
-  options.validate();
-  if (mesh.numNodes() == 0 || mesh.numElements() == 0) {
-    throw std::invalid_argument("EfgModel: mesh has no nodes or no elements");
-  }
-  if (!mesh.nodes.allFinite()) throw std::invalid_argument("EfgModel: mesh.nodes not finite");
+// The grids over the bounding box of `body` (points [m], finite, at least one), with the inside
+// samples given by `mark`.
+EfgGrid buildGrid(const Eigen::Matrix3Xd& body, const EfgOptions& options,
+                  const SampleMarker& mark) {
   const double d = options.spacing;
   const int s = options.volume_samples;
   EfgGrid grid;
   grid.spacing = d;
-  grid.origin = mesh.nodes.rowwise().minCoeff();
-  const Eigen::Vector3d extent = mesh.nodes.rowwise().maxCoeff() - grid.origin;
+  grid.origin = body.rowwise().minCoeff();
+  const Eigen::Vector3d extent = body.rowwise().maxCoeff() - grid.origin;
   // DOF cells per axis (>= 1) covering the bounding box; twice as many integration cells.
   Eigen::Vector3i dof_cells;
   double cells = 1.0;
@@ -126,7 +131,7 @@ EfgGrid buildEfgGrid(const TetMesh& mesh, const EfgOptions& options) {
   grid.cells = ip_cells;
   grid.ip_of_cell.assign(static_cast<size_t>(ip_cells.prod()), -1);
   const Eigen::Vector3i samples = s * ip_cells;
-  const std::vector<std::uint8_t> inside = markInsideSamples(mesh, grid.origin, d / s, samples);
+  const std::vector<std::uint8_t> inside = mark(grid.origin, d / s, samples);
 
   // Kept cells, then the particles at the corners of their DOF cells.
   std::vector<GridIndex> kept;
@@ -209,6 +214,41 @@ EfgGrid buildEfgGrid(const TetMesh& mesh, const EfgOptions& options) {
   grid.volumes = Eigen::Map<const Eigen::VectorXd>(volumes.data(), m);
   grid.neighbours = Eigen::Map<const Eigen::MatrixXi>(neighbours.data(), options.neighbours, m);
   return grid;
+}
+
+}  // namespace
+
+EfgGrid buildEfgGrid(const TetMesh& mesh, const EfgOptions& options) {
+  options.validate();
+  if (mesh.numNodes() == 0 || mesh.numElements() == 0) {
+    throw std::invalid_argument("EfgModel: mesh has no nodes or no elements");
+  }
+  if (!mesh.nodes.allFinite()) throw std::invalid_argument("EfgModel: mesh.nodes not finite");
+  return buildGrid(
+      mesh.nodes, options,
+      [&mesh](const Eigen::Vector3d& origin, double pitch, const Eigen::Vector3i& count) {
+        return markInsideSamples(mesh, origin, pitch, count);
+      });
+}
+
+EfgGrid buildEfgGrid(const TriMesh& surface, const EfgOptions& options) {
+  options.validate();
+  if (surface.vertices.cols() == 0 || surface.triangles.cols() == 0) {
+    throw std::invalid_argument("EfgModel: surface has no vertices or no triangles");
+  }
+  if (!surface.vertices.allFinite())
+    throw std::invalid_argument("EfgModel: surface.vertices not finite");
+  const SurfaceClosure closure = checkSurfaceClosure(surface.triangles);
+  if (closure.open_edges > 0) {
+    throw std::invalid_argument("EfgModel: the surface is not closed (" +
+                                std::to_string(closure.open_edges) +
+                                " open or inconsistently oriented edges): its inside is undefined");
+  }
+  return buildGrid(
+      surface.vertices, options,
+      [&surface](const Eigen::Vector3d& origin, double pitch, const Eigen::Vector3i& count) {
+        return markInsideLattice(surface, origin, pitch, count);
+      });
 }
 
 }  // namespace surgical_sim::core

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 #include <type_traits>
+#include <utility>
 
 #include "surgical_sim/core/tissue/efg_shape_functions.h"
 #include "surgical_sim/core/tissue/point_stiffness.h"
@@ -64,11 +65,17 @@ void rotatedLinearStiffness(const ElementMatrix<K>& L, double mu, double lambda,
 }  // namespace
 
 EfgModel::EfgModel(const TetMesh& mesh, const Material& material, const EfgOptions& options)
+    : EfgModel(buildEfgGrid(mesh, options), material, options) {}
+
+EfgModel::EfgModel(const TriMesh& surface, const Material& material, const EfgOptions& options)
+    : EfgModel(buildEfgGrid(surface, options), material, options) {}
+
+EfgModel::EfgModel(EfgGrid grid, const Material& material, const EfgOptions& options)
     : options_(options),
       law_(Material::validated(material)),
       mu_(material.mu()),
       lambda_(material.lambda()),
-      grid_(buildEfgGrid(mesh, options)),
+      grid_(std::move(grid)),
       k_(options.neighbours) {
   const int n = static_cast<int>(grid_.particles.cols());
   const int m = static_cast<int>(grid_.integration_points.cols());

@@ -9,23 +9,13 @@
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
+#include "surgical_sim/core/mesh/surface_inside.h"
+
 namespace surgical_sim::core {
 namespace {
 
 std::string dataPath(const std::string& name) {
   return std::string(SURGICAL_SIM_SOURCE_DIR) + "/test/data/" + name;
-}
-
-/// Volume enclosed by an outward surface, by the divergence theorem [m^3].
-double enclosedVolume(const TriMesh& mesh) {
-  double volume = 0.0;
-  for (int t = 0; t < mesh.triangles.cols(); ++t) {
-    const Eigen::Vector3d a = mesh.vertices.col(mesh.triangles(0, t));
-    const Eigen::Vector3d b = mesh.vertices.col(mesh.triangles(1, t));
-    const Eigen::Vector3d c = mesh.vertices.col(mesh.triangles(2, t));
-    volume += a.dot(b.cross(c)) / 6.0;
-  }
-  return volume;
 }
 
 /// True if every edge is used by exactly two triangles, once in each direction.

@@ -263,6 +263,70 @@ TEST(BenchmarkScene, ReferenceFormulaNeedsGravityAndReferenceIsNonZero) {
                  {"key 'measure.reference'", "must be non-zero"});
 }
 
+TEST(BenchmarkScene, ReferenceSolverIsAChoiceOfSelfReferenceMeasures) {
+  EXPECT_EQ(parseBenchmarkScene(kValidScene, "t.yaml").measure.reference_solver,
+            SolverKind::Cholmod);
+  const std::string pcg =
+      replaced(kValidScene, "  type: self_reference",
+               "  type: self_reference\n  reference_solver: pcg_cholesky_reuse");
+  EXPECT_EQ(parseBenchmarkScene(pcg, "t.yaml").measure.reference_solver,
+            SolverKind::PcgCholeskyReuse);
+  expectRejected(replaced(pcg, "pcg_cholesky_reuse", "lu"),
+                 {"key 'measure.reference_solver'", "'lu' is not one of"});
+  const std::string measure =
+      "  type: tip_displacement\n  region: {}\n  component: z\n"
+      "  reference: 0.01\n  reference_solver: cholmod";
+  expectRejected(replaced(kValidScene, "  type: self_reference", measure),
+                 {"key 'measure.reference_solver'", "only a self_reference measure"});
+}
+
+TEST(BenchmarkScene, VariantsLayTheirKeysOverTheFile) {
+  const BenchmarkScene s = parseBenchmarkScene(std::string(kValidScene) + R"(
+variants:
+  - name: before
+  - name: after
+    solvers: [pcg_cholesky_reuse, pcg_jacobi]
+    material: {young_modulus: 40.0e3}
+    pcg: {tolerance: 1.0e-8}
+)",
+                                               "t.yaml");
+  ASSERT_EQ(s.variants.size(), 2u);
+  const BenchmarkScene& before = s.variants[0].scene;
+  const BenchmarkScene& after = s.variants[1].scene;
+  EXPECT_EQ(s.variants[0].name, "before");
+  EXPECT_EQ(s.variants[1].name, "after");
+  EXPECT_EQ(before.solvers, s.solvers);
+  EXPECT_DOUBLE_EQ(before.material.young_modulus, 20e3);
+  EXPECT_TRUE(before.variants.empty());
+  // A list replaces; a map merges key by key (the density and Poisson ratio stay).
+  EXPECT_EQ(after.solvers,
+            (std::vector<SolverKind>{SolverKind::PcgCholeskyReuse, SolverKind::PcgJacobi}));
+  EXPECT_DOUBLE_EQ(after.material.young_modulus, 40e3);
+  EXPECT_DOUBLE_EQ(after.material.poisson_ratio, 0.3);
+  EXPECT_DOUBLE_EQ(after.material.density, 1000.0);
+  EXPECT_DOUBLE_EQ(after.pcg_tolerance, 1e-8);
+  EXPECT_EQ(after.name, "unit");
+  EXPECT_TRUE(s.variants[0].keys.empty());
+  EXPECT_FALSE(before.threads);
+  EXPECT_EQ(s.variants[1].keys,
+            (std::vector<std::string>{"solvers", "material.young_modulus", "pcg.tolerance"}));
+}
+
+TEST(BenchmarkScene, BadVariantsAreNamed) {
+  const std::string base(kValidScene);
+  expectRejected(base + "variants: []\n", {"key 'variants'", "at least one"});
+  expectRejected(base + "variants: [{name: a, threads: 0}]\n",
+                 {"key 'variants[0].name'", "key 'threads'"});
+  EXPECT_EQ(*parseBenchmarkScene(base + "threads: 2\n", "t.yaml").threads, 2);
+  expectRejected(base + "variants: [{name: a}, {name: a}]\n",
+                 {"key 'variants[1].name'", "duplicate variant name 'a'"});
+  expectRejected(base + "variants: [{name: 2x}]\n", {"key 'variants[0].name'"});
+  expectRejected(base + "variants: [{name: a, solvers: [lu]}]\n",
+                 {"key 'variants[0].name'", "variant 'a'", "key 'solvers'", "'lu'"});
+  expectRejected(base + "variants: [{name: a, variants: [{name: b}]}]\n",
+                 {"key 'variants[0].variants'", "cannot have variants"});
+}
+
 TEST(BenchmarkScene, LoadPathAndReferencesAreBounded) {
   expectRejected(replaced(kValidScene, "steps: 1\n", "steps: 1\nload_factors: [0.1, 1e20]\n"),
                  {"key 'load_factors'", "1e+20 is out of range [-1000, 1000]"});

@@ -4,6 +4,7 @@
 #include <random>
 
 #include "solve_test_util.h"
+#include "surgical_sim/core/common/stopwatch.h"
 #include "surgical_sim/core/solve/make_integrator.h"
 #include "surgical_sim/core/solve/make_linear_solver.h"
 #include "surgical_sim/core/solve/mechanical_energy.h"
@@ -47,6 +48,41 @@ TEST_P(ImplicitScheme, StepFromRestMatchesClosedForm) {
   EXPECT_DOUBLE_EQ(state.time, dt);
   EXPECT_NEAR(report.energy, mechanicalEnergy(model, state.x, state.v, problem.external_force),
               1e-12);
+}
+
+// The phases are disjoint parts of the step: each is timed, and together they take at most the
+// step's wall time; a compliance solve after the step is counted and timed apart.
+TEST_P(ImplicitScheme, PhaseTimesArePartsOfTheStepAndComplianceSolvesAreCounted) {
+  SpringLatticeModel model = SpringLatticeModel::lattice(4, 3, 3, 0.05, 400.0, 0.02, Law::Linear);
+  DynamicsProblem problem = makeProblem(model, dofsOfNodesAt(model, 2, 0.0));
+  problem.external_force = model.bodyForce(Eigen::Vector3d(0.0, 0.0, -9.81));
+  SimulationState state = restState(model);
+  const std::unique_ptr<Integrator> scheme = integrator(GetParam());
+  for (int k = 0; k < 3; ++k) {
+    const Stopwatch watch;
+    const StepReport report = scheme->step(problem, 0.01, state);
+    const double step_seconds = watch.seconds();
+    ASSERT_EQ(report.status, StepStatus::Ok);
+    const StepPhaseTimes& p = report.phases;
+    EXPECT_GT(p.forces, 0.0);
+    EXPECT_GT(p.assembly, 0.0);
+    EXPECT_GT(p.factorization, 0.0);
+    EXPECT_GT(p.linear_solve, 0.0);
+    EXPECT_LE(p.sum(), step_seconds);
+  }
+  const Integrator::ComplianceUse before = scheme->complianceUse();
+  EXPECT_EQ(before.calls, 0);
+  EXPECT_EQ(before.seconds, 0.0);
+  Eigen::VectorXd dx;
+  const Eigen::VectorXd f = Eigen::VectorXd::Ones(state.x.size());
+  const Stopwatch watch;
+  ASSERT_TRUE(scheme->applyStepCompliance(f, dx));
+  ASSERT_TRUE(scheme->applyStepCompliance(f, dx));
+  const double two_solves = watch.seconds();
+  const Integrator::ComplianceUse after = scheme->complianceUse();
+  EXPECT_EQ(after.calls, 2);
+  EXPECT_GT(after.seconds, 0.0);
+  EXPECT_LE(after.seconds, two_solves);
 }
 
 INSTANTIATE_TEST_SUITE_P(Schemes, ImplicitScheme,

@@ -19,6 +19,25 @@ enum class StepStatus {
 /// Lower-case name of a status, e.g. "not_converged".
 const char* toString(StepStatus status);
 
+/// Wall time (steady_clock) of the phases of one integrator step [s], each summed over every
+/// occurrence in the step (a Newton step assembles and solves once per iteration). The phases
+/// do not overlap, so their sum is at most the step's wall time; the rest (residual norms,
+/// energies, line search, copies) is not attributed. Explicit schemes leave them 0.
+struct StepPhaseTimes {
+  /// Element forces and tangents scattered into the global force and stiffness (the tissue
+  /// model's addInternalForceAndStiffness / assembleStiffness; a Newton scheme's residual
+  /// evaluations, addInternalForce and a few vector operations, count here too).
+  double forces = 0.0;
+  /// System matrix A from the mass, damping and stiffness, with its Dirichlet projection.
+  double assembly = 0.0;
+  /// LinearSolver::factorize: numeric factorization or preconditioner set-up.
+  double factorization = 0.0;
+  /// LinearSolver::solve: triangular solves or the iterations of an iterative solver.
+  double linear_solve = 0.0;
+  /// Sum of the four phases [s].
+  double sum() const { return forces + assembly + factorization + linear_solve; }
+};
+
 /// Per-step diagnostics returned by every integrator.
 struct StepReport {
   StepStatus status = StepStatus::Ok;
@@ -32,7 +51,8 @@ struct StepReport {
   /// implicit_euler_linearized: |b - A x| / |b| of its linear solve (<= the solver's tolerance
   /// when that solve converged). symplectic_euler: 0 (no solve).
   double residual = 0.0;
-  double energy = 0.0;  ///< kinetic + elastic - external work potential after the step [J]
+  double energy = 0.0;    ///< kinetic + elastic - external work potential after the step [J]
+  StepPhaseTimes phases;  ///< where the step's time went (implicit schemes)
 };
 
 }  // namespace surgical_sim::core

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <chrono>
+#include <type_traits>
 
 namespace surgical_sim::core {
 
@@ -19,5 +20,19 @@ class Stopwatch {
  private:
   std::chrono::steady_clock::time_point start_;
 };
+
+/// Calls f(), adds its wall time [s] to `seconds` and returns what f returns. Allocation-free.
+template <class F>
+auto timed(double& seconds, F&& f) {
+  const Stopwatch watch;
+  if constexpr (std::is_void_v<decltype(f())>) {
+    f();
+    seconds += watch.seconds();
+  } else {
+    auto result = f();
+    seconds += watch.seconds();
+    return result;
+  }
+}
 
 }  // namespace surgical_sim::core

@@ -51,10 +51,19 @@ struct ContactPhaseSettings {
   ContactSolverSettings solver;
 };
 
-/// Wall time of the contact phase of the last step [ms].
+/// Wall time of the contact phase of the last step [ms]. contact_ms = compliance_ms + lcp_ms +
+/// linearization_ms (up to clock reads).
 struct ContactTimings {
-  double collision_ms = 0.0;  ///< BVH refit + narrow phase
+  double collision_ms = 0.0;  ///< BVH refit + narrow phase (detection)
   double contact_ms = 0.0;    ///< constraint solve / proxy update, correction, linearization
+  /// Step-compliance solves inside the constraint solve (Integrator::applyStepCompliance: the
+  /// Delassus columns, the carried force and the correction).
+  double compliance_ms = 0.0;
+  long compliance_solves = 0;  ///< number of those solves
+  /// The rest of the constraint solve: gaps, W from the compliance columns, the LCP, the force
+  /// caps and the correction update.
+  double lcp_ms = 0.0;
+  double linearization_ms = 0.0;  ///< proxies and the per-tool contact linearizations
 };
 
 /// Contact facade used by the simulator; construct it only when the scene has tools (a tool-less

@@ -13,11 +13,18 @@
 namespace surgical_sim::core {
 
 /// Builds the scene's mesh at one resolution and element type (metres).
-/// @throws std::invalid_argument on bad generator arguments; naming 'mesh.file' and the file
+/// @throws std::invalid_argument on bad generator arguments, naming 'mesh.generator' for a surface
+///         generator (buildSceneSurface()); naming 'mesh.file' and the file
 ///         for a mesh file that cannot be read or fails requireValidMesh(); naming
 ///         'mesh.resolution' before allocating anything when the mesh exceeds the memory budget
 ///         (meshBudgetProblem()).
 TetMesh buildSceneMesh(const MeshSpec& spec, const Eigen::Vector3i& resolution, ElementType type);
+
+/// Builds the closed surface of a surface generator (isSurfaceGenerator(): `liver`, at
+/// resolution {subdivisions, -, -}) in metres; buildSceneMesh() rejects these generators.
+/// @throws std::invalid_argument naming 'mesh.generator' for a tet-mesh generator, or the bad
+///         generator argument.
+TriMesh buildSceneSurface(const MeshSpec& spec, const Eigen::Vector3i& resolution);
 
 /// Node-major DOF indices of every model node whose rest position (`rest`, size 3n [m]: a tissue
 /// model's restPositions(), the mesh nodes for tet models, the particles for efg) lies in

@@ -31,9 +31,10 @@ struct Region {
 /// Where the mesh comes from: exactly one generator and its geometry (the resolution and element
 /// type are chosen by the runtime scene, or swept by a benchmark scene).
 struct MeshSpec {
-  std::string generator;  ///< "box", "beam", "hex_beam", "organ_blob" or "file"
-  // box / beam / organ_blob
-  Eigen::Vector3d size = Eigen::Vector3d::Zero();    ///< box/beam edge lengths, blob semi-axes [m]
+  std::string generator;  ///< "box", "beam", "hex_beam", "organ_blob", "liver" or "file"
+  // box / beam / organ_blob / liver
+  Eigen::Vector3d size =
+      Eigen::Vector3d::Zero();  ///< box/beam edge lengths, blob/liver semi-axes [m]
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  ///< box min corner [m]
   CellSplit split = CellSplit::Symmetric;            ///< box / beam cell split (mesh.split)
   // hex_beam
@@ -43,6 +44,10 @@ struct MeshSpec {
   std::string file;            ///< Gmsh .msh path (relative paths: to the scene file)
   double metres_per_unit = 1;  ///< from mesh.unit ("m", "cm", "mm", "um")
 };
+
+/// True for a generator that makes a closed triangle surface instead of a tet mesh ("liver":
+/// makeLiverSurface()); only the efg model fills such a body.
+inline bool isSurfaceGenerator(const std::string& generator) { return generator == "liver"; }
 
 /// A group of constrained DOFs: the listed components of every node in region.
 struct FixedBc {
@@ -62,8 +67,12 @@ struct MeasureSpec {
   /// "tip_displacement": mean displacement component of the nodes in region vs reference [m];
   /// "uniaxial_svk_force": reaction force on the prescribed region along `component` at each
   ///   stretch in load_factors vs (E S0/2) l (l^2 - 1); error = max relative over the path;
-  /// "self_reference": final positions vs a tight Newton + CHOLMOD run of the same mesh.
+  /// "self_reference": final positions vs a tight Newton run of the same mesh (relative
+  ///   residual 1e-10) with reference_solver.
   std::string type;
+  /// self_reference only: the reference run's linear solver (key 'reference_solver', default
+  /// cholmod; an iterative one solves each Newton system to a relative residual of 1e-10).
+  SolverKind reference_solver = SolverKind::Cholmod;
   Region region;
   int component = 0;                ///< 0 = x, 1 = y, 2 = z
   std::optional<double> reference;  ///< tip_displacement reference [m] (sign included)
@@ -173,21 +182,38 @@ struct RuntimeScene : SceneBase {
   std::optional<RobotSpec> robot;
 };
 
+struct BenchmarkVariant;
+
 /// A benchmark file: the shared scene, sweeps over resolution, element type, model, integrator
 /// and solver, a number of steps or a load path, prescribed displacements, and what error_rel
 /// is measured against.
 struct BenchmarkScene : SceneBase {
   /// Sweep of resolutions: cells along x,y,z (box/beam), {cells_along, rings, -} (hex_beam),
-  /// {cells_per_axis, -, -} (organ_blob); a file mesh has one implicit resolution.
+  /// {cells_per_axis, -, -} (organ_blob); a file mesh has one implicit resolution. (Runtime
+  /// scenes also take {subdivisions, -, -} for the liver surface.)
   std::vector<Eigen::Vector3i> resolutions;
   std::vector<ElementType> element_types;  ///< sweep of element types (tet4, tet10)
   std::vector<ModelKind> models;
   std::vector<IntegratorKind> integrators;
   std::vector<SolverKind> solvers;
-  int steps = 1;                     ///< steps per case (quasi_static: load increments)
+  int steps = 1;  ///< steps per case (quasi_static: load increments)
+  /// Key 'threads': SURGICAL_SIM_THREADS for the benches' case processes, [1, kMaxThreads];
+  /// unset: the environment's (docs/models.md).
+  std::optional<int> threads;
   std::vector<double> load_factors;  ///< load path (quasi-static stretch values etc.)
   std::vector<PrescribedBc> prescribed;
   MeasureSpec measure;
+  /// Key 'variants': configurations run side by side by the benches (e.g. a solver set-up
+  /// before and after a change). Each item has a `name` and any other keys of the file, laid
+  /// over it (maps merge key by key, other values replace); empty: the file is one configuration.
+  std::vector<BenchmarkVariant> variants;
+};
+
+/// One item of BenchmarkScene::variants: the whole file with the item's keys laid over it.
+struct BenchmarkVariant {
+  std::string name;  ///< [A-Za-z][A-Za-z0-9_]*, unique in the file
+  BenchmarkScene scene;
+  std::vector<std::string> keys;  ///< the dotted keys the item sets, e.g. "pcg.tolerance"
 };
 
 /// Working-memory budget of one case of a scene [bytes]: a generated mesh whose estimate

@@ -29,6 +29,7 @@ struct SimulationStepStats {
   double collision_seconds = 0.0;
   double integrate_seconds = 0.0;
   double contact_seconds = 0.0;
+  ContactTimings contact_timings;  ///< split of the contact phase (zero without tools) [ms]
   /// Blade detection and topology update (cutter, masses, model, surface, contact) [s]; 0 for a
   /// scene that never received a cut.
   double cut_seconds = 0.0;
@@ -42,6 +43,8 @@ struct SimulationStepStats {
 class TissueSimulation {
  public:
   /// Every model kind runs; an efg scene with 'blades' is rejected (cutting needs a tet model).
+  /// A body given by a closed surface (mesh.generator liver) runs the efg model only: its cells
+  /// are sampled inside the surface and all of the surface's vertices are mapped.
   /// @throws std::invalid_argument / std::runtime_error naming the scene key on bad input.
   explicit TissueSimulation(const RuntimeScene& scene);
   ~TissueSimulation();
@@ -79,6 +82,8 @@ class TissueSimulation {
   int numTools() const { return static_cast<int>(scene_.tools.size()); }
   const RuntimeScene& scene() const { return scene_; }
   double timeStep() const { return scene_.time_step; }
+  /// The scene's tet mesh; for a body given by a closed surface (mesh.generator liver) the
+  /// surface's vertices, without elements.
   const TetMesh& mesh() const { return mesh_; }
   /// The tissue surface; its triangles index the mesh's nodes (the mapping's slots).
   const SurfaceMesh& surface() const { return surface_; }
@@ -120,6 +125,9 @@ class TissueSimulation {
   void restoreStart(double time);
 
   RuntimeScene scene_;
+  /// The closed surface of a surface-generated body (the efg model's volume and the contact and
+  /// rendering surface); none for a tet-mesh scene.
+  std::optional<TriMesh> body_surface_;
   TetMesh original_mesh_;
   TetMesh mesh_;
   SurfaceMesh surface_;

@@ -68,6 +68,8 @@ class CholmodSolver final : public LinearSolver {
   const Eigen::SparseMatrix<double>& analysedMatrix() const { return matrix_; }
   /// Entries of the factor L (0 before analyzePattern()).
   double factorNonzeros() const { return factor_ == nullptr ? 0.0 : common_.lnz; }
+  /// Flops of one numeric factorization, CHOLMOD's count (0 before analyzePattern()).
+  double factorFlops() const { return factor_ == nullptr ? 0.0 : common_.fl; }
   /// The numeric factor of the last successful factorize() (nullptr without one).
   const cholmod_factor* numericFactor() const { return factorized_ ? factor_ : nullptr; }
 

@@ -34,6 +34,7 @@ class ImplicitIntegratorBase : public Integrator {
   /// dx = scale A^-1 f through compliance_ (see Integrator::applyStepCompliance); a stale
   /// compliance is factorized by factorizeCompliance().
   bool applyStepCompliance(const Eigen::VectorXd& f, Eigen::VectorXd& dx) final;
+  ComplianceUse complianceUse() const final { return compliance_use_; }
 
  protected:
   /// @param name the scheme's name, also used in the error message
@@ -72,6 +73,7 @@ class ImplicitIntegratorBase : public Integrator {
   void setUp(const TissueModel& model);
 
   std::string name_;
+  ComplianceUse compliance_use_;
 };
 
 }  // namespace surgical_sim::core

@@ -33,6 +33,15 @@ class Integrator {
   /// @return false (dx then unspecified) if unavailable: no usable step since construction or
   ///         reset(), a failed last step, a size mismatch, or a failed solve. Never throws.
   virtual bool applyStepCompliance(const Eigen::VectorXd& f, Eigen::VectorXd& dx) = 0;
+
+  /// Running totals of applyStepCompliance since construction (never reset): a caller times the
+  /// compliance solves of a phase (e.g. a contact solve) by the difference of two readings.
+  struct ComplianceUse {
+    double seconds = 0.0;  ///< wall time inside applyStepCompliance [s]
+    long calls = 0;        ///< number of calls
+  };
+  /// Zero for schemes whose compliance costs no solve (symplectic Euler: dt^2 M^-1 f).
+  virtual ComplianceUse complianceUse() const { return {}; }
 };
 
 }  // namespace surgical_sim::core

@@ -11,13 +11,13 @@ namespace surgical_sim::core {
 /// The two superimposed regular grids of the EFG model.
 ///
 /// Integration cells are cubes of side d = options.spacing starting at the lowest corner of the
-/// mesh's bounding box, with one integration point (IP) each, at the centroid of the cell's inside
-/// volume samples (options.ip_at_centroid) or at the cell centre; DOF particles sit on
-/// the grid of side 2 d through the same corner, so each DOF cell holds 2 x 2 x 2 integration
-/// cells. A cell's volume is d^3 times the fraction of its volume_samples^3 regularly spaced
-/// sample points (cell-centred sub-grid) that lie in a tet of the mesh; cells with no sample
-/// inside are dropped. The particles are the corners of the DOF cells holding a kept IP; they
-/// may lie outside the mesh. An IP's neighbours are the 8 corners of its DOF cell, then (for
+/// body's bounding box (a tet mesh or a closed surface), with one integration point (IP) each, at
+/// the centroid of the cell's inside volume samples (options.ip_at_centroid) or at the cell centre;
+/// DOF particles sit on the grid of side 2 d through the same corner, so each DOF cell holds 2 x 2
+/// x 2 integration cells. A cell's volume is d^3 times the fraction of its volume_samples^3
+/// regularly spaced sample points (cell-centred sub-grid) that lie in the body; cells with no
+/// sample inside are dropped. The particles are the corners of the DOF cells holding a kept IP;
+/// they may lie outside the mesh. An IP's neighbours are the 8 corners of its DOF cell, then (for
 /// neighbours > 8) the nearest other particles, ties broken by grid index.
 struct EfgGrid {
   double spacing = 0.0;                 ///< d [m]
@@ -39,5 +39,13 @@ struct EfgGrid {
 ///         box, no cell inside the mesh, or fewer than options.neighbours particles near an IP
 ///         ("efg.neighbours").
 EfgGrid buildEfgGrid(const TetMesh& mesh, const EfgOptions& options);
+
+/// Builds the grids over the closed triangle surface `surface` [m]: as above, with the samples
+/// inside the surface (markInsideLattice) instead of inside a tet, over the bounding box of its
+/// vertices. Allocates; time linear in the samples and the lattice columns the triangles cover.
+/// @throws std::invalid_argument as above, and for a surface without triangles, with a
+///         non-finite vertex or a vertex index out of range, or that is not closed
+///         (checkSurfaceClosure() finds open edges).
+EfgGrid buildEfgGrid(const TriMesh& surface, const EfgOptions& options);
 
 }  // namespace surgical_sim::core

@@ -41,6 +41,9 @@ class EfgModel final : public GroupAssembledModel {
   /// @throws std::invalid_argument for invalid material / options / mesh (see buildEfgGrid), or
   ///         when an IP's MLS moment matrix is ill-conditioned (names the IP and the status).
   EfgModel(const TetMesh& mesh, const Material& material, const EfgOptions& options);
+  /// The body inside the closed triangle surface `surface` [m] (buildEfgGrid(surface, options));
+  /// otherwise as above.
+  EfgModel(const TriMesh& surface, const Material& material, const EfgOptions& options);
 
   std::string name() const override { return "efg"; }
   Eigen::VectorXd bodyForce(const Eigen::Vector3d& a) const override;
@@ -70,6 +73,8 @@ class EfgModel final : public GroupAssembledModel {
   Eigen::SparseMatrix<double> interpolation(const Eigen::Matrix3Xd& points) const;
 
  private:
+  /// The model on `grid` (built with `options`).
+  EfgModel(EfgGrid grid, const Material& material, const EfgOptions& options);
   template <int K>
   double energyImpl(const Eigen::VectorXd& x) const;
   template <int K>
