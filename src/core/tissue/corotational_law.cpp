@@ -29,7 +29,10 @@ CorotationalLaw::CorotationalLaw(const Material& material) {
 }
 
 double CorotationalLaw::energyDensity(const Eigen::Matrix3d& F) const {
-  const Eigen::Matrix3d R = computeSignedRotation(F);
+  return energyDensity(F, computeSignedRotation(F));
+}
+
+double CorotationalLaw::energyDensity(const Eigen::Matrix3d& F, const Eigen::Matrix3d& R) const {
   const double trace_strain = traceStrain(F, R);
   return mu_ * (F - R).squaredNorm() + 0.5 * lambda_ * trace_strain * trace_strain;
 }
@@ -61,7 +64,7 @@ StressAndTangent CorotationalLaw::stressAndTangent(const Eigen::Matrix3d& F,
 std::optional<RotatedLinearStressAndTangent> CorotationalLaw::rotatedLinearStressAndTangent(
     const Eigen::Matrix3d& F) const {
   const Eigen::Matrix3d R = computeSignedRotation(F);
-  return RotatedLinearStressAndTangent{stress(F, R), R, mu_, lambda_};
+  return RotatedLinearStressAndTangent{stress(F, R), R, mu_, lambda_, energyDensity(F, R)};
 }
 
 Eigen::Matrix3d CorotationalLaw::stress(const Eigen::Matrix3d& F, const Eigen::Matrix3d& R) const {

@@ -209,6 +209,12 @@ Eigen::Matrix3d EfgModel::rotatedStress(const Eigen::Matrix3d& F, const Eigen::M
   return R * (2.0 * mu_ * eps + lambda_ * eps.trace() * Eigen::Matrix3d::Identity());
 }
 
+double EfgModel::matchingEnergyDensity(const Eigen::Matrix3d& F, const Eigen::Matrix3d& R) const {
+  const Eigen::Matrix3d RtF = R.transpose() * F;
+  const Eigen::Matrix3d eps = 0.5 * (RtF + RtF.transpose()) - Eigen::Matrix3d::Identity();
+  return mu_ * eps.squaredNorm() + 0.5 * lambda_ * eps.trace() * eps.trace();
+}
+
 template <int K>
 double EfgModel::energyImpl(const Eigen::VectorXd& x) const {
   double energy = 0.0;
@@ -218,14 +224,9 @@ double EfgModel::energyImpl(const Eigen::VectorXd& x) const {
       const int e = group_ips_[p];
       const GradientMap<K> G(gradients_.data() + static_cast<size_t>(e) * k_ * 3, k_, 3);
       const Eigen::Matrix3d F = xe * G;
-      double psi = 0.0;
-      if (options_.rotation == EfgRotation::Polar) {
-        psi = law_.energyDensity(F);
-      } else {
-        const Eigen::Matrix3d RtF = matchingRotation(xe, e).transpose() * F;
-        const Eigen::Matrix3d eps = 0.5 * (RtF + RtF.transpose()) - Eigen::Matrix3d::Identity();
-        psi = mu_ * eps.squaredNorm() + 0.5 * lambda_ * eps.trace() * eps.trace();
-      }
+      const double psi = options_.rotation == EfgRotation::Polar
+                             ? law_.energyDensity(F)
+                             : matchingEnergyDensity(F, matchingRotation(xe, e));
       energy += grid_.volumes(e) * psi;
     }
   }
@@ -252,7 +253,8 @@ void EfgModel::forceImpl(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
 
 template <int K, typename Sink>
 void EfgModel::stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
-                             Sink&& sink) const {
+                             double* energy, Sink&& sink) const {
+  if (energy != nullptr) *energy = 0.0;
   // Rotated linear tangents (shape matching, projected polar) accumulate L (see
   // rotatedLinearStiffness) over the group; the exact polar tangent accumulates Ke directly.
   const bool rotated_linear =
@@ -276,10 +278,12 @@ void EfgModel::stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::
         if (options_.rotation == EfgRotation::ShapeMatching) {
           R = matchingRotation(xe, e);
           P = rotatedStress(F, R);
+          if (energy != nullptr) *energy += w * matchingEnergyDensity(F, R);
         } else {
           const RotatedLinearStressAndTangent point = *law_.rotatedLinearStressAndTangent(F);
           R = point.R;
           P = point.P;
+          if (energy != nullptr) *energy += w * point.energy_density;
         }
         H.noalias() = R * G.transpose();
         const Eigen::Map<const RankVector<K>> h(H.data(), 3 * k_);
@@ -287,6 +291,7 @@ void EfgModel::stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::
       } else {
         const StressAndTangent point = law_.stressAndTangent(F, mode);
         P = point.P;
+        if (energy != nullptr) *energy += w * law_.energyDensity(F);
         addPointStiffness(point.dPdF, G, w, Ke);
       }
       if (f != nullptr) fe.noalias() -= (w * P) * G.transpose();
@@ -311,12 +316,26 @@ void EfgModel::addInternalForce(const Eigen::VectorXd& x, Eigen::VectorXd& f) co
 
 void EfgModel::addGroupStiffness(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
                                  double* values) const {
+  addGroupStiffnessAndEnergy(x, mode, f, values, nullptr);
+}
+
+void EfgModel::addGroupStiffnessAndEnergy(const Eigen::VectorXd& x, TangentMode mode,
+                                          Eigen::VectorXd* f, double* values,
+                                          double* energy) const {
   const auto sink = [&](int g, const auto& Ke) { scatterGroup(g, Ke, values); };
   if (k_ == 8) {
-    stiffnessImpl<8>(x, mode, f, sink);
+    stiffnessImpl<8>(x, mode, f, energy, sink);
   } else {
-    stiffnessImpl<Eigen::Dynamic>(x, mode, f, sink);
+    stiffnessImpl<Eigen::Dynamic>(x, mode, f, energy, sink);
   }
+}
+
+double EfgModel::addInternalForceStiffnessAndEnergy(const Eigen::VectorXd& x, TangentMode mode,
+                                                    Eigen::VectorXd& f,
+                                                    Eigen::SparseMatrix<double>& K) const {
+  double energy = 0.0;
+  addGroupStiffnessAndEnergy(x, mode, &f, zeroedValues(K), &energy);
+  return energy;
 }
 
 void EfgModel::applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
@@ -332,9 +351,9 @@ void EfgModel::applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const 
       y.segment<3>(3 * group_nodes_(a, g)) += ye.template segment<3>(3 * a);
   };
   if (k_ == 8) {
-    stiffnessImpl<8>(x, mode, nullptr, multiply);
+    stiffnessImpl<8>(x, mode, nullptr, nullptr, multiply);
   } else {
-    stiffnessImpl<Eigen::Dynamic>(x, mode, nullptr, multiply);
+    stiffnessImpl<Eigen::Dynamic>(x, mode, nullptr, nullptr, multiply);
   }
 }
 

@@ -166,9 +166,10 @@ void FeModel::forceImpl(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
 }
 
 template <int NPE, int NQ, typename Sink>
-void FeModel::stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
-                            Sink&& sink) const {
-  schedule().forEachChunk([&](int begin, int end) {
+double FeModel::stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
+                              bool with_energy, Sink&& sink) const {
+  return schedule().sumOverChunks([&](int begin, int end) {
+    double energy = 0.0;
     ElementMatrix<NPE> Ke;
     Eigen::Matrix<double, 3, NPE> fe;
     // The tangent at one point; with f, the stress from the same law call goes into fe.
@@ -192,8 +193,10 @@ void FeModel::stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::V
         if (rotated) {
           tet4RotatedLinearStiffness(*rotated, G, w, Ke);
           if (f != nullptr) addPointForce<4>(rotated->P, G, w, fe);
+          if (with_energy) energy += w * rotated->energy_density;
         } else {
           tet4Stiffness(point_tangent(G, F, w), G, w, Ke);
+          if (with_energy) energy += w * law_->energyDensity(F);
         }
       } else {
         Ke.setZero();
@@ -201,12 +204,15 @@ void FeModel::stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::V
           const size_t k = static_cast<size_t>(e) * NQ + q;
           const Gradients<NPE> G(rest_gradients_.data() + k * NPE * 3);
           const double w = weight_det_j_[k];
-          addPointStiffness(point_tangent(G, xe * G, w), G, w, Ke);
+          const Eigen::Matrix3d F = xe * G;
+          addPointStiffness(point_tangent(G, F, w), G, w, Ke);
+          if (with_energy) energy += w * law_->energyDensity(F);
         }
       }
       if (f != nullptr) scatterForce<NPE>(fe, elements_, e, *f);
       sink(e, Ke);
     }
+    return energy;
   });
 }
 
@@ -226,10 +232,19 @@ void FeModel::addGroupStiffness(const Eigen::VectorXd& x, TangentMode mode, Eige
                                 double* values) const {
   const auto sink = [&](int e, const auto& Ke) { scatterGroup(e, Ke, values); };
   if (type_ == ElementType::Tet4) {
-    stiffnessImpl<4, 1>(x, mode, f, sink);
+    stiffnessImpl<4, 1>(x, mode, f, false, sink);
   } else {
-    stiffnessImpl<10, 4>(x, mode, f, sink);
+    stiffnessImpl<10, 4>(x, mode, f, false, sink);
   }
+}
+
+double FeModel::addInternalForceStiffnessAndEnergy(const Eigen::VectorXd& x, TangentMode mode,
+                                                   Eigen::VectorXd& f,
+                                                   Eigen::SparseMatrix<double>& K) const {
+  double* values = zeroedValues(K);
+  const auto sink = [&](int e, const auto& Ke) { scatterGroup(e, Ke, values); };
+  return type_ == ElementType::Tet4 ? stiffnessImpl<4, 1>(x, mode, &f, true, sink)
+                                    : stiffnessImpl<10, 4>(x, mode, &f, true, sink);
 }
 
 void FeModel::applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
@@ -242,9 +257,9 @@ void FeModel::applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const E
       y.segment<3>(3 * elements_(a, e)) += ye.template segment<3>(3 * a);
   };
   if (type_ == ElementType::Tet4) {
-    stiffnessImpl<4, 1>(x, mode, nullptr, multiply);
+    stiffnessImpl<4, 1>(x, mode, nullptr, false, multiply);
   } else {
-    stiffnessImpl<10, 4>(x, mode, nullptr, multiply);
+    stiffnessImpl<10, 4>(x, mode, nullptr, false, multiply);
   }
 }
 

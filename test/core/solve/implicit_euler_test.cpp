@@ -129,6 +129,87 @@ TEST(ImplicitEulerNewton, NonlinearEnergyDecaysAndConverges) {
   EXPECT_LT(energy, 0.5 * initial);
 }
 
+// Forwards to a SpringLatticeModel and counts the force + stiffness evaluations, separate
+// (addInternalForceAndStiffness) and with the energy (addInternalForceStiffnessAndEnergy).
+class CountingModel final : public TissueModel {
+ public:
+  explicit CountingModel(const SpringLatticeModel& inner) : inner_(inner) {}
+  std::string name() const override { return "counting"; }
+  const Eigen::VectorXd& restPositions() const override { return inner_.restPositions(); }
+  const Eigen::VectorXd& lumpedMass() const override { return inner_.lumpedMass(); }
+  Eigen::VectorXd bodyForce(const Eigen::Vector3d& a) const override { return inner_.bodyForce(a); }
+  double energy(const Eigen::VectorXd& x) const override { return inner_.energy(x); }
+  void addInternalForce(const Eigen::VectorXd& x, Eigen::VectorXd& f) const override {
+    inner_.addInternalForce(x, f);
+  }
+  const Eigen::SparseMatrix<double>& stiffnessPattern() const override {
+    return inner_.stiffnessPattern();
+  }
+  void assembleStiffness(const Eigen::VectorXd& x, TangentMode mode,
+                         Eigen::SparseMatrix<double>& K) const override {
+    inner_.assembleStiffness(x, mode, K);
+  }
+  void addInternalForceAndStiffness(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd& f,
+                                    Eigen::SparseMatrix<double>& K) const override {
+    ++separate;
+    inner_.addInternalForceAndStiffness(x, mode, f, K);
+  }
+  double addInternalForceStiffnessAndEnergy(const Eigen::VectorXd& x, TangentMode mode,
+                                            Eigen::VectorXd& f,
+                                            Eigen::SparseMatrix<double>& K) const override {
+    ++with_energy;
+    inner_.addInternalForceAndStiffness(x, mode, f, K);
+    return inner_.energy(x);
+  }
+  void applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
+                      Eigen::VectorXd& y) const override {
+    inner_.applyStiffness(x, mode, v, y);
+  }
+  mutable int separate = 0;
+  mutable int with_energy = 0;
+
+ private:
+  const SpringLatticeModel& inner_;
+};
+
+// The linearized scheme evaluates the force and stiffness at the end of a step together with the
+// energy and reuses them when the next step starts there; a state moved in between (a contact
+// correction) gets a fresh evaluation, and so does the step after it (the prediction). Either way
+// the trajectory equals steps that never reuse (reset before each step) to round-off.
+TEST(ImplicitEulerLinearized, ReusesTheEndForceOnlyWhenTheStateWasNotMoved) {
+  SpringLatticeModel lattice =
+      SpringLatticeModel::lattice(3, 3, 4, 0.05, 400.0, 0.02, Law::Nonlinear);
+  CountingModel model(lattice);
+  DynamicsProblem problem = makeProblem(model, dofsOfNodesAt(model, 2, 0.0));
+  problem.damping.mass_coefficient = 0.5;
+  problem.damping.stiffness_coefficient = 0.01;
+  problem.external_force = model.bodyForce(Eigen::Vector3d(0.0, 0.0, -9.81));
+  SimulationState reusing = restState(model);
+  SimulationState fresh = reusing;
+  auto a = integrator("implicit_euler_linearized");
+  auto b = integrator("implicit_euler_linearized");
+  for (int step = 0; step < 40; ++step) {
+    const bool moved = step >= 20 && step % 3 == 0;
+    if (moved) {  // as a contact correction does between steps
+      reusing.x[3 * model.numNodes() - 1] += 1e-4;
+      fresh.x = reusing.x;
+    }
+    const int separate = model.separate;
+    const int with_energy = model.with_energy;
+    ASSERT_EQ(a->step(problem, 0.01, reusing).status, StepStatus::Ok);
+    if (step >= 2) {
+      // A moved step evaluates at its start and predicts a move before the next step too.
+      const bool after_moved = step > 20 && (step - 1) % 3 == 0;
+      EXPECT_EQ(model.separate - separate, moved || after_moved ? 1 : 0) << "step " << step;
+      EXPECT_EQ(model.with_energy - with_energy, moved ? 0 : 1) << "step " << step;
+    }
+    b->reset();
+    ASSERT_EQ(b->step(problem, 0.01, fresh).status, StepStatus::Ok);
+    ASSERT_LT((reusing.x - fresh.x).norm(), 1e-12 * fresh.x.norm()) << "step " << step;
+    ASSERT_LT((reusing.v - fresh.v).norm(), 1e-9 * (1.0 + fresh.v.norm())) << "step " << step;
+  }
+}
+
 TEST(ImplicitEuler, LinearizedEqualsNewtonForLinearModel) {
   // Same backward Euler system: with a linear model one Newton step is exact. Includes Rayleigh
   // damping and a prescribed (moving) Dirichlet boundary.

@@ -110,6 +110,14 @@ TEST_P(EfgModelTest, ApplyAndFusedMatchAssembled) {
     m.addInternalForceAndStiffness(x, mode, f, K);
     EXPECT_LT(test::relativeError(f, test::force(m, x)), 1e-13);
     EXPECT_LT(test::relativeError(Eigen::MatrixXd(K), test::denseStiffness(m, x, mode)), 1e-13);
+    // With the energy from the same rotations: the same force, stiffness and energy.
+    Eigen::VectorXd f_with_energy = Eigen::VectorXd::Zero(x.size());
+    Eigen::SparseMatrix<double> K_with_energy = m.stiffnessPattern();
+    const double energy =
+        m.addInternalForceStiffnessAndEnergy(x, mode, f_with_energy, K_with_energy);
+    EXPECT_EQ(energy, m.energy(x));
+    EXPECT_LT(test::relativeError(f_with_energy, f), 1e-15);
+    EXPECT_LT(test::relativeError(Eigen::MatrixXd(K_with_energy), Eigen::MatrixXd(K)), 1e-15);
   }
   test::expectProjectedIsPsd(m, x);
 }

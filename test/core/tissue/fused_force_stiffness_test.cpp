@@ -1,5 +1,6 @@
-// addInternalForceAndStiffness, HyperelasticLaw::stressAndTangent and the compact corotational
-// Tet4 stiffness equal the separate / generic calls.
+// addInternalForceAndStiffness, addInternalForceStiffnessAndEnergy,
+// HyperelasticLaw::stressAndTangent and the compact corotational Tet4 stiffness equal the separate
+// / generic calls.
 
 #include <gtest/gtest.h>
 
@@ -57,6 +58,16 @@ void expectFusedEqualsSeparate(const TissueModel& model, const Eigen::VectorXd& 
     model.addInternalForceAndStiffness(x, mode, f_fused, K_fused);
     EXPECT_LT((f_fused - f_separate).norm(), 1e-12 * (f_separate - f0).norm()) << model.name();
     EXPECT_LT(test::relativeError(Eigen::MatrixXd(K_fused), Eigen::MatrixXd(K_separate)), 1e-12)
+        << model.name();
+    // The same pass with the energy: the same force and stiffness, and energy(x) bit for bit.
+    Eigen::SparseMatrix<double> K_with_energy = model.stiffnessPattern();
+    for (Eigen::Index k = 0; k < K_with_energy.nonZeros(); ++k) K_with_energy.valuePtr()[k] = 1e9;
+    Eigen::VectorXd f_with_energy = f0;
+    EXPECT_EQ(model.addInternalForceStiffnessAndEnergy(x, mode, f_with_energy, K_with_energy),
+              model.energy(x))
+        << model.name();
+    EXPECT_LT((f_with_energy - f_fused).norm(), 1e-15 * (f_separate - f0).norm()) << model.name();
+    EXPECT_LT(test::relativeError(Eigen::MatrixXd(K_with_energy), Eigen::MatrixXd(K_fused)), 1e-15)
         << model.name();
   }
 }

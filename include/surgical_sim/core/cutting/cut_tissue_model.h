@@ -41,6 +41,11 @@ class CutTissueModel final : public TissueModel {
                                     Eigen::SparseMatrix<double>& K) const override {
     elastic_->addInternalForceAndStiffness(x, mode, f, K);
   }
+  double addInternalForceStiffnessAndEnergy(const Eigen::VectorXd& x, TangentMode mode,
+                                            Eigen::VectorXd& f,
+                                            Eigen::SparseMatrix<double>& K) const override {
+    return elastic_->addInternalForceStiffnessAndEnergy(x, mode, f, K);
+  }
   void applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
                       Eigen::VectorXd& y) const override {
     elastic_->applyStiffness(x, mode, v, y);

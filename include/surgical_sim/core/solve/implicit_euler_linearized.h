@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 #include <memory>
 
 #include "surgical_sim/core/solve/implicit_integrator_base.h"
@@ -20,7 +21,11 @@ namespace surgical_sim::core {
 /// nonlinear step), it is halved until Phi does not increase (at most max_line_search_halvings
 /// times; then the smallest step is kept and NotConverged returned). This keeps the scheme from
 /// creating energy; in ordinary steps the full step passes and costs one energy evaluation,
-/// which is reused for the report.
+/// which is reused for the report. When a step starts where the last one ended (nothing moved the
+/// state in between), its full step's energy is evaluated together with the force and stiffness
+/// there (TissueModel::addInternalForceStiffnessAndEnergy), and the next step reuses them if it
+/// too starts there: one element pass per step instead of two for models that combine them.
+/// Changing the model in place (a cut) must be followed by reset().
 class ImplicitEulerLinearized final : public ImplicitIntegratorBase {
  public:
   /// @throws std::invalid_argument naming "solver" if linear_solver is null
@@ -41,6 +46,8 @@ class ImplicitEulerLinearized final : public ImplicitIntegratorBase {
   /// Phi at `x` (see the class comment), given W(x) [J].
   double incrementalPotential(const DynamicsProblem& problem, double dt, const Eigen::VectorXd& x,
                               double elastic_energy);
+  /// W(x) [J], with end_force_ = f_int(x) and end_stiffness_ = K(x) (ProjectedSpd).
+  double endForceStiffnessAndEnergy(const TissueModel& model, const Eigen::VectorXd& x);
 
   int max_halvings_;
   Eigen::VectorXd rhs_, dv_, product_, start_, direction_, offset_;
@@ -48,6 +55,10 @@ class ImplicitEulerLinearized final : public ImplicitIntegratorBase {
   /// from the same positions, i.e. nothing moved the state in between).
   Eigen::VectorXd last_x_;
   double last_elastic_energy_ = 0.0;
+  /// f_int and K at last_x_, valid when the last step evaluated them with its end energy.
+  Eigen::VectorXd end_force_;
+  Eigen::SparseMatrix<double> end_stiffness_;
+  bool end_valid_ = false;
 };
 
 }  // namespace surgical_sim::core

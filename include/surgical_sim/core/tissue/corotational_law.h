@@ -37,6 +37,8 @@ class CorotationalLaw final : public HyperelasticLaw {
       const Eigen::Matrix3d& F) const override;
 
  private:
+  /// psi(F) for the rotation R of F [J/m^3].
+  double energyDensity(const Eigen::Matrix3d& F, const Eigen::Matrix3d& R) const;
   /// P(F) for the rotation R of F.
   Eigen::Matrix3d stress(const Eigen::Matrix3d& F, const Eigen::Matrix3d& R) const;
   /// Exact dP/dF from the signed SVD of F and R = U V^T.

@@ -49,6 +49,10 @@ class EfgModel final : public GroupAssembledModel {
   Eigen::VectorXd bodyForce(const Eigen::Vector3d& a) const override;
   double energy(const Eigen::VectorXd& x) const override;
   void addInternalForce(const Eigen::VectorXd& x, Eigen::VectorXd& f) const override;
+  /// One pass over the IPs: each IP's rotation serves its force, stiffness and energy.
+  double addInternalForceStiffnessAndEnergy(const Eigen::VectorXd& x, TangentMode mode,
+                                            Eigen::VectorXd& f,
+                                            Eigen::SparseMatrix<double>& K) const override;
   /// y = K(x) v [N], y resized to 3n.
   void applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
                       Eigen::VectorXd& y) const override;
@@ -80,10 +84,13 @@ class EfgModel final : public GroupAssembledModel {
   template <int K>
   void forceImpl(const Eigen::VectorXd& x, Eigen::VectorXd& f) const;
   /// Group stiffness matrices (the sum over the group's IPs) passed to sink(g, Ke); with a
-  /// non-null f, also f += the force.
+  /// non-null f, also f += the force; with a non-null energy, *energy = the elastic energy [J].
   template <int K, typename Sink>
-  void stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
+  void stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f, double* energy,
                      Sink&& sink) const;
+  /// addGroupStiffness with the energy (see stiffnessImpl).
+  void addGroupStiffnessAndEnergy(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
+                                  double* values, double* energy) const;
   /// Groups the IPs that share their particles (grid().neighbours column): group_ips_,
   /// group_first_, group_nodes_.
   void groupIntegrationPoints();
@@ -95,6 +102,8 @@ class EfgModel final : public GroupAssembledModel {
   Eigen::Matrix3d matchingRotation(const Nodes& xe, int e) const;
   /// Linear stress R (2 mu eps + lambda tr(eps) I) of eps = sym(R^T F) - I [Pa].
   Eigen::Matrix3d rotatedStress(const Eigen::Matrix3d& F, const Eigen::Matrix3d& R) const;
+  /// Energy density [J/m^3] of the shape-matching strain eps = sym(R^T F) - I.
+  double matchingEnergyDensity(const Eigen::Matrix3d& F, const Eigen::Matrix3d& R) const;
 
   EfgOptions options_;
   CorotationalLaw law_;

@@ -43,6 +43,11 @@ class FeModel final : public GroupAssembledModel {
   Eigen::VectorXd bodyForce(const Eigen::Vector3d& a) const override;
   double energy(const Eigen::VectorXd& x) const override;
   void addInternalForce(const Eigen::VectorXd& x, Eigen::VectorXd& f) const override;
+  /// One element pass: the energy shares each point's deformation gradient (and, corotational
+  /// Tet4 with ProjectedSpd, its rotation) with the force and stiffness.
+  double addInternalForceStiffnessAndEnergy(const Eigen::VectorXd& x, TangentMode mode,
+                                            Eigen::VectorXd& f,
+                                            Eigen::SparseMatrix<double>& K) const override;
   /// y = K(x) v [N], y resized to 3n.
   void applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
                       Eigen::VectorXd& y) const override;
@@ -62,9 +67,10 @@ class FeModel final : public GroupAssembledModel {
   template <int NPE, int NQ>
   void forceImpl(const Eigen::VectorXd& x, Eigen::VectorXd& f) const;
   /// Element stiffness matrices passed to sink(e, Ke); with a non-null f, also f += the force.
+  /// Returns the elastic energy [J] with with_energy (equal to energy(x)), else 0.
   template <int NPE, int NQ, typename Sink>
-  void stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
-                     Sink&& sink) const;
+  double stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
+                       bool with_energy, Sink&& sink) const;
   /// One element pass for the stiffness and, with f, the force.
   void addGroupStiffness(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
                          double* values) const override;

@@ -44,6 +44,8 @@ class GroupAssembledModel : public TissueModel {
   /// internal force (in the same pass where the model can).
   virtual void addGroupStiffness(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
                                  double* values) const = 0;
+  /// K's value array, zeroed. @throws as assembleStiffness.
+  double* zeroedValues(Eigen::SparseMatrix<double>& K) const;
   /// values[pattern entries of group g] += Ke (3k x 3k, local dof 3 a + i = node a, axis i).
   template <typename Matrix>
   void scatterGroup(int group, const Matrix& Ke, double* values) const {
@@ -54,8 +56,6 @@ class GroupAssembledModel : public TissueModel {
   Eigen::VectorXd lumped_mass_;     ///< 3n [kg]
 
  private:
-  double* zeroedValues(Eigen::SparseMatrix<double>& K) const;
-
   Eigen::SparseMatrix<double> pattern_;
   BlockScatterMap scatter_;
   GroupSchedule schedule_;

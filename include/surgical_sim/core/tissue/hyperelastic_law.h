@@ -22,10 +22,11 @@ struct StressAndTangent {
 ///   dP = R (2 mu sym(R^T dF) + lambda tr(R^T dF) I),
 /// in compact form (HyperelasticLaw::rotatedLinearStressAndTangent).
 struct RotatedLinearStressAndTangent {
-  Eigen::Matrix3d P;  ///< first Piola-Kirchhoff stress [Pa]
-  Eigen::Matrix3d R;  ///< rotation of the tangent
-  double mu;          ///< shear modulus of the tangent [Pa]
-  double lambda;      ///< Lame's first parameter of the tangent [Pa]
+  Eigen::Matrix3d P;      ///< first Piola-Kirchhoff stress [Pa]
+  Eigen::Matrix3d R;      ///< rotation of the tangent
+  double mu;              ///< shear modulus of the tangent [Pa]
+  double lambda;          ///< Lame's first parameter of the tangent [Pa]
+  double energy_density;  ///< psi(F) [J/m^3], equal to HyperelasticLaw::energyDensity(F)
 };
 
 /// An isotropic hyperelastic constitutive law psi(F), evaluated per quadrature point.

@@ -61,6 +61,17 @@ class TissueModel {
     assembleStiffness(x, mode, K);
   }
 
+  /// addInternalForceAndStiffness(x, mode, f, K) and energy(x) in one call, returning the energy
+  /// [J]; equal to the separate calls to round-off. The default makes the two calls; models whose
+  /// energy shares the per-element work of the force (the rotation of a corotational element)
+  /// override it with one pass.
+  virtual double addInternalForceStiffnessAndEnergy(const Eigen::VectorXd& x, TangentMode mode,
+                                                    Eigen::VectorXd& f,
+                                                    Eigen::SparseMatrix<double>& K) const {
+    addInternalForceAndStiffness(x, mode, f, K);
+    return energy(x);
+  }
+
   /// Operator form: y = K(x) v without assembling a global matrix (element by element).
   virtual void applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
                               Eigen::VectorXd& y) const = 0;
