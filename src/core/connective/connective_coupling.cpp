@@ -277,6 +277,7 @@ ConnectiveCoupling::ConnectiveCoupling(std::vector<CoupledOrgan> organs,
   layer_stiffness_.resize(layers_.size());
   layer_mass_.resize(layers_.size());
   increment_.resize(layers_.size());
+  work_.resize(organs_.size() + layers_.size());
   for (int l = 0; l < numLayers(); ++l) {
     layer_stiffness_[l] = layers_[l].model->stiffnessPattern();
     layer_mass_[l] = layer_stiffness_[l];
@@ -404,11 +405,13 @@ void ConnectiveCoupling::evaluateOrgan(int o, const CoupledState& state,
     if (p.organ == o) f.segment<3>(3 * p.node) += p.force;
   for (const CoupledSpring& s : loads.springs)
     if (s.organ == o) f.segment<3>(3 * s.node) += s.stiffness * (s.target - x.segment<3>(3 * s.node));
-  const double applied = f.squaredNorm();
+  applied_squared_ += f.squaredNorm();
+  Eigen::VectorXd& internal = work_[o];
+  internal.setZero(x.size());
   Eigen::SparseMatrix<double>& K = organ_stiffness_[o];
-  model.addInternalForceAndStiffness(x, mode, f, K);
-  internal_squared_ += (f - body_force_[o]).squaredNorm();
-  applied_squared_ += applied;
+  model.addInternalForceAndStiffness(x, mode, internal, K);
+  internal_squared_ += internal.squaredNorm();
+  f += internal;
   for (const CoupledSpring& s : loads.springs) {
     if (s.organ != o) continue;
     const OrganBlock& block = blocks_[o][diagonal_block_[o][s.node]];
@@ -499,9 +502,11 @@ void ConnectiveCoupling::assemble(const CoupledState& state, const CoupledLoads&
     f.setZero(model.numDofs());
     model.addBodyForce(q, loads.gravity, f);
     applied_squared_ += f.squaredNorm();
-    const Eigen::VectorXd body = f;
-    model.addInternalForceAndStiffness(q, layer_options, f, layer_stiffness_[l]);
-    internal_squared_ += (f - body).squaredNorm();
+    Eigen::VectorXd& internal = work_[numOrgans() + l];
+    internal.setZero(model.numDofs());
+    model.addInternalForceAndStiffness(q, layer_options, internal, layer_stiffness_[l]);
+    internal_squared_ += internal.squaredNorm();
+    f += internal;
     model.addBodyForceStiffness(q, loads.gravity, options.symmetrize, layer_stiffness_[l]);
     if (with_mass) model.assembleNodeMass(q, layer_mass_[l]);
     const std::vector<int>& dst = layer_value_[l];

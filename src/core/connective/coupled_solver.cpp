@@ -80,6 +80,7 @@ StepReport CoupledSolver::step(const CoupledLoads& loads, double dt, CoupledStat
   report.phases.factorization = seconds(t0);
   if (!factorized) return failed(StepStatus::SolverFailed);
   t0 = Clock::now();
+  if (du_.size() != rhs_.size()) du_.setZero(rhs_.size());
   const LinearSolveReport solve = solver_.solve(rhs_, du_);
   report.phases.linear_solve = seconds(t0);
   if (!solve.ok || !du_.allFinite()) return failed(StepStatus::SolverFailed);
@@ -123,6 +124,7 @@ StepReport CoupledSolver::solveStatic(const CoupledLoads& loads, CoupledState& s
     const bool factorized = factorize(0.0, 1.0);
     report.phases.factorization += seconds(t0);
     t0 = Clock::now();
+    if (du_.size() != f.size()) du_.setZero(f.size());
     const LinearSolveReport solve = factorized ? solver_.solve(f, du_) : LinearSolveReport{};
     report.phases.linear_solve += seconds(t0);
     if (!factorized || !solve.ok || !du_.allFinite()) {

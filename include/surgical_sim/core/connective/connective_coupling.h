@@ -203,6 +203,7 @@ class ConnectiveCoupling {
   std::vector<Eigen::Vector3d> body_gravity_;  ///< gravity of body_force_
   std::vector<Eigen::VectorXd> body_force_;     ///< per organ: bodyForce(body_gravity_[o])
   mutable std::vector<Eigen::VectorXd> increment_;  ///< per layer: 6n work vector
+  std::vector<Eigen::VectorXd> work_;  ///< per organ, then per layer: internal force
 };
 
 }  // namespace surgical_sim::core
