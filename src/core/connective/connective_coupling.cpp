@@ -208,7 +208,8 @@ ConnectiveCoupling::ConnectiveCoupling(std::vector<CoupledOrgan> organs,
           const Target& A = targets_[o][ta];
           const Target& B = targets_[o][tb];
           for (int c = 0; c < width(B); ++c)
-            for (int r = 0; r < width(A); ++r) entries.emplace_back(A.column + r, B.column + c, 0.0);
+            for (int r = 0; r < width(A); ++r)
+              entries.emplace_back(A.column + r, B.column + c, 0.0);
         }
       }
     }
@@ -338,7 +339,8 @@ void ConnectiveCoupling::applyMapping(CoupledState& state) const {
   checkState(state);
   for (int l = 0; l < numLayers(); ++l)
     for (int j = 0; j < layers_[l].model->numNodes(); ++j)
-      if (layer_column_[l][j] < 0) state.layer_velocities[l].segment<6>(kRigidNodeDofs * j).setZero();
+      if (layer_column_[l][j] < 0)
+        state.layer_velocities[l].segment<6>(kRigidNodeDofs * j).setZero();
   for (int o = 0; o < numOrgans(); ++o) {
     for (std::size_t a = 0; a < links_[o].size(); ++a) {
       const Link& link = links_[o][a];
@@ -391,8 +393,8 @@ void ConnectiveCoupling::rotateOffsets(const CoupledState& state) {
             state.layer_configurations[link.layer].q_TN[skins_[k].layer_node] * skins_[k].offset;
 }
 
-void ConnectiveCoupling::evaluateOrgan(int o, const CoupledState& state,
-                                       const CoupledLoads& loads, TangentMode mode) {
+void ConnectiveCoupling::evaluateOrgan(int o, const CoupledState& state, const CoupledLoads& loads,
+                                       TangentMode mode) {
   const TissueModel& model = *organs_[o].model;
   if (body_gravity_[o] != loads.gravity) {
     body_force_[o] = model.bodyForce(loads.gravity);
@@ -404,7 +406,8 @@ void ConnectiveCoupling::evaluateOrgan(int o, const CoupledState& state,
   for (const CoupledPointForce& p : loads.forces)
     if (p.organ == o) f.segment<3>(3 * p.node) += p.force;
   for (const CoupledSpring& s : loads.springs)
-    if (s.organ == o) f.segment<3>(3 * s.node) += s.stiffness * (s.target - x.segment<3>(3 * s.node));
+    if (s.organ == o)
+      f.segment<3>(3 * s.node) += s.stiffness * (s.target - x.segment<3>(3 * s.node));
   applied_squared_ += f.squaredNorm();
   Eigen::VectorXd& internal = work_[o];
   internal.setZero(x.size());
@@ -419,8 +422,8 @@ void ConnectiveCoupling::evaluateOrgan(int o, const CoupledState& state,
   }
 }
 
-void ConnectiveCoupling::scatterOrganBlock(int o, const OrganBlock& block,
-                                           const Eigen::Matrix3d& X, double* values) const {
+void ConnectiveCoupling::scatterOrganBlock(int o, const OrganBlock& block, const Eigen::Matrix3d& X,
+                                           double* values) const {
   const int* dst = dst_.data() + block.dst;
   for (int ta = target_begin_[o][block.a]; ta < target_begin_[o][block.a + 1]; ++ta) {
     const Target& A = targets_[o][ta];
@@ -534,7 +537,8 @@ void ConnectiveCoupling::gatherVelocity(const CoupledState& state, Eigen::Vector
   for (int l = 0; l < numLayers(); ++l)
     for (std::size_t j = 0; j < layer_column_[l].size(); ++j)
       if (layer_column_[l][j] >= 0)
-        u.segment<6>(layer_column_[l][j]) = state.layer_velocities[l].segment<6>(kRigidNodeDofs * j);
+        u.segment<6>(layer_column_[l][j]) =
+            state.layer_velocities[l].segment<6>(kRigidNodeDofs * j);
 }
 
 void ConnectiveCoupling::scatterVelocity(const Eigen::VectorXd& u, CoupledState& state) const {
@@ -547,7 +551,8 @@ void ConnectiveCoupling::scatterVelocity(const Eigen::VectorXd& u, CoupledState&
   for (int l = 0; l < numLayers(); ++l)
     for (std::size_t j = 0; j < layer_column_[l].size(); ++j)
       if (layer_column_[l][j] >= 0)
-        state.layer_velocities[l].segment<6>(kRigidNodeDofs * j) = u.segment<6>(layer_column_[l][j]);
+        state.layer_velocities[l].segment<6>(kRigidNodeDofs * j) =
+            u.segment<6>(layer_column_[l][j]);
   applyMapping(state);
 }
 

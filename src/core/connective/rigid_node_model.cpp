@@ -36,6 +36,17 @@ Matrix6d strainJacobian(const Eigen::Matrix3d& F, const Eigen::Vector3d& g,
   return M;
 }
 
+/// m += sign [u]x (a 3 x 3 block expression).
+template <typename Block>
+void addSkew(double sign, const Eigen::Vector3d& u, Block&& m) {
+  m(0, 1) -= sign * u.z();
+  m(0, 2) += sign * u.y();
+  m(1, 0) += sign * u.z();
+  m(1, 2) -= sign * u.x();
+  m(2, 0) -= sign * u.y();
+  m(2, 1) += sign * u.x();
+}
+
 /// Green-Lagrange strain E = (F^T F - I) / 2.
 Eigen::Matrix3d greenLagrange(const Eigen::Matrix3d& F) {
   return 0.5 * (F.transpose() * F - Eigen::Matrix3d::Identity());
@@ -291,8 +302,7 @@ void RigidNodeModel::evaluate(const RigidNodeConfiguration& q,
   int stacked_rows = 0;
   auto flush = [&]() {
     if (stacked_rows == 0) return;
-    material.selfadjointView<Eigen::Upper>().rankUpdate(
-        stacked.topRows(stacked_rows).transpose());
+    material.selfadjointView<Eigen::Upper>().rankUpdate(stacked.topRows(stacked_rows).transpose());
     stacked_rows = 0;
   };
   bool run_started = false;
@@ -356,8 +366,8 @@ void RigidNodeModel::evaluate(const RigidNodeConfiguration& q,
           // v sum_jl S_jl B_aj^T B_bl with B_j = [g_j I, -[a_j]x].
           auto G = geometric.block<6, 6>(kRigidNodeDofs * a, kRigidNodeDofs * b);
           G.topLeftCorner<3, 3>().diagonal().array() += ga.dot(SG[b]);
-          G.topRightCorner<3, 3>() -= skew(A[b] * SG[a]);
-          G.bottomLeftCorner<3, 3>() += skew(A[a] * SG[b]);
+          addSkew(-1.0, A[b] * SG[a], G.topRightCorner<3, 3>());
+          addSkew(1.0, A[a] * SG[b], G.bottomLeftCorner<3, 3>());
           G.bottomRightCorner<3, 3>().noalias() -= A[b] * AS[a].transpose();
           G.bottomRightCorner<3, 3>().diagonal().array() += AS[a].cwiseProduct(A[b]).sum();
           if (a == b) {
@@ -477,8 +487,22 @@ void RigidNodeModel::assembleNodeMass(const RigidNodeConfiguration& q,
     const double m = samples_[s].density * samples_[s].volume;
     for (int a = 0; a < pair_begin_[s + 1] - pair_begin_[s]; ++a) {
       const Pair& pair = pairs_[pair_begin_[s] + a];
+      // m w J^T J = m w [I, -[r]x; [r]x, |r|^2 I - r r^T], straight into node i's diagonal block.
       const Eigen::Vector3d r = q.q_TN[pair.node] * pair.local_offset;
-      scatter(s, a, a, m * pair.weight * bodyJacobianProduct(r, r), M.valuePtr());
+      const double mw = m * pair.weight;
+      const Eigen::Matrix3d inertia =
+          mw * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
+      double* block = M.valuePtr() + diagonal_first_[pair.node];
+      const int length = column_length_[pair.node];
+      const Eigen::Matrix3d moment = skew(mw * r);
+      for (int j = 0; j < 3; ++j) {
+        block[j * length + j] += mw;
+        for (int i = 0; i < 3; ++i) {
+          block[(j + 3) * length + i] -= moment(i, j);
+          block[j * length + i + 3] += moment(i, j);
+          block[(j + 3) * length + i + 3] += inertia(i, j);
+        }
+      }
     }
   }
 }

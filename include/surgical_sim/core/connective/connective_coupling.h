@@ -168,8 +168,7 @@ class ConnectiveCoupling {
   void rotateOffsets(const CoupledState& state);
   /// Total organ force f_o (internal + gravity + point forces + springs) into organ_force_[o],
   /// its tangent into organ_stiffness_[o] (springs on the diagonal blocks).
-  void evaluateOrgan(int o, const CoupledState& state, const CoupledLoads& loads,
-                     TangentMode mode);
+  void evaluateOrgan(int o, const CoupledState& state, const CoupledLoads& loads, TangentMode mode);
   /// Adds J_a^T X J_b of every target pair of organ block `block` into values.
   void scatterOrganBlock(int o, const OrganBlock& block, const Eigen::Matrix3d& X,
                          double* values) const;
@@ -183,7 +182,7 @@ class ConnectiveCoupling {
   /// Per organ node: its layer and skins_ range; attached iff count > 0.
   std::vector<std::vector<Link>> links_;
   std::vector<Skin> skins_;
-  std::vector<Eigen::Vector3d> rotated_;  ///< per skin: r_bj at the last rotateOffsets
+  std::vector<Eigen::Vector3d> rotated_;        ///< per skin: r_bj at the last rotateOffsets
   std::vector<std::vector<int>> target_begin_;  ///< per organ: per node, into targets_[o]
   std::vector<std::vector<Target>> targets_;
   std::vector<std::vector<OrganBlock>> blocks_;
@@ -200,10 +199,10 @@ class ConnectiveCoupling {
   std::vector<Eigen::VectorXd> organ_force_, layer_force_;
   std::vector<Eigen::SparseMatrix<double>> organ_stiffness_, layer_stiffness_, layer_mass_;
   double force_scale_ = 0.0, internal_squared_ = 0.0, applied_squared_ = 0.0;
-  std::vector<Eigen::Vector3d> body_gravity_;  ///< gravity of body_force_
-  std::vector<Eigen::VectorXd> body_force_;     ///< per organ: bodyForce(body_gravity_[o])
+  std::vector<Eigen::Vector3d> body_gravity_;       ///< gravity of body_force_
+  std::vector<Eigen::VectorXd> body_force_;         ///< per organ: bodyForce(body_gravity_[o])
   mutable std::vector<Eigen::VectorXd> increment_;  ///< per layer: 6n work vector
-  std::vector<Eigen::VectorXd> work_;  ///< per organ, then per layer: internal force
+  std::vector<Eigen::VectorXd> work_;               ///< per organ, then per layer: internal force
 };
 
 }  // namespace surgical_sim::core
