@@ -36,18 +36,6 @@ int valueIndex(const Eigen::SparseMatrix<double>& A, int row, int col) {
   return static_cast<int>(it - inner);
 }
 
-/// J = w [I, -[r]x] (3 x 6), or [I, 0] for a free organ node.
-Eigen::Matrix<double, 3, 6> targetJacobian(double w, const Eigen::Vector3d* r) {
-  Eigen::Matrix<double, 3, 6> J = Eigen::Matrix<double, 3, 6>::Zero();
-  if (r == nullptr) {
-    J.leftCols<3>().setIdentity();
-  } else {
-    J.leftCols<3>() = w * Eigen::Matrix3d::Identity();
-    J.rightCols<3>() = -w * skew(*r);
-  }
-  return J;
-}
-
 }  // namespace
 
 ConnectiveCoupling::ConnectiveCoupling(std::vector<CoupledOrgan> organs,
@@ -120,6 +108,7 @@ ConnectiveCoupling::ConnectiveCoupling(std::vector<CoupledOrgan> organs,
     }
   }
   rotated_.resize(skins_.size());
+  jacobian_.resize(skins_.size());
 
   // Unknowns: free organ nodes, then free rigid nodes.
   organ_column_.resize(organs_.size());
@@ -388,9 +377,12 @@ double ConnectiveCoupling::potentialEnergy(const CoupledState& state,
 void ConnectiveCoupling::rotateOffsets(const CoupledState& state) {
   for (int o = 0; o < numOrgans(); ++o)
     for (const Link& link : links_[o])
-      for (int k = link.begin; k < link.begin + link.count; ++k)
-        rotated_[k] =
-            state.layer_configurations[link.layer].q_TN[skins_[k].layer_node] * skins_[k].offset;
+      for (int k = link.begin; k < link.begin + link.count; ++k) {
+        const Skin& skin = skins_[k];
+        rotated_[k] = state.layer_configurations[link.layer].q_TN[skin.layer_node] * skin.offset;
+        jacobian_[k].leftCols<3>() = skin.weight * Eigen::Matrix3d::Identity();
+        jacobian_[k].rightCols<3>() = -skin.weight * skew(rotated_[k]);
+      }
 }
 
 void ConnectiveCoupling::evaluateOrgan(int o, const CoupledState& state, const CoupledLoads& loads,
@@ -436,13 +428,16 @@ void ConnectiveCoupling::scatterOrganBlock(int o, const OrganBlock& block, const
         }
         continue;
       }
-      const Eigen::Matrix<double, 3, 6> Ja =
-          A.skin < 0 ? targetJacobian(1.0, nullptr)
-                     : targetJacobian(skins_[A.skin].weight, &rotated_[A.skin]);
-      const Eigen::Matrix<double, 3, 6> Jb =
-          B.skin < 0 ? targetJacobian(1.0, nullptr)
-                     : targetJacobian(skins_[B.skin].weight, &rotated_[B.skin]);
-      const Matrix6d G = Ja.transpose() * (X * Jb);
+      // J^T X J with J = w [I, -[r]x] of a skin (cached per step) or I of a free node.
+      Matrix6d G;
+      if (A.skin < 0) {
+        G.topRows<3>().noalias() = X * jacobian_[B.skin];
+      } else if (B.skin < 0) {
+        G.leftCols<3>().noalias() = jacobian_[A.skin].transpose() * X;
+      } else {
+        const Eigen::Matrix<double, 3, 6> XJ = X * jacobian_[B.skin];
+        G.noalias() = jacobian_[A.skin].transpose() * XJ;
+      }
       const int rows = A.skin < 0 ? 3 : kRigidNodeDofs;
       const int cols = B.skin < 0 ? 3 : kRigidNodeDofs;
       for (int c = 0; c < cols; ++c) {

@@ -164,7 +164,7 @@ class ConnectiveCoupling {
 
   void checkState(const CoupledState& state) const;
   void checkLoads(const CoupledLoads& loads) const;
-  /// r_bj = R_j o_bj of every skin at state into rotated_.
+  /// r_bj = R_j o_bj and J_bj of every skin at state into rotated_ and jacobian_.
   void rotateOffsets(const CoupledState& state);
   /// Total organ force f_o (internal + gravity + point forces + springs) into organ_force_[o],
   /// its tangent into organ_stiffness_[o] (springs on the diagonal blocks).
@@ -182,8 +182,9 @@ class ConnectiveCoupling {
   /// Per organ node: its layer and skins_ range; attached iff count > 0.
   std::vector<std::vector<Link>> links_;
   std::vector<Skin> skins_;
-  std::vector<Eigen::Vector3d> rotated_;        ///< per skin: r_bj at the last rotateOffsets
-  std::vector<std::vector<int>> target_begin_;  ///< per organ: per node, into targets_[o]
+  std::vector<Eigen::Vector3d> rotated_;               ///< per skin: r_bj at the last rotateOffsets
+  std::vector<Eigen::Matrix<double, 3, 6>> jacobian_;  ///< per skin: J_bj there
+  std::vector<std::vector<int>> target_begin_;         ///< per organ: per node, into targets_[o]
   std::vector<std::vector<Target>> targets_;
   std::vector<std::vector<OrganBlock>> blocks_;
   std::vector<std::vector<int>> diagonal_block_;  ///< per organ node: its (a, a) block
