@@ -43,24 +43,28 @@ ConnectiveCoupling::ConnectiveCoupling(std::vector<CoupledOrgan> organs,
                                        const std::vector<OrganLayerAttachment>& attachments)
     : organs_(std::move(organs)), layers_(std::move(layers)) {
   if (organs_.empty() && layers_.empty()) fail("no organ and no layer");
-  std::vector<std::vector<char>> organ_fixed(organs_.size()), layer_fixed(layers_.size());
-  for (int o = 0; o < numOrgans(); ++o) {
-    if (organs_[o].model == nullptr) fail("organ " + std::to_string(o) + " has no model");
-    const int n = organs_[o].model->numNodes();
-    organ_fixed[o].assign(n, 0);
-    for (const int a : organs_[o].fixed_nodes) {
-      checkIndex("organ " + std::to_string(o) + " fixed node", a, n);
-      organ_fixed[o][a] = 1;
+  // Per body: 1 for a fixed node, after checking the body's model and fixed nodes.
+  auto fixedMask = [](const std::string& body, const void* model, int n,
+                      const std::vector<int>& fixed, const std::string& node) {
+    if (model == nullptr) fail(body + " has no model");
+    std::vector<char> mask(n, 0);
+    for (const int a : fixed) {
+      checkIndex(body + " fixed " + node, a, n);
+      mask[a] = 1;
     }
+    return mask;
+  };
+  std::vector<std::vector<char>> organ_fixed, layer_fixed;
+  for (int o = 0; o < numOrgans(); ++o) {
+    const TissueModel* model = organs_[o].model;
+    organ_fixed.push_back(fixedMask("organ " + std::to_string(o), model,
+                                    model ? model->numNodes() : 0, organs_[o].fixed_nodes, "node"));
   }
   for (int l = 0; l < numLayers(); ++l) {
-    if (layers_[l].model == nullptr) fail("layer " + std::to_string(l) + " has no model");
-    const int n = layers_[l].model->numNodes();
-    layer_fixed[l].assign(n, 0);
-    for (const int j : layers_[l].fixed_nodes) {
-      checkIndex("layer " + std::to_string(l) + " fixed rigid node", j, n);
-      layer_fixed[l][j] = 1;
-    }
+    const RigidNodeModel* model = layers_[l].model;
+    layer_fixed.push_back(fixedMask("layer " + std::to_string(l), model,
+                                    model ? model->numNodes() : 0, layers_[l].fixed_nodes,
+                                    "rigid node"));
   }
 
   // Skinning weights and offsets of the attached nodes.
@@ -203,18 +207,21 @@ ConnectiveCoupling::ConnectiveCoupling(std::vector<CoupledOrgan> organs,
       }
     }
   }
-  for (int l = 0; l < numLayers(); ++l) {
+  // Calls visit(value index, global row, global column) for every layer entry between free
+  // rigid nodes.
+  auto forEachLayerEntry = [&](int l, const auto& visit) {
     const Eigen::SparseMatrix<double>& K = layers_[l].model->stiffnessPattern();
     for (int c = 0; c < K.cols(); ++c) {
       for (int e = K.outerIndexPtr()[c]; e < K.outerIndexPtr()[c + 1]; ++e) {
         const int r = K.innerIndexPtr()[e];
         const int rc = layer_column_[l][r / kRigidNodeDofs];
         const int cc = layer_column_[l][c / kRigidNodeDofs];
-        if (rc >= 0 && cc >= 0)
-          entries.emplace_back(rc + r % kRigidNodeDofs, cc + c % kRigidNodeDofs, 0.0);
+        if (rc >= 0 && cc >= 0) visit(e, rc + r % kRigidNodeDofs, cc + c % kRigidNodeDofs);
       }
     }
-  }
+  };
+  for (int l = 0; l < numLayers(); ++l)
+    forEachLayerEntry(l, [&](int, int r, int c) { entries.emplace_back(r, c, 0.0); });
   stiffness_.resize(num_unknowns_, num_unknowns_);
   stiffness_.setFromTriplets(entries.begin(), entries.end());
   stiffness_.makeCompressed();
@@ -235,18 +242,9 @@ ConnectiveCoupling::ConnectiveCoupling(std::vector<CoupledOrgan> organs,
   }
   layer_value_.resize(layers_.size());
   for (int l = 0; l < numLayers(); ++l) {
-    const Eigen::SparseMatrix<double>& K = layers_[l].model->stiffnessPattern();
-    layer_value_[l].assign(K.nonZeros(), -1);
-    for (int c = 0; c < K.cols(); ++c) {
-      for (int e = K.outerIndexPtr()[c]; e < K.outerIndexPtr()[c + 1]; ++e) {
-        const int r = K.innerIndexPtr()[e];
-        const int rc = layer_column_[l][r / kRigidNodeDofs];
-        const int cc = layer_column_[l][c / kRigidNodeDofs];
-        if (rc >= 0 && cc >= 0)
-          layer_value_[l][e] =
-              valueIndex(stiffness_, rc + r % kRigidNodeDofs, cc + c % kRigidNodeDofs);
-      }
-    }
+    layer_value_[l].assign(layers_[l].model->stiffnessPattern().nonZeros(), -1);
+    forEachLayerEntry(
+        l, [&](int e, int r, int c) { layer_value_[l][e] = valueIndex(stiffness_, r, c); });
   }
   for (int column = organ_unknowns; column < num_unknowns_; column += kRigidNodeDofs) {
     std::array<int, 3> block{};

@@ -1,22 +1,12 @@
 #include "surgical_sim/core/connective/coupled_solver.h"
 
-#include <chrono>
 #include <cmath>
 
+#include "surgical_sim/core/common/stopwatch.h"
 #include "surgical_sim/core/common/validate.h"
 #include "surgical_sim/core/connective/rigid_node_tangent_system.h"
 
 namespace surgical_sim::core {
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds(Clock::time_point since) {
-  return std::chrono::duration<double>(Clock::now() - since).count();
-}
-
-}  // namespace
-
 CoupledSolver::CoupledSolver(ConnectiveCoupling& coupling, const CoupledSolverSettings& settings)
     : coupling_(coupling), settings_(settings) {
   requireNonNegative("CoupledSolverSettings.mass_damping", settings.mass_damping, "1/s");
@@ -52,6 +42,13 @@ bool CoupledSolver::factorize(double mass_coefficient, double stiffness_coeffici
   return false;
 }
 
+LinearSolveReport CoupledSolver::solveSystem(const Eigen::VectorXd& b, StepPhaseTimes& phases) {
+  if (du_.size() != b.size()) du_.setZero(b.size());
+  LinearSolveReport report = timed(phases.linear_solve, [&]() { return solver_.solve(b, du_); });
+  report.ok = report.ok && du_.allFinite();
+  return report;
+}
+
 StepReport CoupledSolver::step(const CoupledLoads& loads, double dt, CoupledState& state) {
   requirePositive("CoupledSolver::step dt", dt, "s");
   StepReport report;
@@ -63,27 +60,23 @@ StepReport CoupledSolver::step(const CoupledLoads& loads, double dt, CoupledStat
     return report;
   };
   const double alpha = settings_.mass_damping, beta = settings_.stiffness_damping;
-  Clock::time_point t0 = Clock::now();
-  coupling_.assemble(state, loads, CouplingTangentOptions{}, true);
-  coupling_.gatherVelocity(state, velocity_);
-  // b = h (f - alpha M u - (beta + h) K u).
-  product_ = coupling_.stiffness() * velocity_;
-  rhs_ = coupling_.force() - (beta + dt) * product_;
-  if (alpha > 0.0) {
-    product_ = coupling_.mass() * velocity_;
-    rhs_ -= alpha * product_;
-  }
-  rhs_ *= dt;
-  report.phases.forces = seconds(t0);
-  t0 = Clock::now();
-  const bool factorized = factorize(1.0 + dt * alpha, dt * beta + dt * dt);
-  report.phases.factorization = seconds(t0);
-  if (!factorized) return failed(StepStatus::SolverFailed);
-  t0 = Clock::now();
-  if (du_.size() != rhs_.size()) du_.setZero(rhs_.size());
-  const LinearSolveReport solve = solver_.solve(rhs_, du_);
-  report.phases.linear_solve = seconds(t0);
-  if (!solve.ok || !du_.allFinite()) return failed(StepStatus::SolverFailed);
+  timed(report.phases.forces, [&]() {
+    coupling_.assemble(state, loads, CouplingTangentOptions{}, true);
+    coupling_.gatherVelocity(state, velocity_);
+    // b = h (f - alpha M u - (beta + h) K u).
+    product_ = coupling_.stiffness() * velocity_;
+    rhs_ = coupling_.force() - (beta + dt) * product_;
+    if (alpha > 0.0) {
+      product_ = coupling_.mass() * velocity_;
+      rhs_ -= alpha * product_;
+    }
+    rhs_ *= dt;
+  });
+  if (!timed(report.phases.factorization,
+             [&]() { return factorize(1.0 + dt * alpha, dt * beta + dt * dt); }))
+    return failed(StepStatus::SolverFailed);
+  const LinearSolveReport solve = solveSystem(rhs_, report.phases);
+  if (!solve.ok) return failed(StepStatus::SolverFailed);
   velocity_ += du_;
   coupling_.scatterVelocity(velocity_, state);
   coupling_.applyIncrement(velocity_, dt, state);
@@ -106,9 +99,8 @@ StepReport CoupledSolver::solveStatic(const CoupledLoads& loads, CoupledState& s
   double energy = coupling_.potentialEnergy(state, loads);
   report.status = StepStatus::NotConverged;
   for (int iteration = 0; iteration < settings_.max_iterations; ++iteration) {
-    Clock::time_point t0 = Clock::now();
-    coupling_.assemble(state, loads, CouplingTangentOptions{}, false);
-    report.phases.forces += seconds(t0);
+    timed(report.phases.forces,
+          [&]() { coupling_.assemble(state, loads, CouplingTangentOptions{}, false); });
     const Eigen::VectorXd& f = coupling_.force();
     report.residual = coupling_.forceScale() > 0.0 ? f.norm() / coupling_.forceScale() : 0.0;
     if (!std::isfinite(report.residual)) {
@@ -120,14 +112,9 @@ StepReport CoupledSolver::solveStatic(const CoupledLoads& loads, CoupledState& s
       report.status = StepStatus::Ok;
       break;
     }
-    t0 = Clock::now();
-    const bool factorized = factorize(0.0, 1.0);
-    report.phases.factorization += seconds(t0);
-    t0 = Clock::now();
-    if (du_.size() != f.size()) du_.setZero(f.size());
-    const LinearSolveReport solve = factorized ? solver_.solve(f, du_) : LinearSolveReport{};
-    report.phases.linear_solve += seconds(t0);
-    if (!factorized || !solve.ok || !du_.allFinite()) {
+    const bool factorized =
+        timed(report.phases.factorization, [&]() { return factorize(0.0, 1.0); });
+    if (!factorized || !solveSystem(f, report.phases).ok) {
       state = start_;
       report.status = StepStatus::SolverFailed;
       return report;

@@ -1,10 +1,10 @@
 #include "surgical_sim/core/connective/rigid_node_implicit_euler.h"
 
-#include <chrono>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 
+#include "surgical_sim/core/common/stopwatch.h"
 #include "surgical_sim/core/common/validate.h"
 #include "surgical_sim/core/solve/dirichlet_projection.h"
 
@@ -46,10 +46,8 @@ StepReport RigidNodeImplicitEuler::step(const RigidNodeProblem& problem, double 
   rhs_ *= dt;
   zeroDirichletEntries(problem.fixed_dofs, rhs_);
   report.phases = system_.phases();
-  const auto t0 = std::chrono::steady_clock::now();
-  const LinearSolveReport solve = system_.solve(rhs_, dv_);
-  report.phases.linear_solve =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const LinearSolveReport solve =
+      timed(report.phases.linear_solve, [&]() { return system_.solve(rhs_, dv_); });
   if (!solve.ok) return fail(StepStatus::SolverFailed);
   state.velocity += dv_;
   applyRigidNodeIncrement(state.velocity, dt, state.configuration);

@@ -1,21 +1,12 @@
 #include "surgical_sim/core/connective/rigid_node_tangent_system.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
+#include "surgical_sim/core/common/stopwatch.h"
 #include "surgical_sim/core/solve/dirichlet_projection.h"
 
 namespace surgical_sim::core {
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-}  // namespace
 
 void RigidNodeTangentSystem::buildSystem(const RigidNodeProblem& problem,
                                          const RigidNodeConfiguration& q, bool geometric,
@@ -23,12 +14,12 @@ void RigidNodeTangentSystem::buildSystem(const RigidNodeProblem& problem,
   const RigidNodeModel& model = *problem.model;
   RigidNodeTangentOptions options;
   options.geometric = geometric;
-  Clock::time_point t0 = Clock::now();
+  Stopwatch watch;
   internal_.setZero(model.numDofs());
   model.addInternalForceAndStiffness(q, options, internal_, stiffness_);
   if (geometric) model.addBodyForceStiffness(q, problem.body_acceleration, true, stiffness_);
-  phases_.forces += secondsSince(t0);
-  t0 = Clock::now();
+  phases_.forces += watch.seconds();
+  watch.restart();
   system_.coeffs() = stiffness_coefficient * stiffness_.coeffs();
   if (mass_coefficient != 0.0) system_.coeffs() += mass_coefficient * mass_.coeffs();
   projectDirichletMatrix(mask_, system_);
@@ -36,7 +27,7 @@ void RigidNodeTangentSystem::buildSystem(const RigidNodeProblem& problem,
   for (const int k : rotation_diagonal_) rotation_scale_ += std::abs(system_.valuePtr()[k]);
   if (!rotation_diagonal_.empty())
     rotation_scale_ /= static_cast<double>(rotation_diagonal_.size());
-  phases_.assembly += secondsSince(t0);
+  phases_.assembly += watch.seconds();
 }
 
 bool RigidNodeTangentSystem::factorizeShifted(double relative_shift) {
@@ -44,10 +35,7 @@ bool RigidNodeTangentSystem::factorizeShifted(double relative_shift) {
   const double shift = relative_shift * rotation_scale_;
   for (const int k : rotation_diagonal_) shifted_.valuePtr()[k] += shift;
   shift_ = relative_shift;
-  const Clock::time_point t0 = Clock::now();
-  const bool ok = solver_.factorize(shifted_);
-  phases_.factorization += secondsSince(t0);
-  return ok;
+  return timed(phases_.factorization, [&]() { return solver_.factorize(shifted_); });
 }
 
 bool RigidNodeTangentSystem::assemble(const RigidNodeProblem& problem,
@@ -74,9 +62,7 @@ bool RigidNodeTangentSystem::assemble(const RigidNodeProblem& problem,
     rotation_diagonal_.push_back(
         static_cast<int>(std::lower_bound(inner + outer[d], inner + outer[d + 1], d) - inner));
   }
-  const Clock::time_point t0 = Clock::now();
-  if (mass_coefficient != 0.0) model.assembleNodeMass(q, mass_);
-  phases_.assembly += secondsSince(t0);
+  if (mass_coefficient != 0.0) timed(phases_.assembly, [&]() { model.assembleNodeMass(q, mass_); });
   bool ok = false;
   for (const bool geometric : {true, false}) {
     material_only_ = !geometric;

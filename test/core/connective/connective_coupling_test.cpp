@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <functional>
 #include <memory>
 #include <random>
 #include <vector>
@@ -49,8 +50,9 @@ std::vector<int> nodesWhere(const TetMesh& mesh, Predicate predicate) {
 
 /// Two SVK boxes (L x L x L/2) joined by a tet-sampled layer L/8 thick whose rigid nodes sit on
 /// a finer grid (so most attached nodes get Shepard weights on 4 rigid nodes), at length scale
-/// L [m]; the lower box's bottom corner node fixed if fix_corner.
-Scene twoBoxScene(double L, bool fix_corner, ModelKind kind = ModelKind::Svk) {
+/// L [m]; the lower box's nodes where held(rest position) are fixed.
+using NodePredicate = std::function<bool(const Eigen::Vector3d&)>;
+Scene twoBoxScene(double L, const NodePredicate& held, ModelKind kind = ModelKind::Svk) {
   Scene scene;
   const Material organ_material = Material::create(10e3, 0.3, 1000.0);
   scene.meshes.push_back(makeBox(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(L, L, L / 2),
@@ -67,7 +69,7 @@ Scene twoBoxScene(double L, bool fix_corner, ModelKind kind = ModelKind::Svk) {
   std::vector<CoupledOrgan> organs(2);
   organs[0].model = scene.organs[0].get();
   organs[1].model = scene.organs[1].get();
-  if (fix_corner) organs[0].fixed_nodes = {0};
+  organs[0].fixed_nodes = nodesWhere(scene.meshes[0], held);
   std::vector<CoupledLayer> layers(1);
   layers[0].model = scene.layers[0].get();
   std::vector<OrganLayerAttachment> attachments(2);
@@ -80,6 +82,10 @@ Scene twoBoxScene(double L, bool fix_corner, ModelKind kind = ModelKind::Svk) {
   scene.coupling = std::make_unique<ConnectiveCoupling>(organs, layers, attachments);
   return scene;
 }
+
+/// No node held / the node at the origin held.
+bool none(const Eigen::Vector3d&) { return false; }
+bool origin(const Eigen::Vector3d& p) { return p.norm() == 0.0; }
 
 /// Every organ node and rigid node of state moved by x -> R x + t.
 void moveRigidly(const Eigen::Quaterniond& R, const Eigen::Vector3d& t, CoupledState& state) {
@@ -100,7 +106,7 @@ double largestOrganDifference(const CoupledState& a, const CoupledState& b) {
 
 TEST(ConnectiveCoupling, RigidMotionOfEverythingIsTransmittedExactlyWithZeroForce) {
   for (const double L : {1e-3, 1.0}) {
-    Scene scene = twoBoxScene(L, false);
+    Scene scene = twoBoxScene(L, none);
     ConnectiveCoupling& coupling = *scene.coupling;
     const CoupledState rest = coupling.restState();
     CoupledState moved = rest;
@@ -135,7 +141,7 @@ TEST(ConnectiveCoupling, RigidMotionOfEverythingIsTransmittedExactlyWithZeroForc
 /// the force, in every unknown, at a deformed state with gravity, a point force and a spring.
 TEST(ConnectiveCoupling, ForceAndTangentMatchFiniteDifferencesAtMmAndMScale) {
   for (const double L : {1e-3, 1.0}) {
-    Scene scene = twoBoxScene(L, true);
+    Scene scene = twoBoxScene(L, origin);
     ConnectiveCoupling& coupling = *scene.coupling;
     CoupledState state = coupling.restState();
     std::mt19937 rng(7);
@@ -202,23 +208,10 @@ TEST(ConnectiveCoupling, ForceAndTangentMatchFiniteDifferencesAtMmAndMScale) {
 TEST(ConnectiveCoupling, QuasiStaticAnswerScalesWithLengthFromMmToM) {
   std::vector<double> displacement;
   for (const double L : {1e-3, 1.0}) {
-    Scene scene = twoBoxScene(L, false, ModelKind::Svk);
-    // Hold the lower box's bottom face.
-    std::vector<CoupledOrgan> organs(2);
-    organs[0].model = scene.organs[0].get();
-    organs[0].fixed_nodes =
-        nodesWhere(scene.meshes[0], [&](const Eigen::Vector3d& p) { return p.z() < 1e-3 * L; });
-    organs[1].model = scene.organs[1].get();
-    std::vector<CoupledLayer> layers(1);
-    layers[0].model = scene.layers[0].get();
-    std::vector<OrganLayerAttachment> attachments(2);
-    attachments[0].organ = 0;
-    attachments[0].nodes =
-        nodesWhere(scene.meshes[0], [&](const Eigen::Vector3d& p) { return p.z() > 0.49 * L; });
-    attachments[1].organ = 1;
-    attachments[1].nodes =
-        nodesWhere(scene.meshes[1], [&](const Eigen::Vector3d& p) { return p.z() < 0.63 * L; });
-    ConnectiveCoupling coupling(organs, layers, attachments);
+    // The lower box's bottom face held.
+    Scene scene = twoBoxScene(
+        L, [&](const Eigen::Vector3d& p) { return p.z() < 1e-3 * L; }, ModelKind::Svk);
+    ConnectiveCoupling& coupling = *scene.coupling;
     CoupledLoads loads;
     const std::vector<int> top =
         nodesWhere(scene.meshes[1], [&](const Eigen::Vector3d& p) { return p.z() > 1.12 * L; });
@@ -487,7 +480,7 @@ TEST(ConnectiveCouplingScenes, PullingOneOrganDragsTheOtherAndReleasingReturnsBo
 }
 
 TEST(ConnectiveCoupling, BadInputIsRejectedWithTheFieldNamed) {
-  Scene scene = twoBoxScene(1.0, false);
+  Scene scene = twoBoxScene(1.0, none);
   std::vector<CoupledOrgan> organs(1);
   organs[0].model = scene.organs[0].get();
   std::vector<CoupledLayer> layers(1);

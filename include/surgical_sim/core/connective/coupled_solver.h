@@ -46,6 +46,9 @@ class CoupledSolver {
  private:
   /// system_ = c_M M~ + c_K K~ factorized (with the smallest rotation shift that works).
   bool factorize(double mass_coefficient, double stiffness_coefficient);
+  /// du_ = A^-1 b with the current factor, its time added to phases.linear_solve; ok is false
+  /// if the solve fails or du_ is not finite.
+  LinearSolveReport solveSystem(const Eigen::VectorXd& b, StepPhaseTimes& phases);
 
   ConnectiveCoupling& coupling_;
   CoupledSolverSettings settings_;
