@@ -4,6 +4,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "surgical_sim/core/common/stopwatch.h"
 #include "surgical_sim/core/common/validate.h"
 #include "surgical_sim/core/solve/dirichlet_projection.h"
 
@@ -44,7 +45,9 @@ StepReport RigidNodeImplicitEuler::step(const RigidNodeProblem& problem, double 
   }
   rhs_ *= dt;
   zeroDirichletEntries(problem.fixed_dofs, rhs_);
-  const LinearSolveReport solve = system_.solve(rhs_, dv_);
+  report.phases = system_.phases();
+  const LinearSolveReport solve =
+      timed(report.phases.linear_solve, [&]() { return system_.solve(rhs_, dv_); });
   if (!solve.ok) return fail(StepStatus::SolverFailed);
   state.velocity += dv_;
   applyRigidNodeIncrement(state.velocity, dt, state.configuration);

@@ -1,6 +1,8 @@
 #include "surgical_sim/core/connective/rigid_node_model.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -34,6 +36,17 @@ Matrix6d strainJacobian(const Eigen::Matrix3d& F, const Eigen::Vector3d& g,
   return M;
 }
 
+/// m += sign [u]x (a 3 x 3 block expression).
+template <typename Block>
+void addSkew(double sign, const Eigen::Vector3d& u, Block&& m) {
+  m(0, 1) -= sign * u.z();
+  m(0, 2) += sign * u.y();
+  m(1, 0) += sign * u.z();
+  m(1, 2) -= sign * u.x();
+  m(2, 0) -= sign * u.y();
+  m(2, 1) += sign * u.x();
+}
+
 /// Green-Lagrange strain E = (F^T F - I) / 2.
 Eigen::Matrix3d greenLagrange(const Eigen::Matrix3d& F) {
   return 0.5 * (F.transpose() * F - Eigen::Matrix3d::Identity());
@@ -43,15 +56,6 @@ Vector6d toVoigtStress(const Eigen::Matrix3d& S) {
   Vector6d s;
   for (int v = 0; v < 6; ++v) s[v] = S(kVoigtRow[v], kVoigtCol[v]);
   return s;
-}
-
-/// SVK elasticity in Voigt form for engineering shear strain.
-Matrix6d hookeMatrix(double lambda, double mu) {
-  Matrix6d C = Matrix6d::Zero();
-  C.topLeftCorner<3, 3>().setConstant(lambda);
-  C.topLeftCorner<3, 3>().diagonal().array() += 2.0 * mu;
-  C.bottomRightCorner<3, 3>().diagonal().setConstant(mu);
-  return C;
 }
 
 /// J_a^T J_b with J = [I, -[r]x], the velocity of a point at offset r from a rigid node.
@@ -281,16 +285,26 @@ void RigidNodeModel::scatter(int s, int a, int b, const Matrix6d& Kab, double* v
 void RigidNodeModel::evaluate(const RigidNodeConfiguration& q,
                               const RigidNodeTangentOptions* options, Eigen::VectorXd* f,
                               Eigen::SparseMatrix<double>* K) const {
+  constexpr int kMaxDofs = kRigidNodeDofs * kMaxSampleNeighbours;
+  // Rows of the material factor X of the samples of a run, flushed when full.
+  constexpr int kStackedSamples = 16;
+  using Local = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDofs, kMaxDofs>;
   Eigen::Matrix3d A[kMaxSampleNeighbours];
   Eigen::Vector3d r[kMaxSampleNeighbours];
-  Matrix6d CM[kMaxSampleNeighbours];
-  Matrix6d M[kMaxSampleNeighbours];
   Eigen::Vector3d SG[kMaxSampleNeighbours];  // v S grad w_a
   Eigen::Matrix3d AS[kMaxSampleNeighbours];  // v A_a S
-  // Blocks a <= b of a run of samples with the same rigid nodes, scattered once per run.
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kRigidNodeDofs * kMaxSampleNeighbours,
-                kRigidNodeDofs * kMaxSampleNeighbours>
-      local;
+  // Blocks a <= b of a run of samples with the same rigid nodes, scattered once per run:
+  // geometric (full blocks) and material (upper triangle, X^T X).
+  Local geometric, material;
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor, 7 * kStackedSamples,
+                kMaxDofs>
+      stacked;
+  int stacked_rows = 0;
+  auto flush = [&]() {
+    if (stacked_rows == 0) return;
+    material.selfadjointView<Eigen::Upper>().rankUpdate(stacked.topRows(stacked_rows).transpose());
+    stacked_rows = 0;
+  };
   bool run_started = false;
   double* values = nullptr;
   if (K != nullptr) {
@@ -318,29 +332,42 @@ void RigidNodeModel::evaluate(const RigidNodeConfiguration& q,
       }
     }
     if (K == nullptr) continue;
-    if (!run_started) local.setZero(kRigidNodeDofs * k, kRigidNodeDofs * k);
-    run_started = true;
-    const Matrix6d C = v * hookeMatrix(sample.lambda, sample.mu);
-    for (int a = 0; a < k; ++a) {
-      const Eigen::Vector3d& g = pairs_[begin + a].gradient;
-      if (options->material) {
-        M[a] = strainJacobian(F, g, A[a]);
-        CM[a] = C * M[a];
-      }
-      SG[a] = v * (S * g);
-      AS[a] = v * A[a] * S;
+    const int dofs = kRigidNodeDofs * k;
+    if (!run_started) {
+      geometric.setZero(dofs, dofs);
+      material.setZero(dofs, dofs);
+      stacked.resize(7 * kStackedSamples, dofs);
     }
-    // K_ba = K_ab^T but for the rotation term on a == b: blocks a <= b, mirrored.
-    for (int a = 0; a < k; ++a) {
-      const Eigen::Vector3d& ga = pairs_[begin + a].gradient;
-      for (int b = a; b < k; ++b) {
-        Matrix6d G = Matrix6d::Zero();
-        if (options->material) G.noalias() += M[a].transpose() * CM[b];
-        if (options->geometric) {
+    run_started = true;
+    if (options->material) {
+      // v M^T C M = X^T X with C = lambda 1 1^T (normal block) + diag(2mu, 2mu, 2mu, mu, mu, mu):
+      // rows sqrt(v d_i) M_i and sqrt(v lambda) (M_0 + M_1 + M_2).
+      if (stacked_rows + 7 > stacked.rows()) flush();
+      const double normal = std::sqrt(2.0 * sample.mu * v), shear = std::sqrt(sample.mu * v);
+      const double trace = std::sqrt(sample.lambda * v);
+      for (int a = 0; a < k; ++a) {
+        const Matrix6d M = strainJacobian(F, pairs_[begin + a].gradient, A[a]);
+        auto block = stacked.block<7, kRigidNodeDofs>(stacked_rows, kRigidNodeDofs * a);
+        block.topRows<3>() = normal * M.topRows<3>();
+        block.middleRows<3>(3) = shear * M.bottomRows<3>();
+        block.row(6) = trace * M.topRows<3>().colwise().sum();
+      }
+      stacked_rows += 7;
+    }
+    if (options->geometric) {
+      for (int a = 0; a < k; ++a) {
+        SG[a] = v * (S * pairs_[begin + a].gradient);
+        AS[a] = v * A[a] * S;
+      }
+      // K_ba = K_ab^T but for the rotation term on a == b: blocks a <= b, mirrored.
+      for (int a = 0; a < k; ++a) {
+        const Eigen::Vector3d& ga = pairs_[begin + a].gradient;
+        for (int b = a; b < k; ++b) {
           // v sum_jl S_jl B_aj^T B_bl with B_j = [g_j I, -[a_j]x].
+          auto G = geometric.block<6, 6>(kRigidNodeDofs * a, kRigidNodeDofs * b);
           G.topLeftCorner<3, 3>().diagonal().array() += ga.dot(SG[b]);
-          G.topRightCorner<3, 3>() -= skew(A[b] * SG[a]);
-          G.bottomLeftCorner<3, 3>() += skew(A[a] * SG[b]);
+          addSkew(-1.0, A[b] * SG[a], G.topRightCorner<3, 3>());
+          addSkew(1.0, A[a] * SG[b], G.bottomLeftCorner<3, 3>());
           G.bottomRightCorner<3, 3>().noalias() -= A[b] * AS[a].transpose();
           G.bottomRightCorner<3, 3>().diagonal().array() += AS[a].cwiseProduct(A[b]).sum();
           if (a == b) {
@@ -351,13 +378,15 @@ void RigidNodeModel::evaluate(const RigidNodeConfiguration& q,
             G.bottomRightCorner<3, 3>() += theta;
           }
         }
-        local.block<6, 6>(kRigidNodeDofs * a, kRigidNodeDofs * b) += G;
       }
     }
     if (!run_ends_[s]) continue;
+    flush();
+    material.triangularView<Eigen::StrictlyLower>() = material.transpose();
     for (int a = 0; a < k; ++a) {
       for (int b = a; b < k; ++b) {
-        const Matrix6d G = local.block<6, 6>(kRigidNodeDofs * a, kRigidNodeDofs * b);
+        const Matrix6d G = geometric.block<6, 6>(kRigidNodeDofs * a, kRigidNodeDofs * b) +
+                           material.block<6, 6>(kRigidNodeDofs * a, kRigidNodeDofs * b);
         scatter(s, a, b, G, values);
         if (b != a) scatter(s, b, a, G.transpose(), values);
       }
@@ -458,8 +487,22 @@ void RigidNodeModel::assembleNodeMass(const RigidNodeConfiguration& q,
     const double m = samples_[s].density * samples_[s].volume;
     for (int a = 0; a < pair_begin_[s + 1] - pair_begin_[s]; ++a) {
       const Pair& pair = pairs_[pair_begin_[s] + a];
+      // m w J^T J = m w [I, -[r]x; [r]x, |r|^2 I - r r^T], straight into node i's diagonal block.
       const Eigen::Vector3d r = q.q_TN[pair.node] * pair.local_offset;
-      scatter(s, a, a, m * pair.weight * bodyJacobianProduct(r, r), M.valuePtr());
+      const double mw = m * pair.weight;
+      const Eigen::Matrix3d inertia =
+          mw * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
+      double* block = M.valuePtr() + diagonal_first_[pair.node];
+      const int length = column_length_[pair.node];
+      const Eigen::Matrix3d moment = skew(mw * r);
+      for (int j = 0; j < 3; ++j) {
+        block[j * length + j] += mw;
+        for (int i = 0; i < 3; ++i) {
+          block[(j + 3) * length + i] -= moment(i, j);
+          block[j * length + i + 3] += moment(i, j);
+          block[(j + 3) * length + i + 3] += inertia(i, j);
+        }
+      }
     }
   }
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "surgical_sim/core/common/stopwatch.h"
 #include "surgical_sim/core/solve/dirichlet_projection.h"
 
 namespace surgical_sim::core {
@@ -13,9 +14,12 @@ void RigidNodeTangentSystem::buildSystem(const RigidNodeProblem& problem,
   const RigidNodeModel& model = *problem.model;
   RigidNodeTangentOptions options;
   options.geometric = geometric;
+  Stopwatch watch;
   internal_.setZero(model.numDofs());
   model.addInternalForceAndStiffness(q, options, internal_, stiffness_);
   if (geometric) model.addBodyForceStiffness(q, problem.body_acceleration, true, stiffness_);
+  phases_.forces += watch.seconds();
+  watch.restart();
   system_.coeffs() = stiffness_coefficient * stiffness_.coeffs();
   if (mass_coefficient != 0.0) system_.coeffs() += mass_coefficient * mass_.coeffs();
   projectDirichletMatrix(mask_, system_);
@@ -23,6 +27,7 @@ void RigidNodeTangentSystem::buildSystem(const RigidNodeProblem& problem,
   for (const int k : rotation_diagonal_) rotation_scale_ += std::abs(system_.valuePtr()[k]);
   if (!rotation_diagonal_.empty())
     rotation_scale_ /= static_cast<double>(rotation_diagonal_.size());
+  phases_.assembly += watch.seconds();
 }
 
 bool RigidNodeTangentSystem::factorizeShifted(double relative_shift) {
@@ -30,13 +35,14 @@ bool RigidNodeTangentSystem::factorizeShifted(double relative_shift) {
   const double shift = relative_shift * rotation_scale_;
   for (const int k : rotation_diagonal_) shifted_.valuePtr()[k] += shift;
   shift_ = relative_shift;
-  return solver_.factorize(shifted_);
+  return timed(phases_.factorization, [&]() { return solver_.factorize(shifted_); });
 }
 
 bool RigidNodeTangentSystem::assemble(const RigidNodeProblem& problem,
                                       const RigidNodeConfiguration& q, double mass_coefficient,
                                       double stiffness_coefficient) {
   const RigidNodeModel& model = *problem.model;
+  phases_ = StepPhaseTimes{};
   if (analysed_ != &model || system_.rows() != model.numDofs() ||
       system_.nonZeros() != model.stiffnessPattern().nonZeros()) {
     stiffness_ = model.stiffnessPattern();
@@ -56,7 +62,7 @@ bool RigidNodeTangentSystem::assemble(const RigidNodeProblem& problem,
     rotation_diagonal_.push_back(
         static_cast<int>(std::lower_bound(inner + outer[d], inner + outer[d + 1], d) - inner));
   }
-  if (mass_coefficient != 0.0) model.assembleNodeMass(q, mass_);
+  if (mass_coefficient != 0.0) timed(phases_.assembly, [&]() { model.assembleNodeMass(q, mass_); });
   bool ok = false;
   for (const bool geometric : {true, false}) {
     material_only_ = !geometric;

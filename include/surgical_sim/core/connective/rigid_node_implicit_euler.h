@@ -20,7 +20,8 @@ class RigidNodeImplicitEuler {
  public:
   /// Advances state by dt [s] (finite, > 0). Ok; SolverFailed / NonFinite with the state
   /// restored. report.residual: |b - A dv| / |b| of the solve; report.energy: kinetic (with the
-  /// step's mass matrix) + elastic + body-force potential after the step [J].
+  /// step's mass matrix) + elastic + body-force potential after the step [J]; report.phases:
+  /// RigidNodeTangentSystem::phases() and the solve.
   /// @throws std::invalid_argument for a malformed problem, a state of the wrong size or a bad dt
   StepReport step(const RigidNodeProblem& problem, double dt, RigidNodeState& state);
 

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "surgical_sim/core/common/status.h"
 #include "surgical_sim/core/connective/rigid_node_problem.h"
 #include "surgical_sim/core/solve/cholmod_solver.h"
 
@@ -50,6 +51,9 @@ class RigidNodeTangentSystem {
   bool usedMaterialTangentOnly() const { return material_only_; }
   /// The relative rotational shift of the last factorization (an entry of kRotationShifts).
   double rotationShift() const { return shift_; }
+  /// Wall time of the last assemble(): forces (the sample loop: force, tangent, gravity
+  /// tangent), assembly (mass and A), factorization (every shift tried); linear_solve 0.
+  const StepPhaseTimes& phases() const { return phases_; }
   /// The fixed-DOF mask (1 = fixed) of the last assemble().
   const std::vector<std::uint8_t>& fixedMask() const { return mask_; }
 
@@ -69,6 +73,7 @@ class RigidNodeTangentSystem {
   Eigen::VectorXd force_, internal_;
   std::vector<std::uint8_t> mask_;
   bool material_only_ = false;
+  StepPhaseTimes phases_;
 };
 
 }  // namespace surgical_sim::core
