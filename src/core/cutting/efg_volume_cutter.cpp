@@ -19,6 +19,9 @@ namespace {
 constexpr double kSelectionCondition = 1e8;
 // Broad-phase margin in longest rest links [-].
 constexpr double kStretchMargin = 3.0;
+// Lumped mass below which a particle counts as unused, relative to the total (round-off of the
+// removed shares) [-].
+constexpr double kUnusedMassFraction = 1e-14;
 // Visible particles a re-selection considers at most [-].
 constexpr int kMaxCandidates = 4 * EfgOptions::kMaxNeighbours;
 
@@ -85,6 +88,14 @@ int EfgVolumeCutter::countPieces() const {
     if (model_.grid().volumes(e) > 0.0)
       holds[static_cast<size_t>(labels[static_cast<size_t>(graph_.ipNode(e))])] = 1;
   return static_cast<int>(std::count(holds.begin(), holds.end(), 1));
+}
+
+std::vector<int> EfgVolumeCutter::unusedParticles() const {
+  std::vector<int> unused;
+  const double total_mass = model_.lumpedMass().sum() / 3.0;  // [kg]
+  for (int p = 0; p < graph_.numParticles(); ++p)
+    if (model_.lumpedMass()(3 * p) <= kUnusedMassFraction * total_mass) unused.push_back(p);
+  return unused;
 }
 
 std::vector<int> EfgVolumeCutter::particlePieces() const {
@@ -374,7 +385,8 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
   std::sort(released.begin(), released.end());
   released.erase(std::unique(released.begin(), released.end()), released.end());
   for (const int p : released)
-    if (model_.lumpedMass()(3 * p) <= 1e-14 * total_mass) result.unused_particles.push_back(p);
+    if (model_.lumpedMass()(3 * p) <= kUnusedMassFraction * total_mass)
+      result.unused_particles.push_back(p);
   for (const EfgNeighbourhood& c : changes) {
     result.changed_ips.push_back(c.ip);
     bool indirect = false;

@@ -68,6 +68,9 @@ class EfgVolumeCutter {
   const EfgModel& model() const { return model_; }
   /// Connected pieces holding volume (see EfgCutResult::pieces).
   int pieces() const { return pieces_; }
+  /// Particles with zero lumped mass (no IP with volume uses them: material left on the other
+  /// side of a cut), ascending; the caller constrains them. Linear in the particles.
+  std::vector<int> unusedParticles() const;
   /// Piece label of each particle (graph component), size n; particles of one piece share it.
   std::vector<int> particlePieces() const;
 
