@@ -109,18 +109,9 @@ EfgVolumeCutter::Selection EfgVolumeCutter::select(int e) const {
   const EfgGrid& grid = model_.grid();
   const int n = graph_.numParticles();
   const double scale = 2.0 * grid.spacing;
-  std::vector<std::pair<int, double>> visible;
-  Selection out;
-  graph_.searchFrom(graph_.ipNode(e), [&](int v, double r) {
-    if (v < n) {
-      visible.emplace_back(v, r);
-    } else if (v != graph_.ipNode(e) && out.nearest_ip < 0 && grid.volumes(v - n) > 0.0) {
-      out.nearest_ip = v - n;
-    }
-    return static_cast<int>(visible.size()) < kMaxCandidates;
-  });
   const Eigen::Vector3d x_e = grid.integration_points.col(e);
   const int target = model_.options().neighbours;
+  Selection out;
   Eigen::Matrix3Xd points(3, 0);
   // A set of `target` particles (fewer when no other particle is visible) with a well-conditioned
   // moment matrix.
@@ -138,19 +129,30 @@ EfgVolumeCutter::Selection EfgVolumeCutter::select(int e) const {
         computeMlsShapeFunctions(x_e, points, model_.options().kernel_support * r_max, detours);
     return mls.status == MlsStatus::Ok && mls.condition <= kSelectionCondition;
   };
-  for (const auto& [p, r] : visible) {
-    if (accepted(false) || static_cast<int>(out.particles.size()) == EfgOptions::kMaxNeighbours)
-      break;
+  int visited = 0;
+  bool ok = false, done = false;
+  graph_.searchFrom(graph_.ipNode(e), [&](int v, double r) {
+    if (v >= n) {
+      if (v != graph_.ipNode(e) && out.nearest_ip < 0 && grid.volumes(v - n) > 0.0)
+        out.nearest_ip = v - n;
+      return true;
+    }
+    ++visited;
     Eigen::Matrix3Xd with(3, points.cols() + 1);
-    with << points, grid.particles.col(p);
+    with << points, grid.particles.col(v);
     const int size = static_cast<int>(with.cols());
     const int free_places = std::max(target - size, 0);
-    if (size < target && affineRank(with, scale) + free_places < 3) continue;
-    points = with;
-    out.particles.push_back(p);
-    out.distances.push_back(r);
-  }
-  if (!accepted(true)) {
+    if (size >= target || affineRank(with, scale) + free_places >= 3) {
+      points = with;
+      out.particles.push_back(v);
+      out.distances.push_back(r);
+      ok = accepted(false);
+      done = ok || size == EfgOptions::kMaxNeighbours;
+    }
+    return !done && visited < kMaxCandidates;
+  });
+  if (!done) ok = accepted(true);  // every visible particle seen
+  if (!ok) {
     out.particles.clear();
     out.distances.clear();
   }

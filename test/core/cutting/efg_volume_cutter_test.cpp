@@ -140,6 +140,47 @@ void expectSplitAt(const EfgVolumeCutter& cutter, double z_cut) {
     EXPECT_EQ(label[static_cast<size_t>(p)], X(2, p) < z_cut ? below : above) << "particle " << p;
 }
 
+TEST(EfgTopologyGraph, GridNeighbourLinksAndInitialNeighbourhoods) {
+  const EfgModel m = cylinder();
+  EfgTopologyGraph g(m);
+  const int n = m.numNodes();
+  const Eigen::Matrix3Xd& X = m.grid().particles;
+  const double side = 2.0 * m.grid().spacing;
+  int particle_links = 0, ip_links = 0;
+  for (const EfgTopologyGraph::Link& l : g.links()) {
+    if (l.b < n) {
+      ++particle_links;
+      EXPECT_NEAR(l.rest_length, side, 1e-12 * side);
+      EXPECT_NEAR((X.col(l.a) - X.col(l.b)).cwiseAbs().maxCoeff(), side, 1e-12 * side);
+    } else {
+      ++ip_links;
+    }
+  }
+  // Every pair of particles one DOF cell apart along an axis is linked.
+  int pairs = 0;
+  for (int a = 0; a < n; ++a)
+    for (int b = a + 1; b < n; ++b) {
+      const Eigen::Vector3d d = (X.col(a) - X.col(b)).cwiseAbs();
+      pairs += std::abs(d.maxCoeff() - side) < 1e-9 * side && d.sum() < 1.5 * side;
+    }
+  EXPECT_EQ(particle_links, pairs);
+  EXPECT_EQ(ip_links, 8 * m.numIntegrationPoints());
+  // From an IP, the search reaches its 8 cell corners before any other particle.
+  const int e = m.numIntegrationPoints() / 2;
+  std::vector<int> first;
+  g.searchFrom(g.ipNode(e), [&](int v, double) {
+    if (v < n) first.push_back(v);
+    return first.size() < 8;
+  });
+  std::sort(first.begin(), first.end());
+  EXPECT_EQ(first, m.ipParticles(e));
+  std::vector<int> labels;
+  EXPECT_EQ(g.components(labels), 1);
+  for (const int l : g.linksOf(g.ipNode(e))) g.sever(l);
+  EXPECT_EQ(g.components(labels), 2);  // the IP alone
+  EXPECT_EQ(g.numSevered(), 8);
+}
+
 TEST(EfgVolumeCutter, StaticCylinderAndMovingBladeSeverTheSameLinksAsTheMirroredMotion) {
   const double z_cut = 0.0006;  // between particle and IP planes [m]
   EfgModel a = cylinder();
