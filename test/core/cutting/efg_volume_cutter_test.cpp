@@ -412,6 +412,35 @@ TEST(EfgVolumeCutter, MidCellCutMovesTheVolumeBeyondThePlane) {
   EXPECT_NEAR(moved_in, moved_out, 1e-15);
 }
 
+TEST(EfgVolumeCutter, RandomSweepsKeepMassCompletenessAndFiniteness) {
+  EfgModel model = cylinder();
+  const EfgModel before = model;
+  EfgVolumeCutter cutter(model);
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-0.025, 0.025);
+  const auto point = [&] { return Eigen::Vector3d(u(rng), u(rng), u(rng)); };
+  std::vector<int> changed;
+  for (int i = 0; i < 40; ++i) {
+    BladeSweep sweep{Eigen::Matrix3Xd(3, 3), Eigen::Matrix3Xd(3, 3)};
+    for (int c = 0; c < 3; ++c) {
+      sweep.start.col(c) = point();
+      sweep.end.col(c) = sweep.start.col(c) + 0.4 * point();
+    }
+    const EfgCutResult r = cutter.cut(sweep, model.restPositions(), model.restPositions());
+    for (const int e : r.changed_ips)
+      if (model.grid().volumes(e) > 0.0) changed.push_back(e);
+  }
+  std::sort(changed.begin(), changed.end());
+  changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+  EXPECT_GT(changed.size(), 100u);
+  EXPECT_NEAR(totalMass(model), totalMass(before), 1e-12 * totalMass(before));
+  expectLinearCompleteness(model, changed);
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(model.restPositions().size());
+  model.addInternalForce(model.restPositions(), f);
+  EXPECT_LT(f.cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_TRUE(model.bodyForce(Eigen::Vector3d(0, 0, -9.81)).allFinite());
+}
+
 TEST(EfgVolumeCutter, BladeThatMissesChangesNoBit) {
   EfgModel model = cylinder();
   const EfgModel before = model;
