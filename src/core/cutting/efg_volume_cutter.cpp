@@ -169,11 +169,14 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
   EfgCutResult result;
 
   // 1. Broad phase: particles whose motion box meets the sweep's grown box, then their links.
-  Eigen::Vector3d lo = sweep.start.rowwise().minCoeff().cwiseMin(sweep.end.rowwise().minCoeff());
-  Eigen::Vector3d hi = sweep.start.rowwise().maxCoeff().cwiseMax(sweep.end.rowwise().maxCoeff());
+  const double tolerance = 1e-9 * grid.spacing;  // [m]
+  const Eigen::Vector3d sweep_lo =
+      sweep.start.rowwise().minCoeff().cwiseMin(sweep.end.rowwise().minCoeff()).array() - tolerance;
+  const Eigen::Vector3d sweep_hi =
+      sweep.start.rowwise().maxCoeff().cwiseMax(sweep.end.rowwise().maxCoeff()).array() + tolerance;
   const double margin = kStretchMargin * max_link_length_;
-  lo.array() -= margin;
-  hi.array() += margin;
+  const Eigen::Vector3d lo = sweep_lo.array() - margin;
+  const Eigen::Vector3d hi = sweep_hi.array() + margin;
   std::vector<int> candidates;
   std::vector<char> marked(graph_.links().size(), 0);
   for (int p = 0; p < n; ++p) {
@@ -199,7 +202,6 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
       sum += phi(static_cast<Eigen::Index>(a)) * x.segment<3>(3 * particles[a]);
     return sum;
   };
-  const double tolerance = 1e-9 * grid.spacing;           // [m]
   std::map<int, std::vector<Eigen::Vector3d>> crossings;  // IP -> rest crossing points [m]
   std::vector<Eigen::Vector3d> all_crossings;
   std::sort(candidates.begin(), candidates.end());
@@ -207,7 +209,25 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
     const EfgTopologyGraph::Link& link = graph_.links()[static_cast<size_t>(l)];
     const Eigen::Vector3d e0s = position(link.a, x_start), e1s = position(link.b, x_start);
     const Eigen::Vector3d e0e = position(link.a, x_end), e1e = position(link.b, x_end);
+    // The link's motion box against the sweep's, then each segment's.
+    const Eigen::Vector3d link_lo = e0s.cwiseMin(e1s).cwiseMin(e0e.cwiseMin(e1e));
+    const Eigen::Vector3d link_hi = e0s.cwiseMax(e1s).cwiseMax(e0e.cwiseMax(e1e));
+    const auto disjoint = [&](const Eigen::Vector3d& a_lo, const Eigen::Vector3d& a_hi) {
+      return (a_hi.array() < link_lo.array()).any() || (a_lo.array() > link_hi.array()).any();
+    };
+    if (disjoint(sweep_lo, sweep_hi)) continue;
     for (Eigen::Index i = 0; i + 1 < sweep.start.cols(); ++i) {
+      const Eigen::Vector3d seg_lo = sweep.start.col(i)
+                                         .cwiseMin(sweep.start.col(i + 1))
+                                         .cwiseMin(sweep.end.col(i).cwiseMin(sweep.end.col(i + 1)))
+                                         .array() -
+                                     tolerance;
+      const Eigen::Vector3d seg_hi = sweep.start.col(i)
+                                         .cwiseMax(sweep.start.col(i + 1))
+                                         .cwiseMax(sweep.end.col(i).cwiseMax(sweep.end.col(i + 1)))
+                                         .array() +
+                                     tolerance;
+      if (disjoint(seg_lo, seg_hi)) continue;
       const auto hit =
           edgeSweepCrossing(sweep.start.col(i), sweep.start.col(i + 1), sweep.end.col(i),
                             sweep.end.col(i + 1), e0s, e1s, e0e, e1e, tolerance);
