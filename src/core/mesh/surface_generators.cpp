@@ -91,4 +91,94 @@ TriMesh makeLiverSurface(const Eigen::Vector3d& semi_axes, int subdivisions) {
   return m;
 }
 
+namespace {
+
+void requireSegments(const std::string& name, int value, int lowest) {
+  if (value < lowest || value > kMaxSurfaceSegments) {
+    throw std::invalid_argument(name + " = " + std::to_string(value) +
+                                " is out of range: must be in [" + std::to_string(lowest) + ", " +
+                                std::to_string(kMaxSurfaceSegments) + "]");
+  }
+}
+
+/// Adds the two outward triangles of each cell of a (columns x rows) vertex grid that wraps
+/// around in the column direction (and in the row direction when wrap_rows), vertex (i, j) at
+/// index i + columns j, outward = d/di x d/dj.
+void addWrappedGrid(int columns, int rows, bool wrap_rows, std::vector<Eigen::Vector3i>& out) {
+  const int cell_rows = wrap_rows ? rows : rows - 1;
+  for (int j = 0; j < cell_rows; ++j) {
+    for (int i = 0; i < columns; ++i) {
+      const int i1 = (i + 1) % columns, j1 = (j + 1) % rows;
+      const int a = i + columns * j, b = i1 + columns * j;
+      const int c = i1 + columns * j1, d = i + columns * j1;
+      out.emplace_back(a, b, c);
+      out.emplace_back(a, c, d);
+    }
+  }
+}
+
+TriMesh toMesh(const std::vector<Eigen::Vector3d>& vertices,
+               const std::vector<Eigen::Vector3i>& triangles) {
+  TriMesh m;
+  m.vertices.resize(3, static_cast<Eigen::Index>(vertices.size()));
+  for (size_t v = 0; v < vertices.size(); ++v)
+    m.vertices.col(static_cast<Eigen::Index>(v)) = vertices[v];
+  m.triangles.resize(3, static_cast<Eigen::Index>(triangles.size()));
+  for (size_t t = 0; t < triangles.size(); ++t)
+    m.triangles.col(static_cast<Eigen::Index>(t)) = triangles[t];
+  return m;
+}
+
+}  // namespace
+
+TriMesh makeCylinder(double radius, double length, int segments, int rings) {
+  requirePositive("makeCylinder: radius", radius, "m");
+  requirePositive("makeCylinder: length", length, "m");
+  requireSegments("makeCylinder: segments", segments, 3);
+  requireSegments("makeCylinder: rings", rings, 1);
+  std::vector<Eigen::Vector3d> vertices;
+  for (int j = 0; j <= rings; ++j) {
+    const double z = -0.5 * length + length * j / rings;
+    for (int i = 0; i < segments; ++i) {
+      const double u = 2.0 * M_PI * i / segments;
+      vertices.emplace_back(radius * std::cos(u), radius * std::sin(u), z);
+    }
+  }
+  std::vector<Eigen::Vector3i> triangles;
+  addWrappedGrid(segments, rings + 1, false, triangles);
+  const int bottom = static_cast<int>(vertices.size());
+  vertices.emplace_back(0.0, 0.0, -0.5 * length);
+  vertices.emplace_back(0.0, 0.0, 0.5 * length);
+  const int top_ring = segments * rings;
+  for (int i = 0; i < segments; ++i) {
+    const int i1 = (i + 1) % segments;
+    triangles.emplace_back(bottom, i1, i);
+    triangles.emplace_back(bottom + 1, top_ring + i, top_ring + i1);
+  }
+  return toMesh(vertices, triangles);
+}
+
+TriMesh makeTorus(double major, double minor, int major_segments, int minor_segments) {
+  requirePositive("makeTorus: minor", minor, "m");
+  if (!std::isfinite(major) || !(major > minor)) {
+    throw std::invalid_argument(
+        "makeTorus: major = " + std::to_string(major) +
+        " m is out of range: must be finite and > minor = " + std::to_string(minor) + " m");
+  }
+  requireSegments("makeTorus: major_segments", major_segments, 3);
+  requireSegments("makeTorus: minor_segments", minor_segments, 3);
+  std::vector<Eigen::Vector3d> vertices;
+  for (int j = 0; j < minor_segments; ++j) {
+    const double v = 2.0 * M_PI * j / minor_segments;
+    for (int i = 0; i < major_segments; ++i) {
+      const double u = 2.0 * M_PI * i / major_segments;
+      const double rho = major + minor * std::cos(v);
+      vertices.emplace_back(rho * std::cos(u), rho * std::sin(u), minor * std::sin(v));
+    }
+  }
+  std::vector<Eigen::Vector3i> triangles;
+  addWrappedGrid(major_segments, minor_segments, true, triangles);
+  return toMesh(vertices, triangles);
+}
+
 }  // namespace surgical_sim::core

@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -64,6 +65,14 @@ void rotatedLinearStiffness(const ElementMatrix<K>& L, double mu, double lambda,
 
 }  // namespace
 
+struct EfgModel::IpShape {
+  Eigen::VectorXd phi;
+  Eigen::MatrixXd grad;      ///< k x 3 [1/m]
+  Eigen::MatrixXd matching;  ///< k x 3 [1/m]
+  Eigen::VectorXd detours;   ///< k [m]
+  double support = 0.0;      ///< [m]
+};
+
 EfgModel::EfgModel(const TetMesh& mesh, const Material& material, const EfgOptions& options)
     : EfgModel(buildEfgGrid(mesh, options), material, options) {}
 
@@ -75,95 +84,245 @@ EfgModel::EfgModel(EfgGrid grid, const Material& material, const EfgOptions& opt
       law_(Material::validated(material)),
       mu_(material.mu()),
       lambda_(material.lambda()),
-      grid_(std::move(grid)),
-      k_(options.neighbours) {
+      density_(material.density),
+      grid_(std::move(grid)) {
   const int n = static_cast<int>(grid_.particles.cols());
   const int m = static_cast<int>(grid_.integration_points.cols());
-  // Canonical order, so that IPs with the same particles have identical columns.
+  const int k = options.neighbours;
+  // Canonical order, so that IPs with the same particles have identical sets.
   for (int e = 0; e < m; ++e)
     std::sort(grid_.neighbours.col(e).begin(), grid_.neighbours.col(e).end());
   rest_positions_ = Eigen::Map<const Eigen::VectorXd>(grid_.particles.data(), 3 * n);
   body_weight_ = Eigen::VectorXd::Zero(n);
-  Eigen::VectorXd node_mass = Eigen::VectorXd::Zero(n);
-  shape_values_.resize(static_cast<size_t>(m) * k_);
-  gradients_.resize(static_cast<size_t>(m) * k_ * 3);
-  matching_.resize(static_cast<size_t>(m) * k_ * 3);
-  Eigen::Matrix3Xd points(3, k_);
+  lumped_mass_ = Eigen::VectorXd::Zero(3 * n);
+  ip_particles_.resize(static_cast<size_t>(m));
+  slot_.resize(static_cast<size_t>(m));
+  slot_capacity_.assign(static_cast<size_t>(m), k);
+  support_.resize(static_cast<size_t>(m));
+  for (int e = 0; e < m; ++e) slot_[static_cast<size_t>(e)] = static_cast<size_t>(e) * k;
+  shape_values_.resize(static_cast<size_t>(m) * k);
+  detours_.assign(static_cast<size_t>(m) * k, 0.0);
+  gradients_.resize(static_cast<size_t>(m) * k * 3);
+  matching_.resize(static_cast<size_t>(m) * k * 3);
+  const Eigen::VectorXd no_detours = Eigen::VectorXd::Zero(k);
   for (int e = 0; e < m; ++e) {
-    const Eigen::Vector3d x_e = grid_.integration_points.col(e);
-    for (int a = 0; a < k_; ++a) points.col(a) = grid_.particles.col(grid_.neighbours(a, e));
-    const Eigen::Matrix3Xd rel = points.colwise() - x_e;
-    const double h = options_.kernel_support * rel.colwise().norm().maxCoeff();  // [m]
-    const MlsShapeFunctions mls = computeMlsShapeFunctions(x_e, points, h);
-    support_.push_back(h);
-    if (mls.status != MlsStatus::Ok) {
-      throw std::invalid_argument("EfgModel: integration point " + std::to_string(e) + " at (" +
-                                  std::to_string(x_e.x()) + ", " + std::to_string(x_e.y()) + ", " +
-                                  std::to_string(x_e.z()) + ") m: MLS moment matrix " +
-                                  toString(mls.status) +
-                                  " (check efg.neighbours and efg.kernel_support)");
-    }
-    Eigen::Map<Eigen::VectorXd>(shape_values_.data() + static_cast<size_t>(e) * k_, k_) = mls.phi;
-    Eigen::Map<Eigen::MatrixXd>(gradients_.data() + static_cast<size_t>(e) * k_ * 3, k_, 3) =
-        mls.grad;
-    // Shape matching: kernel weights, weighted centroid and the normalised moments.
-    Eigen::VectorXd w(k_);
-    for (int a = 0; a < k_; ++a) w(a) = quarticSplineKernel(rel.col(a).norm() / h);
-    w /= w.sum();
-    const Eigen::Matrix3Xd q = points.colwise() - points * w;
-    const double moment = (q * w.asDiagonal() * q.transpose()).trace() / 3.0;  // [m^2]
-    Eigen::Map<Eigen::MatrixXd>(matching_.data() + static_cast<size_t>(e) * k_ * 3, k_, 3) =
-        (q * w.asDiagonal()).transpose() / moment;
-
-    const double mass = material.density * grid_.volumes(e);
-    const double phi2 = mls.phi.squaredNorm();
-    for (int a = 0; a < k_; ++a) {
-      const int node = grid_.neighbours(a, e);
-      body_weight_(node) += mass * mls.phi(a);
-      node_mass(node) += mass * mls.phi(a) * mls.phi(a) / phi2;
-    }
+    std::vector<int> particles(grid_.neighbours.col(e).begin(), grid_.neighbours.col(e).end());
+    const IpShape shape = computeIp(e, particles, no_detours);
+    storeIp(e, std::move(particles), shape);
+    addIpMass(e, 1.0);
   }
-  lumped_mass_.resize(3 * n);
-  for (int i = 0; i < n; ++i) lumped_mass_.segment<3>(3 * i).setConstant(node_mass(i));
   groupIntegrationPoints();
-  setGroups(n, group_nodes_);
+}
+
+EfgModel::IpShape EfgModel::computeIp(int e, const std::vector<int>& particles,
+                                      const Eigen::VectorXd& detours) const {
+  const int k = static_cast<int>(particles.size());
+  const Eigen::Vector3d x_e = grid_.integration_points.col(e);
+  Eigen::Matrix3Xd points(3, k);
+  for (int a = 0; a < k; ++a)
+    points.col(a) = grid_.particles.col(particles[static_cast<size_t>(a)]);
+  const Eigen::Matrix3Xd rel = points.colwise() - x_e;
+  IpShape out;
+  out.detours = detours;
+  const Eigen::VectorXd r = rel.colwise().norm().transpose() + detours;  // kernel distances [m]
+  out.support = options_.kernel_support * r.maxCoeff();
+  const MlsShapeFunctions mls = computeMlsShapeFunctions(x_e, points, out.support, detours);
+  if (mls.status != MlsStatus::Ok) {
+    throw std::invalid_argument("EfgModel: integration point " + std::to_string(e) + " at (" +
+                                std::to_string(x_e.x()) + ", " + std::to_string(x_e.y()) + ", " +
+                                std::to_string(x_e.z()) + ") m with " + std::to_string(k) +
+                                " particles: MLS moment matrix " + toString(mls.status) +
+                                " (check efg.neighbours and efg.kernel_support)");
+  }
+  out.phi = mls.phi;
+  out.grad = mls.grad;
+  // Shape matching: kernel weights, weighted centroid and the normalised moments.
+  Eigen::VectorXd w(k);
+  for (int a = 0; a < k; ++a) w(a) = quarticSplineKernel(r(a) / out.support);
+  w /= w.sum();
+  const Eigen::Matrix3Xd q = points.colwise() - points * w;
+  const double moment = (q * w.asDiagonal() * q.transpose()).trace() / 3.0;  // [m^2]
+  out.matching = (q * w.asDiagonal()).transpose() / moment;
+  return out;
+}
+
+void EfgModel::storeIp(int e, std::vector<int> particles, const IpShape& shape) {
+  const size_t ie = static_cast<size_t>(e);
+  const int k = static_cast<int>(particles.size());
+  if (k > slot_capacity_[ie]) {
+    slot_[ie] = shape_values_.size();
+    slot_capacity_[ie] = k;
+    shape_values_.resize(shape_values_.size() + k);
+    detours_.resize(detours_.size() + k);
+    gradients_.resize(gradients_.size() + 3 * k);
+    matching_.resize(matching_.size() + 3 * k);
+  }
+  const size_t slot = slot_[ie];
+  Eigen::Map<Eigen::VectorXd>(shape_values_.data() + slot, k) = shape.phi;
+  Eigen::Map<Eigen::VectorXd>(detours_.data() + slot, k) = shape.detours;
+  Eigen::Map<Eigen::MatrixXd>(gradients_.data() + 3 * slot, k, 3) = shape.grad;
+  Eigen::Map<Eigen::MatrixXd>(matching_.data() + 3 * slot, k, 3) = shape.matching;
+  support_[ie] = shape.support;
+  ip_particles_[ie] = std::move(particles);
+}
+
+void EfgModel::addIpMass(int e, double sign) {
+  const std::vector<int>& particles = ipParticles(e);
+  const Eigen::Map<const Eigen::VectorXd> phi = shapeValues(e);
+  const double mass = sign * density_ * grid_.volumes(e);  // [kg]
+  const double phi2 = phi.squaredNorm();
+  for (size_t a = 0; a < particles.size(); ++a) {
+    const int node = particles[a];
+    const double phi_a = phi(static_cast<Eigen::Index>(a));
+    body_weight_(node) += mass * phi_a;
+    lumped_mass_.segment<3>(3 * node).array() += mass * phi_a * phi_a / phi2;
+  }
+}
+
+void EfgModel::setNeighbourhoods(const std::vector<EfgNeighbourhood>& changes) {
+  const int n = static_cast<int>(grid_.particles.cols());
+  const int m = numIntegrationPoints();
+  std::vector<char> seen(static_cast<size_t>(m), 0);
+  std::vector<std::pair<std::vector<int>, IpShape>> shapes;
+  shapes.reserve(changes.size());
+  for (const EfgNeighbourhood& c : changes) {
+    const auto fail = [&](const std::string& what) {
+      throw std::invalid_argument("EfgModel::setNeighbourhoods: integration point " +
+                                  std::to_string(c.ip) + ": " + what);
+    };
+    if (c.ip < 0 || c.ip >= m) fail("index out of range [0, " + std::to_string(m) + ")");
+    if (seen[static_cast<size_t>(c.ip)]++ != 0) fail("listed twice");
+    const int k = static_cast<int>(c.particles.size());
+    if (k < 4 || k > EfgOptions::kMaxNeighbours) {
+      fail(std::to_string(k) + " particles: must be in [4, " +
+           std::to_string(EfgOptions::kMaxNeighbours) + "]");
+    }
+    if (!c.distances.empty() && static_cast<int>(c.distances.size()) != k)
+      fail("distances has " + std::to_string(c.distances.size()) + " entries, particles " +
+           std::to_string(k));
+    if (!std::isfinite(c.volume) || c.volume < 0.0)
+      fail("volume " + std::to_string(c.volume) + " m^3: must be finite and >= 0");
+    std::vector<int> order(static_cast<size_t>(k));
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](int a, int b) {
+      return c.particles[static_cast<size_t>(a)] < c.particles[static_cast<size_t>(b)];
+    });
+    std::vector<int> particles(static_cast<size_t>(k));
+    Eigen::VectorXd detours = Eigen::VectorXd::Zero(k);
+    for (int a = 0; a < k; ++a) {
+      const size_t src = static_cast<size_t>(order[static_cast<size_t>(a)]);
+      const int p = c.particles[src];
+      if (p < 0 || p >= n) fail("particle " + std::to_string(p) + " out of range");
+      if (a > 0 && particles[static_cast<size_t>(a) - 1] == p)
+        fail("particle " + std::to_string(p) + " repeated");
+      particles[static_cast<size_t>(a)] = p;
+      if (c.distances.empty()) continue;
+      const double euclidean = (grid_.particles.col(p) - grid_.integration_points.col(c.ip)).norm();
+      const double r = c.distances[src];
+      if (!std::isfinite(r) || r < euclidean * (1.0 - 1e-12))
+        fail("distance " + std::to_string(r) + " m of particle " + std::to_string(p) +
+             ": must be finite and >= its Euclidean distance " + std::to_string(euclidean) + " m");
+      detours(a) = std::max(0.0, r - euclidean);
+    }
+    IpShape shape = computeIp(c.ip, particles, detours);
+    shapes.emplace_back(std::move(particles), std::move(shape));
+  }
+  for (size_t i = 0; i < changes.size(); ++i) {
+    const int e = changes[i].ip;
+    addIpMass(e, -1.0);
+    grid_.volumes(e) = changes[i].volume;
+    storeIp(e, std::move(shapes[i].first), shapes[i].second);
+    addIpMass(e, 1.0);
+  }
+  groupIntegrationPoints();
 }
 
 void EfgModel::groupIntegrationPoints() {
-  const Eigen::MatrixXi& nb = grid_.neighbours;  // columns sorted
-  group_ips_.resize(static_cast<size_t>(nb.cols()));
-  std::iota(group_ips_.begin(), group_ips_.end(), 0);
-  const auto column = [&](int e) { return nb.col(e); };
-  std::stable_sort(group_ips_.begin(), group_ips_.end(), [&](int a, int b) {
-    return std::lexicographical_compare(column(a).begin(), column(a).end(), column(b).begin(),
-                                        column(b).end());
+  const int m = numIntegrationPoints();
+  std::vector<int> order(static_cast<size_t>(m));
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    const std::vector<int>& pa = ipParticles(a);
+    const std::vector<int>& pb = ipParticles(b);
+    return pa.size() != pb.size() ? pa.size() < pb.size() : pa < pb;
   });
-  group_first_.clear();
-  std::vector<int> first_ips;
-  for (int p = 0; p < static_cast<int>(group_ips_.size()); ++p) {
-    if (p == 0 || column(group_ips_[static_cast<size_t>(p)]) !=
-                      column(group_ips_[static_cast<size_t>(p) - 1])) {
-      group_first_.push_back(p);
-      first_ips.push_back(group_ips_[static_cast<size_t>(p)]);
+  buckets_.clear();
+  int width = 0;
+  for (int p = 0; p < m; ++p) {
+    const int e = order[static_cast<size_t>(p)];
+    const std::vector<int>& particles = ipParticles(e);
+    const int k = static_cast<int>(particles.size());
+    if (buckets_.empty() || buckets_.back().k != k) {
+      buckets_.emplace_back();
+      buckets_.back().k = k;
+      width = std::max(width, k);
+    }
+    GroupBucket& b = buckets_.back();
+    if (b.ips.empty() || ipParticles(b.ips.back()) != particles)
+      b.first.push_back(static_cast<int>(b.ips.size()));
+    b.ips.push_back(e);
+  }
+  // Pattern over all buckets: groups padded to the widest with their first particle.
+  Eigen::Index groups = 0;
+  for (GroupBucket& b : buckets_) {
+    b.first.push_back(static_cast<int>(b.ips.size()));
+    const Eigen::Index g = static_cast<Eigen::Index>(b.first.size()) - 1;
+    b.nodes.resize(b.k, g);
+    for (Eigen::Index j = 0; j < g; ++j) {
+      const std::vector<int>& particles = ipParticles(b.ips[static_cast<size_t>(b.first[j])]);
+      for (int a = 0; a < b.k; ++a) b.nodes(a, j) = particles[static_cast<size_t>(a)];
+    }
+    groups += g;
+  }
+  Eigen::MatrixXi padded(width, groups);
+  Eigen::Index column = 0;
+  for (const GroupBucket& b : buckets_) {
+    for (Eigen::Index j = 0; j < b.nodes.cols(); ++j, ++column) {
+      padded.col(column).head(b.k) = b.nodes.col(j);
+      padded.col(column).tail(width - b.k).setConstant(b.nodes(0, j));
     }
   }
-  group_first_.push_back(static_cast<int>(group_ips_.size()));
-  group_nodes_.resize(nb.rows(), static_cast<Eigen::Index>(first_ips.size()));
-  for (size_t g = 0; g < first_ips.size(); ++g)
-    group_nodes_.col(static_cast<Eigen::Index>(g)) = nb.col(first_ips[g]);
+  setGroups(static_cast<int>(grid_.particles.cols()), padded);
+  for (GroupBucket& b : buckets_) b.scatter = BlockScatterMap(stiffnessPattern(), b.nodes);
 }
 
 Eigen::Map<const Eigen::VectorXd> EfgModel::shapeValues(int e) const {
-  return {shape_values_.data() + static_cast<size_t>(e) * k_, k_};
+  return {shape_values_.data() + slot_[static_cast<size_t>(e)],
+          static_cast<Eigen::Index>(ipParticles(e).size())};
+}
+
+Eigen::Map<const Eigen::VectorXd> EfgModel::detours(int e) const {
+  return {detours_.data() + slot_[static_cast<size_t>(e)],
+          static_cast<Eigen::Index>(ipParticles(e).size())};
 }
 
 Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3>> EfgModel::shapeGradients(int e) const {
-  return {gradients_.data() + static_cast<size_t>(e) * k_ * 3, k_, 3};
+  return {gradients_.data() + 3 * slot_[static_cast<size_t>(e)],
+          static_cast<Eigen::Index>(ipParticles(e).size()), 3};
+}
+
+void EfgModel::pointWeights(int e, const Eigen::Vector3d& X, std::vector<int>& particles,
+                            std::vector<double>& weights) const {
+  if (e < 0 || e >= numIntegrationPoints()) {
+    throw std::invalid_argument("EfgModel::pointWeights: ip = " + std::to_string(e) +
+                                " out of range [0, " + std::to_string(numIntegrationPoints()) +
+                                ")");
+  }
+  particles = ipParticles(e);
+  const Eigen::Index k = static_cast<Eigen::Index>(particles.size());
+  Eigen::Matrix3Xd points(3, k);
+  for (Eigen::Index a = 0; a < k; ++a)
+    points.col(a) = grid_.particles.col(particles[static_cast<size_t>(a)]);
+  const MlsShapeFunctions mls =
+      computeMlsShapeFunctions(X, points, support_[static_cast<size_t>(e)], detours(e));
+  const Eigen::VectorXd phi = mls.status == MlsStatus::Ok ? mls.phi : shapeValues(e);
+  weights.assign(phi.data(), phi.data() + k);
 }
 
 Eigen::SparseMatrix<double> EfgModel::interpolation(const Eigen::Matrix3Xd& points) const {
-  std::vector<Eigen::Triplet<double>> weights;
-  Eigen::Matrix3Xd neighbours(3, k_);
+  std::vector<Eigen::Triplet<double>> triplets;
+  std::vector<int> particles;
+  std::vector<double> weights;
   for (int i = 0; i < points.cols(); ++i) {
     const Eigen::Vector3d p = points.col(i);
     const Eigen::Vector3d cell = ((p - grid_.origin) / grid_.spacing).array().floor();
@@ -177,16 +336,12 @@ Eigen::SparseMatrix<double> EfgModel::interpolation(const Eigen::Matrix3Xd& poin
     if (e < 0) {
       (grid_.integration_points.colwise() - p).colwise().squaredNorm().minCoeff(&e);
     }
-    for (int a = 0; a < k_; ++a) neighbours.col(a) = grid_.particles.col(grid_.neighbours(a, e));
-    const MlsShapeFunctions mls =
-        computeMlsShapeFunctions(p, neighbours, support_[static_cast<size_t>(e)]);
-    // A point far outside its IP's support: the IP's own weights.
-    const Eigen::VectorXd phi =
-        mls.status == MlsStatus::Ok ? mls.phi : Eigen::VectorXd(shapeValues(e));
-    for (int a = 0; a < k_; ++a) weights.emplace_back(i, grid_.neighbours(a, e), phi(a));
+    pointWeights(e, p, particles, weights);
+    for (size_t a = 0; a < particles.size(); ++a)
+      triplets.emplace_back(i, particles[a], weights[a]);
   }
   Eigen::SparseMatrix<double> W(points.cols(), grid_.particles.cols());
-  W.setFromTriplets(weights.begin(), weights.end());
+  W.setFromTriplets(triplets.begin(), triplets.end());
   return W;
 }
 
@@ -199,7 +354,7 @@ Eigen::VectorXd EfgModel::bodyForce(const Eigen::Vector3d& a) const {
 template <typename Nodes>
 Eigen::Matrix3d EfgModel::matchingRotation(const Nodes& xe, int e) const {
   const Eigen::Map<const Eigen::MatrixXd> weights(
-      matching_.data() + static_cast<size_t>(e) * k_ * 3, k_, 3);
+      matching_.data() + 3 * slot_[static_cast<size_t>(e)], xe.cols(), 3);
   return computeSignedRotation(xe * weights);
 }
 
@@ -215,14 +370,26 @@ double EfgModel::matchingEnergyDensity(const Eigen::Matrix3d& F, const Eigen::Ma
   return mu_ * eps.squaredNorm() + 0.5 * lambda_ * eps.trace() * eps.trace();
 }
 
+template <typename Body>
+void EfgModel::forEachBucket(Body&& body) const {
+  for (const GroupBucket& bucket : buckets_) {
+    if (bucket.k == 8) {
+      body(bucket, std::integral_constant<int, 8>());
+    } else {
+      body(bucket, std::integral_constant<int, Eigen::Dynamic>());
+    }
+  }
+}
+
 template <int K>
-double EfgModel::energyImpl(const Eigen::VectorXd& x) const {
+double EfgModel::energyImpl(const GroupBucket& bucket, const Eigen::VectorXd& x) const {
+  const int k = bucket.k;
   double energy = 0.0;
-  for (int g = 0; g < group_nodes_.cols(); ++g) {
-    const NodeMatrix<K> xe = gather<K>(x, group_nodes_, g);
-    for (int p = group_first_[g]; p < group_first_[g + 1]; ++p) {
-      const int e = group_ips_[p];
-      const GradientMap<K> G(gradients_.data() + static_cast<size_t>(e) * k_ * 3, k_, 3);
+  for (int g = 0; g < bucket.nodes.cols(); ++g) {
+    const NodeMatrix<K> xe = gather<K>(x, bucket.nodes, g);
+    for (int p = bucket.first[g]; p < bucket.first[g + 1]; ++p) {
+      const int e = bucket.ips[p];
+      const GradientMap<K> G(gradients_.data() + 3 * slot_[e], k, 3);
       const Eigen::Matrix3d F = xe * G;
       const double psi = options_.rotation == EfgRotation::Polar
                              ? law_.energyDensity(F)
@@ -234,42 +401,44 @@ double EfgModel::energyImpl(const Eigen::VectorXd& x) const {
 }
 
 template <int K>
-void EfgModel::forceImpl(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
-  for (int g = 0; g < group_nodes_.cols(); ++g) {
-    const NodeMatrix<K> xe = gather<K>(x, group_nodes_, g);
-    NodeMatrix<K> fe = NodeMatrix<K>::Zero(3, k_);
-    for (int p = group_first_[g]; p < group_first_[g + 1]; ++p) {
-      const int e = group_ips_[p];
-      const GradientMap<K> G(gradients_.data() + static_cast<size_t>(e) * k_ * 3, k_, 3);
+void EfgModel::forceImpl(const GroupBucket& bucket, const Eigen::VectorXd& x,
+                         Eigen::VectorXd& f) const {
+  const int k = bucket.k;
+  for (int g = 0; g < bucket.nodes.cols(); ++g) {
+    const NodeMatrix<K> xe = gather<K>(x, bucket.nodes, g);
+    NodeMatrix<K> fe = NodeMatrix<K>::Zero(3, k);
+    for (int p = bucket.first[g]; p < bucket.first[g + 1]; ++p) {
+      const int e = bucket.ips[p];
+      const GradientMap<K> G(gradients_.data() + 3 * slot_[e], k, 3);
       const Eigen::Matrix3d F = xe * G;
       const Eigen::Matrix3d P = options_.rotation == EfgRotation::Polar
                                     ? law_.firstPiola(F)
                                     : rotatedStress(F, matchingRotation(xe, e));
       fe.noalias() -= (grid_.volumes(e) * P) * G.transpose();
     }
-    scatter<K>(fe, group_nodes_, g, f);
+    scatter<K>(fe, bucket.nodes, g, f);
   }
 }
 
 template <int K, typename Sink>
-void EfgModel::stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
-                             double* energy, Sink&& sink) const {
-  if (energy != nullptr) *energy = 0.0;
+void EfgModel::stiffnessImpl(const GroupBucket& bucket, const Eigen::VectorXd& x, TangentMode mode,
+                             Eigen::VectorXd* f, double* energy, Sink&& sink) const {
   // Rotated linear tangents (shape matching, projected polar) accumulate L (see
   // rotatedLinearStiffness) over the group; the exact polar tangent accumulates Ke directly.
   const bool rotated_linear =
       options_.rotation == EfgRotation::ShapeMatching || mode == TangentMode::ProjectedSpd;
-  ElementMatrix<K> Ke(3 * k_, 3 * k_);
-  ElementMatrix<K> L(3 * k_, 3 * k_);
-  NodeMatrix<K> fe(3, k_);
-  NodeMatrix<K> H(3, k_);
-  for (int g = 0; g < group_nodes_.cols(); ++g) {
-    const NodeMatrix<K> xe = gather<K>(x, group_nodes_, g);
+  const int k = bucket.k;
+  ElementMatrix<K> Ke(3 * k, 3 * k);
+  ElementMatrix<K> L(3 * k, 3 * k);
+  NodeMatrix<K> fe(3, k);
+  NodeMatrix<K> H(3, k);
+  for (int g = 0; g < bucket.nodes.cols(); ++g) {
+    const NodeMatrix<K> xe = gather<K>(x, bucket.nodes, g);
     (rotated_linear ? L : Ke).setZero();
     fe.setZero();
-    for (int p = group_first_[g]; p < group_first_[g + 1]; ++p) {
-      const int e = group_ips_[p];
-      const GradientMap<K> G(gradients_.data() + static_cast<size_t>(e) * k_ * 3, k_, 3);
+    for (int p = bucket.first[g]; p < bucket.first[g + 1]; ++p) {
+      const int e = bucket.ips[p];
+      const GradientMap<K> G(gradients_.data() + 3 * slot_[e], k, 3);
       const double w = grid_.volumes(e);
       const Eigen::Matrix3d F = xe * G;
       Eigen::Matrix3d P;
@@ -286,32 +455,34 @@ void EfgModel::stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::
           if (energy != nullptr) *energy += w * point.energy_density;
         }
         H.noalias() = R * G.transpose();
-        const Eigen::Map<const RankVector<K>> h(H.data(), 3 * k_);
+        const Eigen::Map<const RankVector<K>> h(H.data(), 3 * k);
         L.noalias() += (w * h) * h.transpose();
       } else {
         const StressAndTangent point = law_.stressAndTangent(F, mode);
         P = point.P;
-        if (energy != nullptr) *energy += w * law_.energyDensity(F);
         addPointStiffness(point.dPdF, G, w, Ke);
+        if (energy != nullptr) *energy += w * law_.energyDensity(F);
       }
       if (f != nullptr) fe.noalias() -= (w * P) * G.transpose();
     }
     if (rotated_linear) rotatedLinearStiffness<K>(L, mu_, lambda_, Ke);
-    if (f != nullptr) scatter<K>(fe, group_nodes_, g, *f);
+    if (f != nullptr) scatter<K>(fe, bucket.nodes, g, *f);
     sink(g, Ke);
   }
 }
 
 double EfgModel::energy(const Eigen::VectorXd& x) const {
-  return k_ == 8 ? energyImpl<8>(x) : energyImpl<Eigen::Dynamic>(x);
+  double energy = 0.0;
+  forEachBucket([&](const GroupBucket& bucket, auto size) {
+    energy += energyImpl<decltype(size)::value>(bucket, x);
+  });
+  return energy;
 }
 
 void EfgModel::addInternalForce(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
-  if (k_ == 8) {
-    forceImpl<8>(x, f);
-  } else {
-    forceImpl<Eigen::Dynamic>(x, f);
-  }
+  forEachBucket([&](const GroupBucket& bucket, auto size) {
+    forceImpl<decltype(size)::value>(bucket, x, f);
+  });
 }
 
 void EfgModel::addGroupStiffness(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
@@ -322,12 +493,12 @@ void EfgModel::addGroupStiffness(const Eigen::VectorXd& x, TangentMode mode, Eig
 void EfgModel::addGroupStiffnessAndEnergy(const Eigen::VectorXd& x, TangentMode mode,
                                           Eigen::VectorXd* f, double* values,
                                           double* energy) const {
-  const auto sink = [&](int g, const auto& Ke) { scatterGroup(g, Ke, values); };
-  if (k_ == 8) {
-    stiffnessImpl<8>(x, mode, f, energy, sink);
-  } else {
-    stiffnessImpl<Eigen::Dynamic>(x, mode, f, energy, sink);
-  }
+  if (energy != nullptr) *energy = 0.0;
+  forEachBucket([&](const GroupBucket& bucket, auto size) {
+    constexpr int K = decltype(size)::value;
+    stiffnessImpl<K>(bucket, x, mode, f, energy,
+                     [&](int g, const auto& Ke) { bucket.scatter.add(g, Ke, values); });
+  });
 }
 
 double EfgModel::addInternalForceStiffnessAndEnergy(const Eigen::VectorXd& x, TangentMode mode,
@@ -341,20 +512,17 @@ double EfgModel::addInternalForceStiffnessAndEnergy(const Eigen::VectorXd& x, Ta
 void EfgModel::applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const Eigen::VectorXd& v,
                               Eigen::VectorXd& y) const {
   y.setZero(rest_positions_.size());
-  const auto multiply = [&](int g, const auto& Ke) {
-    constexpr int kSize = std::decay_t<decltype(Ke)>::RowsAtCompileTime;
-    constexpr int kK = kSize == Eigen::Dynamic ? Eigen::Dynamic : kSize / 3;
-    const NodeMatrix<kK> ve = gather<kK>(v, group_nodes_, g);
-    const Eigen::Map<const RankVector<kK>> vv(ve.data(), 3 * k_);
-    const RankVector<kK> ye = Ke * vv;
-    for (int a = 0; a < k_; ++a)
-      y.segment<3>(3 * group_nodes_(a, g)) += ye.template segment<3>(3 * a);
-  };
-  if (k_ == 8) {
-    stiffnessImpl<8>(x, mode, nullptr, nullptr, multiply);
-  } else {
-    stiffnessImpl<Eigen::Dynamic>(x, mode, nullptr, nullptr, multiply);
-  }
+  forEachBucket([&](const GroupBucket& bucket, auto size) {
+    constexpr int K = decltype(size)::value;
+    const int k = bucket.k;
+    stiffnessImpl<K>(bucket, x, mode, nullptr, nullptr, [&](int g, const auto& Ke) {
+      const NodeMatrix<K> ve = gather<K>(v, bucket.nodes, g);
+      const Eigen::Map<const RankVector<K>> vv(ve.data(), 3 * k);
+      const RankVector<K> ye = Ke * vv;
+      for (int a = 0; a < k; ++a)
+        y.segment<3>(3 * bucket.nodes(a, g)) += ye.template segment<3>(3 * a);
+    });
+  });
 }
 
 }  // namespace surgical_sim::core

@@ -33,9 +33,15 @@ double quarticSplineKernel(double s) {
 
 MlsShapeFunctions computeMlsShapeFunctions(const Eigen::Vector3d& x, const Eigen::Matrix3Xd& points,
                                            double support) {
+  return computeMlsShapeFunctions(x, points, support, Eigen::VectorXd::Zero(points.cols()));
+}
+
+MlsShapeFunctions computeMlsShapeFunctions(const Eigen::Vector3d& x, const Eigen::Matrix3Xd& points,
+                                           double support, const Eigen::VectorXd& detours) {
   MlsShapeFunctions out;
   const Eigen::Index k = points.cols();
-  if (!x.allFinite() || !points.allFinite() || !std::isfinite(support)) {
+  if (!x.allFinite() || !points.allFinite() || !std::isfinite(support) || detours.size() != k ||
+      !detours.allFinite() || (detours.array() < 0.0).any()) {
     out.status = MlsStatus::NonFinite;
     return out;
   }
@@ -56,11 +62,17 @@ MlsShapeFunctions computeMlsShapeFunctions(const Eigen::Vector3d& x, const Eigen
   Eigen::VectorXd w(k);
   Eigen::Matrix<double, Eigen::Dynamic, 3> dw(k, 3);  // d w_i / dx [1/m]
   for (Eigen::Index i = 0; i < k; ++i) {
-    const double s = d.col(i).norm() / h;
+    const double r = d.col(i).norm();  // Euclidean distance [m]
+    const double s = (r + detours(i)) / h;
     w(i) = quarticSplineKernel(s);
-    // dw/dr = -12 s (1 - s)^2 / h and dr/dx = (x - x_i) / r = -d_i / r: dw/dx = 12 (1 - s)^2 d_i /
-    // h^2.
-    const double dw_dr_over_r = s < 1.0 ? 12.0 * (1.0 - s) * (1.0 - s) / (h * h) : 0.0;
+    // dw/dr = -12 s (1 - s)^2 / h and dr/dx = (x - x_i) / r = -d_i / r: dw/dx = 12 s (1 - s)^2
+    // d_i / (h r), which is 12 (1 - s)^2 d_i / h^2 without a detour.
+    double dw_dr_over_r = 0.0;
+    if (s < 1.0 && detours(i) == 0.0) {
+      dw_dr_over_r = 12.0 * (1.0 - s) * (1.0 - s) / (h * h);
+    } else if (s < 1.0 && r > 0.0) {
+      dw_dr_over_r = 12.0 * s * (1.0 - s) * (1.0 - s) / (h * r);
+    }
     dw.row(i) = dw_dr_over_r * d.col(i).transpose();
   }
   const Eigen::Matrix4d A = p * w.asDiagonal() * p.transpose();

@@ -54,11 +54,10 @@ bool FeModel::nodeRotations(const Eigen::VectorXd& x,
 bool EfgModel::nodeRotations(const Eigen::VectorXd& x,
                              std::vector<Eigen::Matrix3d>& rotations) const {
   startMoments(numNodes(), rotations);
-  const int m = static_cast<int>(grid_.integration_points.cols());
-  for (int e = 0; e < m; ++e) {
-    addPointMoment(x, &grid_.neighbours(0, e), k_,
-                   gradients_.data() + static_cast<size_t>(e) * k_ * 3, grid_.volumes(e),
-                   rotations);
+  for (int e = 0; e < numIntegrationPoints(); ++e) {
+    const std::vector<int>& particles = ipParticles(e);
+    addPointMoment(x, particles.data(), static_cast<int>(particles.size()),
+                   shapeGradients(e).data(), grid_.volumes(e), rotations);
   }
   finishRotations(rotations);
   return true;

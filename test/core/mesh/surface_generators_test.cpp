@@ -151,3 +151,60 @@ TEST(MarkInsideLattice, RejectsBadInput) {
 
 }  // namespace
 }  // namespace surgical_sim::core
+
+namespace surgical_sim::core {
+namespace {
+
+TEST(Cylinder, ClosedOutwardAndEnclosingThePolygonPrismVolume) {
+  const double r = 0.02, length = 0.1;
+  const int segments = 48, rings = 5;
+  const TriMesh m = makeCylinder(r, length, segments, rings);
+  EXPECT_EQ(m.vertices.cols(), segments * (rings + 1) + 2);
+  EXPECT_EQ(m.triangles.cols(), 2 * segments * (rings + 1));
+  const SurfaceClosure c = checkSurfaceClosure(m.triangles);
+  EXPECT_EQ(c.open_edges, 0);
+  EXPECT_EQ(c.pinched_edges, 0);
+  const double prism = 0.5 * segments * r * r * std::sin(2.0 * M_PI / segments) * length;
+  EXPECT_NEAR(enclosedVolume(m), prism, 1e-12 * prism);
+  EXPECT_NEAR(m.vertices.row(2).minCoeff(), -0.5 * length, 1e-15);
+  EXPECT_NEAR(m.vertices.row(2).maxCoeff(), 0.5 * length, 1e-15);
+}
+
+TEST(Torus, ClosedOutwardAndConvergingToItsVolume) {
+  const double R = 0.05, r = 0.015;
+  const double exact = 2.0 * M_PI * M_PI * R * r * r;
+  double previous = INFINITY;
+  for (int s : {12, 24, 48}) {
+    const TriMesh m = makeTorus(R, r, 2 * s, s);
+    EXPECT_EQ(m.triangles.cols(), 4 * s * s);
+    const SurfaceClosure c = checkSurfaceClosure(m.triangles);
+    EXPECT_EQ(c.open_edges, 0);
+    EXPECT_EQ(c.pinched_edges, 0);
+    const double error = std::abs(enclosedVolume(m) - exact) / exact;
+    EXPECT_LT(error, 0.35 * previous);  // O(h^2)
+    previous = error;
+  }
+  EXPECT_LT(previous, 0.005);
+}
+
+TEST(CylinderAndTorus, BadParametersAreNamed) {
+  const auto message = [](auto&& make) {
+    try {
+      make();
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(message([] { makeCylinder(-1.0, 1.0, 8, 1); }).find("radius"), std::string::npos);
+  EXPECT_NE(message([] { makeCylinder(1.0, NAN, 8, 1); }).find("length"), std::string::npos);
+  EXPECT_NE(message([] { makeCylinder(1.0, 1.0, 2, 1); }).find("segments"), std::string::npos);
+  EXPECT_NE(message([] { makeCylinder(1.0, 1.0, 8, 0); }).find("rings"), std::string::npos);
+  EXPECT_NE(message([] { makeTorus(0.5, 1.0, 8, 8); }).find("major"), std::string::npos);
+  EXPECT_NE(message([] { makeTorus(2.0, 0.0, 8, 8); }).find("minor"), std::string::npos);
+  EXPECT_NE(message([] { makeTorus(2.0, 1.0, 8, 5000); }).find("minor_segments"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace surgical_sim::core

@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -241,6 +242,135 @@ TEST(EfgModel, RejectsInvalidMaterialAndOptions) {
                std::invalid_argument);
   EXPECT_THROW(EfgModel(body, test::testMaterial(), options(0.3, EfgRotation::Polar, 20)),
                std::invalid_argument);
+}
+
+// IP 0 gains the nearest particle outside its set (one more, at most 16; with detours), IP 1 keeps
+// 5 of its corners, and 10 % of IP 0's volume moves to IP 1.
+std::vector<EfgNeighbourhood> replacedNeighbourhoods(const EfgModel& m) {
+  const Eigen::Matrix3Xd& X = m.grid().particles;
+  EfgNeighbourhood a;
+  a.ip = 0;
+  a.particles = m.ipParticles(0);
+  const Eigen::Vector3d x0 = m.grid().integration_points.col(0);
+  int extra = -1;
+  double best = INFINITY;
+  for (int p = 0; p < X.cols(); ++p) {
+    const double d = (X.col(p) - x0).norm();
+    if (d < best && std::find(a.particles.begin(), a.particles.end(), p) == a.particles.end()) {
+      best = d;
+      extra = p;
+    }
+  }
+  if (a.particles.size() == EfgOptions::kMaxNeighbours) a.particles.pop_back();
+  a.particles.push_back(extra);
+  for (size_t i = 0; i < a.particles.size(); ++i)
+    a.distances.push_back((X.col(a.particles[i]) - x0).norm() * (i % 2 == 0 ? 1.0 : 1.3));
+  a.volume = 0.9 * m.grid().volumes(0);
+  EfgNeighbourhood b;
+  b.ip = 1;
+  b.particles.assign(m.ipParticles(1).begin(), m.ipParticles(1).begin() + 5);
+  b.volume = m.grid().volumes(1) + 0.1 * m.grid().volumes(0);
+  return {a, b};
+}
+
+TEST_P(EfgModelTest, ReplacedNeighbourhoodsStayCompleteConservativeAndConsistent) {
+  const EfgModel before = model(irregularBody(), 0.15);
+  EfgModel m = before;
+  m.setNeighbourhoods(replacedNeighbourhoods(m));
+  EXPECT_EQ(m.ipParticles(0).size(),
+            std::min<size_t>(m.options().neighbours + 1, EfgOptions::kMaxNeighbours));
+  EXPECT_EQ(m.ipParticles(1).size(), 5u);
+  EXPECT_NEAR(m.lumpedMass().sum(), before.lumpedMass().sum(), 1e-12 * before.lumpedMass().sum());
+  const Eigen::Vector3d g(0.0, 0.0, -9.81);
+  EXPECT_NEAR(m.bodyForce(g).sum(), before.bodyForce(g).sum(), 1e-12 * before.bodyForce(g).norm());
+  for (int e = 0; e < 2; ++e) {
+    const std::vector<int>& p = m.ipParticles(e);
+    const Eigen::VectorXd phi = m.shapeValues(e);
+    const Eigen::MatrixXd G = m.shapeGradients(e);
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d F = Eigen::Matrix3d::Zero();
+    for (size_t a = 0; a < p.size(); ++a) {
+      x += phi(static_cast<Eigen::Index>(a)) * m.grid().particles.col(p[a]);
+      F += m.grid().particles.col(p[a]) * G.row(static_cast<Eigen::Index>(a));
+    }
+    EXPECT_NEAR(phi.sum(), 1.0, 1e-13);
+    EXPECT_LT((x - m.grid().integration_points.col(e)).norm(), 1e-13);
+    EXPECT_LT((F - Eigen::Matrix3d::Identity()).norm(), 1e-12);
+    // Surface points use the same set and detours: sum 1, linear fields reproduced.
+    std::vector<int> particles;
+    std::vector<double> w;
+    const Eigen::Vector3d X =
+        m.grid().integration_points.col(e) + Eigen::Vector3d(0.02, -0.03, 0.01);
+    m.pointWeights(e, X, particles, w);
+    EXPECT_EQ(particles, p);
+    Eigen::Vector3d y = Eigen::Vector3d::Zero();
+    for (size_t a = 0; a < p.size(); ++a) y += w[a] * m.grid().particles.col(p[a]);
+    EXPECT_LT((y - X).norm(), 1e-13);
+  }
+  // Gradients are the exact derivatives of the detoured functions.
+  const Eigen::Vector3d x0 = m.grid().integration_points.col(0);
+  const double h = 1e-6;
+  std::vector<int> particles;
+  std::vector<double> wp, wm;
+  for (int c = 0; c < 3; ++c) {
+    m.pointWeights(0, x0 + h * Eigen::Vector3d::Unit(c), particles, wp);
+    m.pointWeights(0, x0 - h * Eigen::Vector3d::Unit(c), particles, wm);
+    for (size_t a = 0; a < wp.size(); ++a)
+      EXPECT_NEAR((wp[a] - wm[a]) / (2 * h), m.shapeGradients(0)(static_cast<Eigen::Index>(a), c),
+                  1e-6);
+  }
+  test::expectRotationIsForceFree(m);
+  test::expectRigidModesInNullSpace(m);
+  std::mt19937 rng(3);
+  const Eigen::VectorXd x = test::perturbed(m.restPositions(), 0.02, rng);
+  test::expectApplyMatchesAssembled(m, x, rng);
+  if (m.options().rotation == EfgRotation::Polar) {
+    test::expectForceIsMinusEnergyGradient(m, x, 1.0);
+    test::expectStiffnessIsMinusForceJacobian(m, x, 1.0);
+  }
+}
+
+TEST(EfgModel, BadNeighbourhoodsAreNamedAndLeaveTheModelUnchanged) {
+  EfgModel m(irregularBody(), test::testMaterial(0.3), options(0.15, EfgRotation::Polar));
+  const Eigen::VectorXd mass = m.lumpedMass();
+  const auto message = [&](std::vector<EfgNeighbourhood> changes) {
+    try {
+      m.setNeighbourhoods(changes);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  std::vector<EfgNeighbourhood> good = replacedNeighbourhoods(m);
+  auto c = good;
+  c[1].particles.resize(17, 0);
+  EXPECT_NE(message(c).find("17 particles: must be in [4, 16]"), std::string::npos);
+  c = good;
+  c[1].ip = 0;
+  EXPECT_NE(message(c).find("listed twice"), std::string::npos);
+  c = good;
+  c[1].ip = m.numIntegrationPoints();
+  EXPECT_NE(message(c).find("out of range"), std::string::npos);
+  c = good;
+  c[0].distances[0] *= 0.5;
+  EXPECT_NE(message(c).find("Euclidean distance"), std::string::npos);
+  c = good;
+  c[1].particles[4] = c[1].particles[0];
+  EXPECT_NE(message(c).find("repeated"), std::string::npos);
+  c = good;
+  c[1].volume = -1.0;
+  EXPECT_NE(message(c).find("volume"), std::string::npos);
+  c = good;
+  c[1].particles.clear();  // the 4 corners of the lower face of IP 1's DOF cell: coplanar
+  const Eigen::Matrix3Xd& X = m.grid().particles;
+  double z_low = INFINITY;
+  for (const int p : m.ipParticles(1)) z_low = std::min(z_low, X(2, p));
+  for (const int p : m.ipParticles(1))
+    if (X(2, p) == z_low) c[1].particles.push_back(p);
+  ASSERT_EQ(c[1].particles.size(), 4u);
+  EXPECT_NE(message(c).find("ill_conditioned"), std::string::npos);
+  EXPECT_EQ(m.lumpedMass(), mass);
+  EXPECT_EQ(m.ipParticles(0).size(), 8u);
 }
 
 }  // namespace

@@ -39,4 +39,25 @@ TriMesh makeIcosphere(int subdivisions);
 /// @throws std::invalid_argument naming the offending parameter.
 TriMesh makeLiverSurface(const Eigen::Vector3d& semi_axes, int subdivisions);
 
+/// Most segments per circle of makeCylinder() / makeTorus() [-].
+constexpr int kMaxSurfaceSegments = 4096;
+
+/// Closed circular cylinder of `radius` and `length` [m] along z, centred at the origin: `segments`
+/// vertices per circle (angle 2 pi i / segments from +x), `rings` + 1 circles from z = -length/2
+/// to length/2, each end capped by a fan around its centre vertex. segments (rings + 1) + 2
+/// vertices, 2 segments (rings + 1) triangles.
+/// @param radius, length finite and > 0 [m]; segments in [3, kMaxSurfaceSegments]; rings in
+///        [1, kMaxSurfaceSegments].
+/// @throws std::invalid_argument naming the offending parameter and its range.
+TriMesh makeCylinder(double radius, double length, int segments, int rings);
+
+/// Closed torus around the z axis, centred at the origin: tube centre circle of radius `major`
+/// in the xy-plane, tube radius `minor` [m]; vertex (i, j) at angles u = 2 pi i / major_segments
+/// around z and v = 2 pi j / minor_segments around the tube,
+/// ((major + minor cos v) cos u, (major + minor cos v) sin u, minor sin v).
+/// 2 major_segments minor_segments triangles.
+/// @param major, minor finite, 0 < minor < major [m]; segment counts in [3, kMaxSurfaceSegments].
+/// @throws std::invalid_argument naming the offending parameter and its range.
+TriMesh makeTorus(double major, double minor, int major_segments, int minor_segments);
+
 }  // namespace surgical_sim::core

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "surgical_sim/core/mesh/tet_mesh.h"
+#include "surgical_sim/core/tissue/block_sparsity.h"
 #include "surgical_sim/core/tissue/corotational_law.h"
 #include "surgical_sim/core/tissue/efg_grid.h"
 #include "surgical_sim/core/tissue/efg_options.h"
@@ -14,13 +15,25 @@
 
 namespace surgical_sim::core {
 
+/// A replacement neighbourhood of one integration point (EfgModel::setNeighbourhoods).
+struct EfgNeighbourhood {
+  int ip = -1;                 ///< integration point index in [0, m)
+  std::vector<int> particles;  ///< distinct particle indices, 4 to EfgOptions::kMaxNeighbours
+  /// Kernel distance r_a [m] of each particle (e.g. its distance along the topology graph), each
+  /// >= the Euclidean rest distance from the IP (to round-off); empty: the Euclidean distances.
+  std::vector<double> distances;
+  double volume = 0.0;  ///< inside volume [m^3], finite and >= 0 (0: the IP adds nothing)
+};
+
 /// Meshless Element-Free Galerkin tissue: co-rotated linear elasticity, total Lagrangian, on the
 /// two regular grids of EfgGrid (DOFs = the grid particles, one-point quadrature at each
 /// integration cell's IP weighted by its inside volume V_e).
 ///
-/// Each integration point (IP) e has k = options.neighbours particles with linear-basis MLS shape
-/// functions phi_a and rest gradients g_a = d phi_a / dX (computeMlsShapeFunctions), so
-/// F_e = sum_a x_a g_a^T. With the IP rotation R_e:
+/// Each integration point (IP) e has a set of particles (initially the k = options.neighbours of
+/// grid().neighbours; setNeighbourhoods changes it, 4 to EfgOptions::kMaxNeighbours particles)
+/// with linear-basis MLS shape functions phi_a and rest gradients g_a = d phi_a / dX
+/// (computeMlsShapeFunctions, kernel distances r_a = Euclidean distance + a per-particle detour,
+/// zero until a neighbourhood is replaced), so F_e = sum_a x_a g_a^T. With the IP rotation R_e:
 /// - Polar: R = rotation of F (CorotationalLaw): psi = mu |F - R|^2 + lambda/2 tr(R^T F - I)^2,
 ///   force = -dE/dx exactly; Exact mode is the exact Hessian, ProjectedSpd the fixed-R tangent.
 /// - ShapeMatching: R = rotation of A = sum_a w_a (x_a - x_c)(X_a - X_c)^T / (tr A_qq / 3), the
@@ -62,37 +75,88 @@ class EfgModel final : public GroupAssembledModel {
                      std::vector<Eigen::Matrix3d>& rotations) const override;
 
   const EfgOptions& options() const { return options_; }
-  /// The grids: particles (= restPositions()), IPs, their volumes and neighbours (each IP's in
-  /// ascending particle order).
+  /// The grids: particles (= restPositions()), IPs, their current volumes (setNeighbourhoods) and
+  /// their initial neighbours (each IP's in ascending particle order; ipParticles() gives the
+  /// current ones).
   const EfgGrid& grid() const { return grid_; }
-  /// phi_a(x_e) [-] of IP e's neighbours (grid().neighbours.col(e)), size k.
+  int numIntegrationPoints() const { return static_cast<int>(ip_particles_.size()); }
+  /// Current particles of IP e, ascending, size k_e in [4, EfgOptions::kMaxNeighbours].
+  const std::vector<int>& ipParticles(int e) const { return ip_particles_[static_cast<size_t>(e)]; }
+  /// phi_a(x_e) [-] of IP e's particles (ipParticles(e)), size k_e.
   Eigen::Map<const Eigen::VectorXd> shapeValues(int e) const;
-  /// d phi_a / dX at IP e [1/m], k x 3.
+  /// d phi_a / dX at IP e [1/m], k_e x 3.
   Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3>> shapeGradients(int e) const;
+  /// Kernel distance minus Euclidean rest distance of IP e's particles [m], size k_e (>= 0).
+  Eigen::Map<const Eigen::VectorXd> detours(int e) const;
+  /// Kernel support radius h of IP e [m].
+  double support(int e) const { return support_[static_cast<size_t>(e)]; }
+  /// MLS weights of the rest point X [m] with IP e's current particles, support and detours,
+  /// evaluated at X: `particles` = ipParticles(e), `weights` their phi_a(X) (sum 1; a linear field
+  /// of the particles is reproduced exactly). A point too far from the IP for an invertible moment
+  /// matrix gets the IP's own weights shapeValues(e). Allocates only to grow the outputs.
+  /// @throws std::invalid_argument naming "ip" outside [0, m).
+  void pointWeights(int e, const Eigen::Vector3d& X, std::vector<int>& particles,
+                    std::vector<double>& weights) const;
   /// MLS weights of rest points (e.g. mesh or surface vertices): point i follows the model as
-  /// sum_a W(i, a) x_a. Each point uses the particles and kernel support of the IP whose cell
-  /// contains it (the nearest IP when that cell was dropped), with the MLS functions evaluated at
-  /// the point, so rows sum to 1 and a linear motion of the particles moves the points exactly.
-  /// Allocates. @param points rest positions [m], 3 x p. @return W, p x n.
+  /// sum_a W(i, a) x_a, with pointWeights of the IP whose cell contains it (the nearest IP when
+  /// that cell was dropped). Allocates. @param points rest positions [m], 3 x p. @return W, p x n.
   Eigen::SparseMatrix<double> interpolation(const Eigen::Matrix3Xd& points) const;
+
+  /// Replaces the particles, kernel distances and volumes of the listed IPs (each at most once)
+  /// and recomputes, for those IPs only, phi, grad phi, the shape-matching weights, the support
+  /// h = kernel_support x max r_a, and their lumped-mass and body-force contributions (old ones
+  /// removed, new ones added: total mass is conserved when the volumes sum to the same total).
+  /// The groups of IPs with equal particle sets and the stiffness pattern are rebuilt: the per-IP
+  /// work is linear in the listed IPs, the regrouping O(m log m) and the pattern linear in its
+  /// size (a new stiffnessPattern(): solvers must re-analyse, e.g. Integrator::reset()). The DOFs
+  /// are unchanged. Strong guarantee: on a throw the model is unchanged.
+  /// @throws std::invalid_argument naming the IP and the problem: index out of range or repeated,
+  ///         a particle count outside [4, EfgOptions::kMaxNeighbours], a particle index out of
+  ///         range or repeated, distances of the wrong size, non-finite or shorter than the
+  ///         Euclidean distance, a negative or non-finite volume, or an MLS status other than ok.
+  void setNeighbourhoods(const std::vector<EfgNeighbourhood>& changes);
 
  private:
   /// The model on `grid` (built with `options`).
   EfgModel(EfgGrid grid, const Material& material, const EfgOptions& options);
+  /// IPs with the same particles form a group (with 8 neighbours: the 8 IPs of a DOF cell), whose
+  /// stiffness and force are summed before one scatter. The groups of one particle count k form a
+  /// bucket: group g holds IPs ips[first[g] .. first[g + 1]) on particles nodes.col(g).
+  struct GroupBucket {
+    int k = 0;               ///< particles per group
+    std::vector<int> ips;    ///< IPs sorted by group
+    std::vector<int> first;  ///< size groups + 1
+    Eigen::MatrixXi nodes;   ///< k x groups
+    BlockScatterMap scatter;
+  };
+  /// One MLS evaluation of IP e (computeIp's result) before it is stored.
+  struct IpShape;
+
   template <int K>
-  double energyImpl(const Eigen::VectorXd& x) const;
+  double energyImpl(const GroupBucket& bucket, const Eigen::VectorXd& x) const;
   template <int K>
-  void forceImpl(const Eigen::VectorXd& x, Eigen::VectorXd& f) const;
+  void forceImpl(const GroupBucket& bucket, const Eigen::VectorXd& x, Eigen::VectorXd& f) const;
   /// Group stiffness matrices (the sum over the group's IPs) passed to sink(g, Ke); with a
-  /// non-null f, also f += the force; with a non-null energy, *energy = the elastic energy [J].
+  /// non-null f, also f += the force; with a non-null energy, *energy += the bucket's elastic
+  /// energy [J].
   template <int K, typename Sink>
-  void stiffnessImpl(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f, double* energy,
-                     Sink&& sink) const;
-  /// addGroupStiffness with the energy (see stiffnessImpl).
+  void stiffnessImpl(const GroupBucket& bucket, const Eigen::VectorXd& x, TangentMode mode,
+                     Eigen::VectorXd* f, double* energy, Sink&& sink) const;
+  /// addGroupStiffness with, for a non-null energy, *energy = the elastic energy [J].
   void addGroupStiffnessAndEnergy(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
                                   double* values, double* energy) const;
-  /// Groups the IPs that share their particles (grid().neighbours column): group_ips_,
-  /// group_first_, group_nodes_.
+  /// Calls body(bucket, std::integral_constant<int, K>()) per bucket, K = 8 or Eigen::Dynamic.
+  template <typename Body>
+  void forEachBucket(Body&& body) const;
+  /// MLS shape functions and shape-matching weights of IP e with `particles` and `detours`.
+  /// @throws std::invalid_argument naming the IP on an MLS status other than ok.
+  IpShape computeIp(int e, const std::vector<int>& particles, const Eigen::VectorXd& detours) const;
+  /// Stores `shape` as IP e's data (slot grown if needed).
+  void storeIp(int e, std::vector<int> particles, const IpShape& shape);
+  /// Adds sign x IP e's lumped-mass and body-force contributions.
+  void addIpMass(int e, double sign);
+  /// Groups the IPs that share their particles into buckets_, rebuilds the pattern and the
+  /// buckets' scatter maps.
   void groupIntegrationPoints();
   /// One IP pass for the stiffness and, with f, the force.
   void addGroupStiffness(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
@@ -107,21 +171,22 @@ class EfgModel final : public GroupAssembledModel {
 
   EfgOptions options_;
   CorotationalLaw law_;
-  double mu_;      ///< [Pa]
-  double lambda_;  ///< [Pa]
+  double mu_;       ///< [Pa]
+  double lambda_;   ///< [Pa]
+  double density_;  ///< [kg/m^3]
   EfgGrid grid_;
-  int k_;                             ///< neighbours per IP
-  Eigen::VectorXd body_weight_;       ///< n, sum_e rho V_e phi_a(x_e) [kg]
-  std::vector<double> shape_values_;  ///< per IP: phi, k
-  std::vector<double> gradients_;     ///< per IP: d phi / dX, k x 3 col-major [1/m]
-  std::vector<double> matching_;      ///< per IP: shape-matching weights, k x 3 col-major [1/m]
+  Eigen::VectorXd body_weight_;                 ///< n, sum_e rho V_e phi_a(x_e) [kg]
+  std::vector<std::vector<int>> ip_particles_;  ///< per IP, ascending
+  /// Per IP: first entry of its slot in the per-particle arrays below (k_e entries used, a
+  /// capacity of slot_capacity_ entries; a grown IP gets a new slot at the end).
+  std::vector<size_t> slot_;
+  std::vector<int> slot_capacity_;
+  std::vector<double> shape_values_;  ///< per slot entry: phi [-]
+  std::vector<double> detours_;       ///< per slot entry: kernel distance - Euclidean [m]
+  std::vector<double> gradients_;     ///< per IP at 3 slot: d phi / dX, k_e x 3 col-major [1/m]
+  std::vector<double> matching_;      ///< per IP at 3 slot: shape-matching weights, k_e x 3 [1/m]
   std::vector<double> support_;       ///< per IP: kernel support radius h [m]
-  /// IPs with the same particles form a group (with 8 neighbours: the 8 IPs of a DOF cell), whose
-  /// stiffness and force are summed before one scatter: group g holds IPs
-  /// group_ips_[group_first_[g] .. group_first_[g + 1]) on particles group_nodes_.col(g).
-  std::vector<int> group_ips_;
-  std::vector<int> group_first_;  ///< size groups + 1
-  Eigen::MatrixXi group_nodes_;   ///< k x groups
+  std::vector<GroupBucket> buckets_;  ///< ascending k
 };
 
 }  // namespace surgical_sim::core

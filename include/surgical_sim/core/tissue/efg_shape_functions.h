@@ -41,4 +41,14 @@ struct MlsShapeFunctions {
 MlsShapeFunctions computeMlsShapeFunctions(const Eigen::Vector3d& x, const Eigen::Matrix3Xd& points,
                                            double support);
 
+/// As above with kernel distances r_i = |x - x_i| + detours(i): w_i = quarticSplineKernel(r_i / h).
+/// A detour (e.g. the excess of a path along a topology graph over the straight distance) lowers
+/// the weight of a particle seen around a cut. The kernel gradient uses the Euclidean direction,
+/// dr_i/dx = (x - x_i) / |x - x_i| (0 at x = x_i when the detour is > 0), so the gradients are
+/// the exact derivatives of the functions so defined. Zero detours give bit-identical results to
+/// the overload above.
+/// @param detours size k, each finite and >= 0 [m] (otherwise status NonFinite).
+MlsShapeFunctions computeMlsShapeFunctions(const Eigen::Vector3d& x, const Eigen::Matrix3Xd& points,
+                                           double support, const Eigen::VectorXd& detours);
+
 }  // namespace surgical_sim::core

@@ -1,0 +1,99 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "surgical_sim/core/cutting/blade_sweep.h"
+#include "surgical_sim/core/cutting/efg_topology_graph.h"
+#include "surgical_sim/core/tissue/efg_model.h"
+
+namespace surgical_sim::core {
+
+/// What one EfgVolumeCutter::cut changed.
+struct EfgCutResult {
+  std::vector<int> severed_links;  ///< links of graph() severed by this cut
+  /// IPs whose particles, kernel distances or volume changed (ascending).
+  std::vector<int> changed_ips;
+  /// IPs that can no longer see 4 non-coplanar particles (a slice thinner than the particle
+  /// spacing): their volume went to the nearest IP on their side, they keep volume 0 (ascending).
+  std::vector<int> isolated_ips;
+  /// Particles that no IP with volume uses any more since this cut (zero mass and stiffness: the
+  /// caller constrains them, e.g. to follow their old neighbours, or the system is singular).
+  std::vector<int> unused_particles;
+  int pieces = 0;               ///< connected pieces holding volume after the cut
+  bool pieces_changed = false;  ///< pieces differs from before the cut
+};
+
+/// Progressive volume cutting of an EfgModel (Magnoux): the blade's swept surface severs the links
+/// of the topology graph it crosses, and the IPs that lost a link re-select their particles by
+/// graph distance. No DOF is added; every edit is in the rest configuration.
+///
+/// One cut(sweep, x_start, x_end):
+/// 1. Crossing: each alive link, with both ends moving linearly from x_start to x_end (an IP at
+///    sum_a phi_a x_a of its current particles), is tested against every blade segment with
+///    edgeSweepCrossing (so a static blade in moving tissue cuts). Broad phase: only the links of
+///    particles whose motion box meets the sweep's box grown by 3 x the longest rest link, and
+///    whose own motion box meets a segment's sweep box, are tested (a link stretched to more than
+///    3 x its rest length can be missed).
+/// 2. Re-selection, for each IP with a severed link and each IP with indirect particles near a
+///    severed link: a Dijkstra search from the IP over the alive links (rest lengths) lists the
+///    visible particles by graph distance r. They are taken in that order, skipping one that would
+///    leave too few free places to make the set non-coplanar, up to options().neighbours; then,
+///    while the MLS moment matrix (kernel w(r / h), h = kernel_support x max r) has a condition
+///    number above 1e8 or is singular, the next visible particle is added, up to
+///    EfgOptions::kMaxNeighbours. Kernel distance = graph distance (>= Euclidean); its gradient
+///    uses the Euclidean direction (computeMlsShapeFunctions with detours).
+/// 3. Mid-cell volume: when a cut crosses IP e's own cell, the plane through the rest crossing
+///    points of e's severed links (or, with fewer than 3 non-collinear points, normal to their mean
+///    direction) splits the cell's volume samples; the share beyond the plane (the cell's volume
+///    taken as uniform over its remaining samples) moves to the nearest IP of a neighbouring cell
+///    on that side. An isolated IP (no acceptable set within kMaxNeighbours visible particles)
+///    hands all its volume to the nearest IP it still reaches in the graph (else the nearest
+///    neighbouring-cell IP) and keeps its old particles with volume 0. Volume moves between IPs
+///    only, so the total mass is conserved.
+/// 4. EfgModel::setNeighbourhoods for the changed IPs (the model's stiffness pattern is rebuilt).
+/// A cut that severs nothing changes nothing.
+class EfgVolumeCutter {
+ public:
+  /// Keeps a reference to `model`, which must outlive the cutter and be changed only through it.
+  explicit EfgVolumeCutter(EfgModel& model);
+
+  /// @param sweep blade motion over the step, tissue rest frame [m] (validateBladeSweep).
+  /// @param x_start, x_end particle positions at the step start and end [m], size 3n each.
+  /// @throws std::invalid_argument naming "blade_sweep.*", "x_start" or "x_end" (size or
+  ///         non-finite); the model is unchanged then.
+  EfgCutResult cut(const BladeSweep& sweep, const Eigen::VectorXd& x_start,
+                   const Eigen::VectorXd& x_end);
+
+  const EfgTopologyGraph& graph() const { return graph_; }
+  const EfgModel& model() const { return model_; }
+  /// Connected pieces holding volume (see EfgCutResult::pieces).
+  int pieces() const { return pieces_; }
+  /// Particles with zero lumped mass (no IP with volume uses them: material left on the other
+  /// side of a cut), ascending; the caller constrains them. Linear in the particles.
+  std::vector<int> unusedParticles() const;
+  /// Piece label of each particle (graph component), size n; particles of one piece share it.
+  std::vector<int> particlePieces() const;
+
+ private:
+  struct Selection;
+  /// Particles (by graph distance) for IP e, or an empty selection if e is isolated.
+  Selection select(int e) const;
+  /// Pieces holding volume, from the graph components.
+  int countPieces() const;
+  /// Cell (i, j, k) of IP e.
+  Eigen::Vector3i cellOf(int e) const;
+  /// IP of cell c, or -1 (dropped or outside the grid).
+  int ipAt(const Eigen::Vector3i& c) const;
+
+  EfgModel& model_;
+  EfgTopologyGraph graph_;
+  double max_link_length_ = 0.0;  ///< [m]
+  int pieces_ = 0;
+  int samples_ = 4;  ///< volume samples per axis of the mid-cell redistribution
+  /// Remaining volume samples (samples_^3) of the cells a cut has crossed, per IP (empty if none).
+  std::vector<std::vector<char>> sample_masks_;
+  std::vector<char> has_indirect_;  ///< per IP: uses a particle it has no alive link to
+};
+
+}  // namespace surgical_sim::core

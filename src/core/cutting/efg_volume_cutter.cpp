@@ -1,0 +1,430 @@
+#include "surgical_sim/core/cutting/efg_volume_cutter.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "surgical_sim/core/cutting/edge_sweep_ccd.h"
+#include "surgical_sim/core/tissue/efg_shape_functions.h"
+
+namespace surgical_sim::core {
+namespace {
+
+// Largest accepted condition number of a re-selected IP's scaled moment matrix [-].
+constexpr double kSelectionCondition = 1e8;
+// Broad-phase margin in longest rest links [-].
+constexpr double kStretchMargin = 3.0;
+// Lumped mass below which a particle counts as unused, relative to the total (round-off of the
+// removed shares) [-].
+constexpr double kUnusedMassFraction = 1e-14;
+// Visible particles a re-selection considers at most [-].
+constexpr int kMaxCandidates = 4 * EfgOptions::kMaxNeighbours;
+
+// Affine rank (0 to 3) of points (3 x k) at relative tolerance 1e-9 of `scale` [m].
+int affineRank(const Eigen::Matrix3Xd& points, double scale) {
+  if (points.cols() < 2) return 0;
+  const Eigen::Matrix3Xd q = points.colwise() - points.rowwise().mean();
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(q);
+  return static_cast<int>((svd.singularValues().array() > 1e-9 * scale).count());
+}
+
+void requirePositions(const char* name, const Eigen::VectorXd& x, int n) {
+  if (x.size() != 3 * n) {
+    throw std::invalid_argument(std::string("EfgVolumeCutter::cut: ") + name + " has size " +
+                                std::to_string(x.size()) +
+                                ", expected 3 n = " + std::to_string(3 * n));
+  }
+  if (!x.allFinite())
+    throw std::invalid_argument(std::string("EfgVolumeCutter::cut: ") + name + " is not finite");
+}
+
+}  // namespace
+
+struct EfgVolumeCutter::Selection {
+  std::vector<int> particles;
+  std::vector<double> distances;  ///< graph distances [m]
+  int nearest_ip = -1;            ///< nearest other IP with volume reached in the search
+};
+
+EfgVolumeCutter::EfgVolumeCutter(EfgModel& model)
+    : model_(model),
+      graph_(model),
+      samples_(std::max(4, model.options().volume_samples)),
+      sample_masks_(static_cast<size_t>(model.numIntegrationPoints())),
+      has_indirect_(static_cast<size_t>(model.numIntegrationPoints()), 0) {
+  for (const EfgTopologyGraph::Link& l : graph_.links())
+    max_link_length_ = std::max(max_link_length_, l.rest_length);
+  pieces_ = countPieces();
+}
+
+Eigen::Vector3i EfgVolumeCutter::cellOf(int e) const {
+  const EfgGrid& grid = model_.grid();
+  return ((grid.integration_points.col(e) - grid.origin) / grid.spacing)
+      .array()
+      .floor()
+      .cast<int>()
+      .cwiseMax(0)
+      .cwiseMin(grid.cells.array() - 1)
+      .matrix();
+}
+
+int EfgVolumeCutter::ipAt(const Eigen::Vector3i& c) const {
+  const EfgGrid& grid = model_.grid();
+  if ((c.array() < 0).any() || (c.array() >= grid.cells.array()).any()) return -1;
+  return grid
+      .ip_of_cell[static_cast<size_t>(c.x() + grid.cells.x() * (c.y() + grid.cells.y() * c.z()))];
+}
+
+int EfgVolumeCutter::countPieces() const {
+  std::vector<int> labels;
+  const int count = graph_.components(labels);
+  std::vector<char> holds(static_cast<size_t>(count), 0);
+  for (int e = 0; e < model_.numIntegrationPoints(); ++e)
+    if (model_.grid().volumes(e) > 0.0)
+      holds[static_cast<size_t>(labels[static_cast<size_t>(graph_.ipNode(e))])] = 1;
+  return static_cast<int>(std::count(holds.begin(), holds.end(), 1));
+}
+
+std::vector<int> EfgVolumeCutter::unusedParticles() const {
+  std::vector<int> unused;
+  const double total_mass = model_.lumpedMass().sum() / 3.0;  // [kg]
+  for (int p = 0; p < graph_.numParticles(); ++p)
+    if (model_.lumpedMass()(3 * p) <= kUnusedMassFraction * total_mass) unused.push_back(p);
+  return unused;
+}
+
+std::vector<int> EfgVolumeCutter::particlePieces() const {
+  std::vector<int> labels;
+  graph_.components(labels);
+  labels.resize(static_cast<size_t>(graph_.numParticles()));
+  return labels;
+}
+
+EfgVolumeCutter::Selection EfgVolumeCutter::select(int e) const {
+  const EfgGrid& grid = model_.grid();
+  const int n = graph_.numParticles();
+  const double scale = 2.0 * grid.spacing;
+  const Eigen::Vector3d x_e = grid.integration_points.col(e);
+  const int target = model_.options().neighbours;
+  Selection out;
+  Eigen::Matrix3Xd points(3, 0);
+  // A set of `target` particles (fewer when no other particle is visible) with a well-conditioned
+  // moment matrix.
+  const auto accepted = [&](bool exhausted) {
+    const int size = static_cast<int>(out.particles.size());
+    if (size < 4 || (size < target && !exhausted)) return false;
+    Eigen::VectorXd detours(points.cols());
+    double r_max = 0.0;
+    for (Eigen::Index a = 0; a < points.cols(); ++a) {
+      const double r = out.distances[static_cast<size_t>(a)];
+      detours(a) = std::max(0.0, r - (points.col(a) - x_e).norm());
+      r_max = std::max(r_max, r);
+    }
+    const MlsShapeFunctions mls =
+        computeMlsShapeFunctions(x_e, points, model_.options().kernel_support * r_max, detours);
+    return mls.status == MlsStatus::Ok && mls.condition <= kSelectionCondition;
+  };
+  int visited = 0;
+  bool ok = false, done = false;
+  graph_.searchFrom(graph_.ipNode(e), [&](int v, double r) {
+    if (v >= n) {
+      if (v != graph_.ipNode(e) && out.nearest_ip < 0 && grid.volumes(v - n) > 0.0)
+        out.nearest_ip = v - n;
+      return true;
+    }
+    ++visited;
+    Eigen::Matrix3Xd with(3, points.cols() + 1);
+    with << points, grid.particles.col(v);
+    const int size = static_cast<int>(with.cols());
+    const int free_places = std::max(target - size, 0);
+    if (size >= target || affineRank(with, scale) + free_places >= 3) {
+      points = with;
+      out.particles.push_back(v);
+      out.distances.push_back(r);
+      ok = accepted(false);
+      done = ok || size == EfgOptions::kMaxNeighbours;
+    }
+    return !done && visited < kMaxCandidates;
+  });
+  if (!done) ok = accepted(true);  // every visible particle seen
+  if (!ok) {
+    out.particles.clear();
+    out.distances.clear();
+  }
+  return out;
+}
+
+EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd& x_start,
+                                  const Eigen::VectorXd& x_end) {
+  validateBladeSweep(sweep);
+  const int n = graph_.numParticles();
+  requirePositions("x_start", x_start, n);
+  requirePositions("x_end", x_end, n);
+  const EfgGrid& grid = model_.grid();
+  EfgCutResult result;
+
+  // 1. Broad phase: particles whose motion box meets the sweep's grown box, then their links.
+  const double tolerance = 1e-9 * grid.spacing;  // [m]
+  const Eigen::Vector3d sweep_lo =
+      sweep.start.rowwise().minCoeff().cwiseMin(sweep.end.rowwise().minCoeff()).array() - tolerance;
+  const Eigen::Vector3d sweep_hi =
+      sweep.start.rowwise().maxCoeff().cwiseMax(sweep.end.rowwise().maxCoeff()).array() + tolerance;
+  const double margin = kStretchMargin * max_link_length_;
+  const Eigen::Vector3d lo = sweep_lo.array() - margin;
+  const Eigen::Vector3d hi = sweep_hi.array() + margin;
+  std::vector<int> candidates;
+  std::vector<char> marked(graph_.links().size(), 0);
+  for (int p = 0; p < n; ++p) {
+    const Eigen::Vector3d a = x_start.segment<3>(3 * p);
+    const Eigen::Vector3d b = x_end.segment<3>(3 * p);
+    if ((a.cwiseMax(b).array() < lo.array()).any() || (a.cwiseMin(b).array() > hi.array()).any())
+      continue;
+    for (const int l : graph_.linksOf(p)) {
+      if (graph_.alive(l) && !marked[static_cast<size_t>(l)]) {
+        marked[static_cast<size_t>(l)] = 1;
+        candidates.push_back(l);
+      }
+    }
+  }
+  // Narrow phase.
+  const auto position = [&](int v, const Eigen::VectorXd& x) -> Eigen::Vector3d {
+    if (v < n) return x.segment<3>(3 * v);
+    const int e = v - n;
+    const std::vector<int>& particles = model_.ipParticles(e);
+    const Eigen::Map<const Eigen::VectorXd> phi = model_.shapeValues(e);
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (size_t a = 0; a < particles.size(); ++a)
+      sum += phi(static_cast<Eigen::Index>(a)) * x.segment<3>(3 * particles[a]);
+    return sum;
+  };
+  std::map<int, std::vector<Eigen::Vector3d>> crossings;  // IP -> rest crossing points [m]
+  std::vector<Eigen::Vector3d> all_crossings;
+  std::sort(candidates.begin(), candidates.end());
+  for (const int l : candidates) {
+    const EfgTopologyGraph::Link& link = graph_.links()[static_cast<size_t>(l)];
+    const Eigen::Vector3d e0s = position(link.a, x_start), e1s = position(link.b, x_start);
+    const Eigen::Vector3d e0e = position(link.a, x_end), e1e = position(link.b, x_end);
+    // The link's motion box against the sweep's, then each segment's.
+    const Eigen::Vector3d link_lo = e0s.cwiseMin(e1s).cwiseMin(e0e.cwiseMin(e1e));
+    const Eigen::Vector3d link_hi = e0s.cwiseMax(e1s).cwiseMax(e0e.cwiseMax(e1e));
+    const auto disjoint = [&](const Eigen::Vector3d& a_lo, const Eigen::Vector3d& a_hi) {
+      return (a_hi.array() < link_lo.array()).any() || (a_lo.array() > link_hi.array()).any();
+    };
+    if (disjoint(sweep_lo, sweep_hi)) continue;
+    for (Eigen::Index i = 0; i + 1 < sweep.start.cols(); ++i) {
+      const Eigen::Vector3d seg_lo = sweep.start.col(i)
+                                         .cwiseMin(sweep.start.col(i + 1))
+                                         .cwiseMin(sweep.end.col(i).cwiseMin(sweep.end.col(i + 1)))
+                                         .array() -
+                                     tolerance;
+      const Eigen::Vector3d seg_hi = sweep.start.col(i)
+                                         .cwiseMax(sweep.start.col(i + 1))
+                                         .cwiseMax(sweep.end.col(i).cwiseMax(sweep.end.col(i + 1)))
+                                         .array() +
+                                     tolerance;
+      if (disjoint(seg_lo, seg_hi)) continue;
+      const auto hit =
+          edgeSweepCrossing(sweep.start.col(i), sweep.start.col(i + 1), sweep.end.col(i),
+                            sweep.end.col(i + 1), e0s, e1s, e0e, e1e, tolerance);
+      if (!hit) continue;
+      result.severed_links.push_back(l);
+      const Eigen::Vector3d X0 = grid.particles.col(link.a);
+      const Eigen::Vector3d X1 = link.b < n
+                                     ? Eigen::Vector3d(grid.particles.col(link.b))
+                                     : Eigen::Vector3d(grid.integration_points.col(link.b - n));
+      const Eigen::Vector3d X = X0 + hit->s * (X1 - X0);
+      all_crossings.push_back(X);
+      if (link.b >= n) crossings[link.b - n].push_back(X);
+      break;
+    }
+  }
+  if (result.severed_links.empty()) {
+    result.pieces = pieces_;
+    return result;
+  }
+  for (const int l : result.severed_links) graph_.sever(l);
+
+  // 2. Affected IPs: a severed link of their own, or indirect particles near a crossing.
+  std::vector<char> affected(static_cast<size_t>(model_.numIntegrationPoints()), 0);
+  for (const auto& entry : crossings) affected[static_cast<size_t>(entry.first)] = 1;
+  const int reach = 4;  // integration cells: two DOF cells
+  for (const Eigen::Vector3d& X : all_crossings) {
+    const Eigen::Vector3i c = ((X - grid.origin) / grid.spacing).array().floor().cast<int>();
+    for (int k = -reach; k <= reach; ++k)
+      for (int j = -reach; j <= reach; ++j)
+        for (int i = -reach; i <= reach; ++i) {
+          const int e = ipAt(c + Eigen::Vector3i(i, j, k));
+          if (e >= 0 && has_indirect_[static_cast<size_t>(e)]) affected[static_cast<size_t>(e)] = 1;
+        }
+  }
+  Eigen::VectorXd volumes = grid.volumes;
+  std::map<int, Selection> selections;
+  for (int e = 0; e < model_.numIntegrationPoints(); ++e) {
+    if (!affected[static_cast<size_t>(e)] || grid.volumes(e) <= 0.0) continue;
+    selections.emplace(e, select(e));
+  }
+
+  // 3. Mid-cell volume and isolated IPs.
+  const auto nearestAcross = [&](int e, const Eigen::Vector3d& target,
+                                 const std::function<bool(int)>& admissible) {
+    int best = -1;
+    double best_d = std::numeric_limits<double>::infinity();
+    const Eigen::Vector3i c = cellOf(e);
+    for (int k = -1; k <= 1; ++k)
+      for (int j = -1; j <= 1; ++j)
+        for (int i = -1; i <= 1; ++i) {
+          const int r = ipAt(c + Eigen::Vector3i(i, j, k));
+          if (r < 0 || r == e || volumes(r) <= 0.0 || !admissible(r)) continue;
+          const auto it = selections.find(r);
+          if (it != selections.end() && it->second.particles.empty()) continue;
+          const double d = (grid.integration_points.col(r) - target).norm();
+          if (d < best_d) {
+            best_d = d;
+            best = r;
+          }
+        }
+    return best;
+  };
+  for (const auto& [e, points] : crossings) {
+    if (volumes(e) <= 0.0) continue;
+    const auto sel = selections.find(e);
+    if (sel != selections.end() && sel->second.particles.empty()) continue;  // isolated: below
+    Eigen::Matrix3Xd P(3, static_cast<Eigen::Index>(points.size()));
+    for (size_t i = 0; i < points.size(); ++i) P.col(static_cast<Eigen::Index>(i)) = points[i];
+    const Eigen::Vector3d centre = P.rowwise().mean();
+    const Eigen::Vector3d x_e = grid.integration_points.col(e);
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+    if (affineRank(P, grid.spacing) >= 2) {
+      const Eigen::JacobiSVD<Eigen::MatrixXd> svd(P.colwise() - centre, Eigen::ComputeFullU);
+      normal = svd.matrixU().col(2);
+    } else {
+      for (const Eigen::Vector3d& X : points) normal += (X - x_e).normalized();
+    }
+    if (!(normal.norm() > 0.0)) continue;
+    normal.normalize();
+    if (normal.dot(x_e - centre) > 0.0) normal = -normal;  // the IP on the negative side
+    std::vector<char>& mask = sample_masks_[static_cast<size_t>(e)];
+    const int s3 = samples_ * samples_ * samples_;
+    if (mask.empty()) mask.assign(static_cast<size_t>(s3), 1);
+    const Eigen::Vector3d corner = grid.origin + grid.spacing * cellOf(e).cast<double>();
+    int remaining = 0, far = 0;
+    Eigen::Vector3d far_centroid = Eigen::Vector3d::Zero();
+    std::vector<int> far_samples;
+    for (int q = 0; q < s3; ++q) {
+      if (!mask[static_cast<size_t>(q)]) continue;
+      ++remaining;
+      const Eigen::Vector3d X =
+          corner +
+          grid.spacing / samples_ *
+              (Eigen::Vector3i(q % samples_, (q / samples_) % samples_, q / (samples_ * samples_))
+                   .cast<double>() +
+               Eigen::Vector3d::Constant(0.5));
+      if (normal.dot(X - centre) > 0.0) {
+        ++far;
+        far_centroid += X;
+        far_samples.push_back(q);
+      }
+    }
+    if (far == 0 || far == remaining) continue;
+    far_centroid /= far;
+    const int receiver = nearestAcross(e, far_centroid, [&](int r) {
+      return normal.dot(grid.integration_points.col(r) - centre) > 0.0;
+    });
+    if (receiver < 0) continue;
+    const double moved = volumes(e) * far / remaining;  // [m^3]
+    volumes(e) -= moved;
+    volumes(receiver) += moved;
+    for (const int q : far_samples) mask[static_cast<size_t>(q)] = 0;
+  }
+  for (const auto& [e, sel] : selections) {
+    if (!sel.particles.empty() || volumes(e) <= 0.0) continue;
+    result.isolated_ips.push_back(e);
+    int receiver = sel.nearest_ip;
+    if (receiver >= 0) {
+      const auto it = selections.find(receiver);
+      if (it != selections.end() && it->second.particles.empty()) receiver = -1;
+    }
+    if (receiver < 0)
+      receiver = nearestAcross(e, grid.integration_points.col(e), [](int) { return true; });
+    if (receiver < 0) continue;  // nothing to hand the volume to: it stays
+    volumes(receiver) += volumes(e);
+    volumes(e) = 0.0;
+  }
+
+  // 4. The changed IPs.
+  std::vector<EfgNeighbourhood> changes;
+  for (int e = 0; e < model_.numIntegrationPoints(); ++e) {
+    const auto sel = selections.find(e);
+    const bool reselected = sel != selections.end() && !sel->second.particles.empty();
+    EfgNeighbourhood c;
+    c.ip = e;
+    c.volume = volumes(e);
+    if (reselected) {
+      c.particles = sel->second.particles;
+      c.distances = sel->second.distances;
+    } else if (volumes(e) != grid.volumes(e)) {
+      c.particles = model_.ipParticles(e);
+      const Eigen::Map<const Eigen::VectorXd> detours = model_.detours(e);
+      for (size_t a = 0; a < c.particles.size(); ++a)
+        c.distances.push_back(
+            (grid.particles.col(c.particles[a]) - grid.integration_points.col(e)).norm() +
+            detours(static_cast<Eigen::Index>(a)));
+    } else {
+      continue;
+    }
+    if (reselected && volumes(e) == grid.volumes(e)) {
+      // Unchanged set and distances: nothing to do.
+      std::vector<std::pair<int, double>> now, before;
+      for (size_t a = 0; a < c.particles.size(); ++a)
+        now.emplace_back(c.particles[a], c.distances[a]);
+      std::sort(now.begin(), now.end());
+      const std::vector<int>& old = model_.ipParticles(e);
+      const Eigen::Map<const Eigen::VectorXd> detours = model_.detours(e);
+      for (size_t a = 0; a < old.size(); ++a)
+        before.emplace_back(old[a],
+                            (grid.particles.col(old[a]) - grid.integration_points.col(e)).norm() +
+                                detours(static_cast<Eigen::Index>(a)));
+      bool same = now.size() == before.size();
+      for (size_t a = 0; same && a < now.size(); ++a)
+        same = now[a].first == before[a].first &&
+               std::abs(now[a].second - before[a].second) <= 1e-12 * grid.spacing;
+      if (same) continue;
+    }
+    changes.push_back(std::move(c));
+  }
+  std::vector<int> released;  // particles some changed IP no longer uses
+  for (const EfgNeighbourhood& c : changes)
+    for (const int p : model_.ipParticles(c.ip))
+      if (std::find(c.particles.begin(), c.particles.end(), p) == c.particles.end())
+        released.push_back(p);
+  model_.setNeighbourhoods(changes);
+  const double total_mass = model_.lumpedMass().sum() / 3.0;  // [kg]
+  std::sort(released.begin(), released.end());
+  released.erase(std::unique(released.begin(), released.end()), released.end());
+  for (const int p : released)
+    if (model_.lumpedMass()(3 * p) <= kUnusedMassFraction * total_mass)
+      result.unused_particles.push_back(p);
+  for (const EfgNeighbourhood& c : changes) {
+    result.changed_ips.push_back(c.ip);
+    bool indirect = false;
+    for (const int p : c.particles) {
+      bool linked = false;
+      for (const int l : graph_.linksOf(graph_.ipNode(c.ip)))
+        linked = linked || (graph_.alive(l) && graph_.otherEnd(l, graph_.ipNode(c.ip)) == p);
+      indirect = indirect || !linked;
+    }
+    has_indirect_[static_cast<size_t>(c.ip)] = indirect ? 1 : 0;
+  }
+  const int before = pieces_;
+  pieces_ = countPieces();
+  result.pieces = pieces_;
+  result.pieces_changed = pieces_ != before;
+  return result;
+}
+
+}  // namespace surgical_sim::core

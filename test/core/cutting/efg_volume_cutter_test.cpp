@@ -1,0 +1,504 @@
+// Meshless EFG volume cutting (Magnoux's scenes): link severing by continuous CCD, neighbour
+// re-selection by graph distance, per-IP recompute, mass conservation, pieces.
+#include "surgical_sim/core/cutting/efg_volume_cutter.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+#include <string>
+
+#include "surgical_sim/core/mesh/surface_generators.h"
+#include "surgical_sim/core/solve/make_integrator.h"
+#include "surgical_sim/core/solve/make_linear_solver.h"
+#include "surgical_sim/core/tissue/material.h"
+
+namespace surgical_sim::core {
+namespace {
+
+constexpr double kRho = 1000.0;  // [kg/m^3]
+
+EfgModel efgModel(const TriMesh& surface, double spacing, double young = 3e4) {
+  EfgOptions o;
+  o.spacing = spacing;
+  return EfgModel(surface, Material::create(young, 0.3, kRho), o);
+}
+
+// Cylinder of radius 1 cm and length 4 cm along z, d = 2.5 mm.
+EfgModel cylinder() { return efgModel(makeCylinder(0.01, 0.04, 32, 4), 0.0025); }
+
+// A straight blade along x at (y, z), 6 cm long.
+Eigen::Matrix3Xd straightBlade(double y, double z) {
+  Eigen::Matrix3Xd b(3, 2);
+  b << -0.03, 0.03, y, y, z, z;
+  return b;
+}
+
+double totalMass(const EfgModel& m) { return m.lumpedMass().sum() / 3.0; }
+
+Eigen::VectorXd translated(const EfgModel& m, const Eigen::Vector3d& t) {
+  Eigen::VectorXd x = m.restPositions();
+  for (int i = 0; i < m.numNodes(); ++i) x.segment<3>(3 * i) += t;
+  return x;
+}
+
+// Partition of unity, linear completeness (values and gradients) at the given IPs.
+void expectLinearCompleteness(const EfgModel& m, const std::vector<int>& ips) {
+  for (const int e : ips) {
+    const std::vector<int>& p = m.ipParticles(e);
+    const Eigen::VectorXd phi = m.shapeValues(e);
+    const Eigen::MatrixXd G = m.shapeGradients(e);
+    ASSERT_TRUE(phi.allFinite() && G.allFinite()) << "IP " << e;
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d grad = Eigen::Matrix3d::Zero();
+    for (size_t a = 0; a < p.size(); ++a) {
+      x += phi(static_cast<Eigen::Index>(a)) * m.grid().particles.col(p[a]);
+      grad += m.grid().particles.col(p[a]) * G.row(static_cast<Eigen::Index>(a));
+    }
+    EXPECT_NEAR(phi.sum(), 1.0, 1e-12) << "IP " << e;
+    EXPECT_NEAR(G.colwise().sum().norm(), 0.0, 1e-9 / m.grid().spacing) << "IP " << e;
+    EXPECT_LT((x - m.grid().integration_points.col(e)).norm(), 1e-12 * m.grid().spacing)
+        << "IP " << e;
+    EXPECT_LT((grad - Eigen::Matrix3d::Identity()).norm(), 1e-10) << "IP " << e;
+  }
+}
+
+// Rigid motion: zero force; force = -dE/dx and K = -df/dx by central differences at a deformed
+// state, on the DOFs of the given IPs' particles.
+void expectConsistentMechanics(const EfgModel& m, const std::vector<int>& ips) {
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1.0, -2.0, 0.5).normalized()).toRotationMatrix();
+  Eigen::VectorXd x = m.restPositions();
+  for (int i = 0; i < m.numNodes(); ++i)
+    x.segment<3>(3 * i) = R * x.segment<3>(3 * i) + Eigen::Vector3d(0.1, -0.2, 0.3);
+  Eigen::VectorXd f_rigid = Eigen::VectorXd::Zero(x.size());
+  m.addInternalForce(x, f_rigid);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.05 * m.grid().spacing);
+  for (Eigen::Index i = 0; i < x.size(); ++i) x(i) = m.restPositions()(i) + noise(rng);
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(x.size());
+  m.addInternalForce(x, f);
+  ASSERT_TRUE(f.allFinite());
+  const double scale = f.cwiseAbs().maxCoeff();  // [N]
+  EXPECT_LT(f_rigid.cwiseAbs().maxCoeff(), 1e-9 * scale);
+  Eigen::SparseMatrix<double> K = m.stiffnessPattern();
+  m.assembleStiffness(x, TangentMode::Exact, K);
+  ASSERT_TRUE(
+      Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(K.valuePtr(), K.nonZeros())).allFinite());
+  const double h = 1e-7 * m.grid().spacing;
+  int checked = 0;
+  for (const int e : ips) {
+    for (const int p : m.ipParticles(e)) {
+      if (checked >= 24) return;
+      const int dof = 3 * p + checked % 3;
+      ++checked;
+      Eigen::VectorXd xp = x, xm = x;
+      xp(dof) += h;
+      xm(dof) -= h;
+      const double dE = (m.energy(xp) - m.energy(xm)) / (2.0 * h);
+      EXPECT_NEAR(f(dof), -dE, 1e-5 * scale) << "dof " << dof;
+      Eigen::VectorXd fp = Eigen::VectorXd::Zero(x.size()), fm = fp;
+      m.addInternalForce(xp, fp);
+      m.addInternalForce(xm, fm);
+      const Eigen::VectorXd column = -(fp - fm) / (2.0 * h);
+      const Eigen::VectorXd k_col = K.col(dof);
+      EXPECT_LT((column - k_col).norm(), 1e-5 * (k_col.norm() + 1.0)) << "dof " << dof;
+    }
+  }
+}
+
+// Common invariants after cuts of `original` (same grid) into `cut`.
+void expectInvariants(const EfgModel& before, const EfgModel& cut, const std::vector<int>& ips) {
+  EXPECT_EQ(cut.numNodes(), before.numNodes());
+  EXPECT_NEAR(totalMass(cut), totalMass(before), 1e-12 * totalMass(before));
+  EXPECT_GT(cut.lumpedMass().minCoeff(), -1e-15 * totalMass(before));
+  EXPECT_TRUE(cut.lumpedMass().allFinite());
+  EXPECT_NEAR(cut.grid().volumes.sum(), before.grid().volumes.sum(),
+              1e-12 * before.grid().volumes.sum());
+  expectLinearCompleteness(cut, ips);
+  expectConsistentMechanics(cut, ips);
+}
+
+// Severs by a blade along x at z = z_cut moving in y from below the cylinder to above it.
+BladeSweep upwardSweep(double z_cut) {
+  return {straightBlade(-0.015, z_cut), straightBlade(0.015, z_cut)};
+}
+
+// Particle pieces match the side of the plane z = z_cut.
+void expectSplitAt(const EfgVolumeCutter& cutter, double z_cut) {
+  EXPECT_EQ(cutter.pieces(), 2);
+  const std::vector<int> label = cutter.particlePieces();
+  const Eigen::Matrix3Xd& X = cutter.model().grid().particles;
+  int below = -1, above = -1;
+  for (int p = 0; p < X.cols(); ++p)
+    (X(2, p) < z_cut ? below : above) = label[static_cast<size_t>(p)];
+  ASSERT_NE(below, above);
+  for (int p = 0; p < X.cols(); ++p)
+    EXPECT_EQ(label[static_cast<size_t>(p)], X(2, p) < z_cut ? below : above) << "particle " << p;
+}
+
+TEST(EfgTopologyGraph, GridNeighbourLinksAndInitialNeighbourhoods) {
+  const EfgModel m = cylinder();
+  EfgTopologyGraph g(m);
+  const int n = m.numNodes();
+  const Eigen::Matrix3Xd& X = m.grid().particles;
+  const double side = 2.0 * m.grid().spacing;
+  int particle_links = 0, ip_links = 0;
+  for (const EfgTopologyGraph::Link& l : g.links()) {
+    if (l.b < n) {
+      ++particle_links;
+      EXPECT_NEAR(l.rest_length, side, 1e-12 * side);
+      EXPECT_NEAR((X.col(l.a) - X.col(l.b)).cwiseAbs().maxCoeff(), side, 1e-12 * side);
+    } else {
+      ++ip_links;
+    }
+  }
+  // Every pair of particles one DOF cell apart along an axis is linked.
+  int pairs = 0;
+  for (int a = 0; a < n; ++a)
+    for (int b = a + 1; b < n; ++b) {
+      const Eigen::Vector3d d = (X.col(a) - X.col(b)).cwiseAbs();
+      pairs += std::abs(d.maxCoeff() - side) < 1e-9 * side && d.sum() < 1.5 * side;
+    }
+  EXPECT_EQ(particle_links, pairs);
+  EXPECT_EQ(ip_links, 8 * m.numIntegrationPoints());
+  // From an IP, the search reaches its 8 cell corners before any other particle.
+  const int e = m.numIntegrationPoints() / 2;
+  std::vector<int> first;
+  g.searchFrom(g.ipNode(e), [&](int v, double) {
+    if (v < n) first.push_back(v);
+    return first.size() < 8;
+  });
+  std::sort(first.begin(), first.end());
+  EXPECT_EQ(first, m.ipParticles(e));
+  std::vector<int> labels;
+  EXPECT_EQ(g.components(labels), 1);
+  for (const int l : g.linksOf(g.ipNode(e))) g.sever(l);
+  EXPECT_EQ(g.components(labels), 2);  // the IP alone
+  EXPECT_EQ(g.numSevered(), 8);
+}
+
+TEST(EfgVolumeCutter, StaticCylinderAndMovingBladeSeverTheSameLinksAsTheMirroredMotion) {
+  const double z_cut = 0.0006;  // between particle and IP planes [m]
+  EfgModel a = cylinder();
+  const EfgModel before = a;
+  EfgVolumeCutter blade_moves(a);
+  const EfgCutResult ra = blade_moves.cut(upwardSweep(z_cut), a.restPositions(), a.restPositions());
+  EfgModel b = cylinder();
+  EfgVolumeCutter body_moves(b);
+  const BladeSweep fixed{straightBlade(-0.015, z_cut), straightBlade(-0.015, z_cut)};
+  const EfgCutResult rb =
+      body_moves.cut(fixed, b.restPositions(), translated(b, Eigen::Vector3d(0.0, -0.03, 0.0)));
+  ASSERT_FALSE(ra.severed_links.empty());
+  EXPECT_EQ(ra.severed_links, rb.severed_links);
+  EXPECT_EQ(ra.changed_ips, rb.changed_ips);
+  EXPECT_TRUE(ra.pieces_changed);
+  EXPECT_EQ(ra.pieces, 2);
+  // Exactly the links crossing the plane are severed.
+  const EfgTopologyGraph& g = blade_moves.graph();
+  const auto rest = [&](int v) -> Eigen::Vector3d {
+    return v < g.numParticles()
+               ? Eigen::Vector3d(a.grid().particles.col(v))
+               : Eigen::Vector3d(a.grid().integration_points.col(v - g.numParticles()));
+  };
+  for (size_t l = 0; l < g.links().size(); ++l) {
+    const bool crosses =
+        (rest(g.links()[l].a).z() - z_cut) * (rest(g.links()[l].b).z() - z_cut) < 0.0;
+    EXPECT_EQ(g.alive(static_cast<int>(l)), !crosses) << "link " << l;
+  }
+  expectSplitAt(blade_moves, z_cut);
+  expectInvariants(before, a, ra.changed_ips);
+}
+
+TEST(EfgVolumeCutter, CylinderFallingOntoAStaticBladeIsCutInTwo) {
+  const double z_cut = 0.0006;
+  EfgModel model = cylinder();
+  const EfgModel before = model;
+  EfgVolumeCutter cutter(model);
+  const BladeSweep blade{straightBlade(-0.0125, z_cut), straightBlade(-0.0125, z_cut)};
+  DynamicsProblem problem;
+  problem.model = &model;
+  const Eigen::Vector3d g(0.0, -9.81, 0.0);
+  SimulationState state{model.restPositions(), Eigen::VectorXd::Zero(model.restPositions().size()),
+                        0.0};
+  const auto integrator = makeIntegrator(IntegratorKind::ImplicitEulerLinearized, {},
+                                         makeLinearSolver(SolverKind::Cholmod, {}));
+  const double dt = 0.005;
+  std::vector<int> changed;
+  int cutting_steps = 0;
+  for (int i = 0; i < 30; ++i) {
+    problem.external_force = model.bodyForce(g);
+    const Eigen::VectorXd x_start = state.x;
+    ASSERT_EQ(integrator->step(problem, dt, state).status, StepStatus::Ok) << "step " << i;
+    const EfgCutResult r = cutter.cut(blade, x_start, state.x);
+    if (!r.changed_ips.empty()) {
+      ++cutting_steps;
+      integrator->reset();  // new stiffness pattern
+      changed.insert(changed.end(), r.changed_ips.begin(), r.changed_ips.end());
+    }
+    ASSERT_TRUE(state.x.allFinite());
+  }
+  EXPECT_GT(cutting_steps, 2);  // progressive: over several steps
+  // The whole body passed the blade.
+  double top = -INFINITY;
+  for (int i = 0; i < model.numNodes(); ++i) top = std::max(top, state.x(3 * i + 1));
+  ASSERT_LT(top, -0.0125);
+  expectSplitAt(cutter, z_cut);
+  std::sort(changed.begin(), changed.end());
+  changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+  expectInvariants(before, model, changed);
+}
+
+TEST(EfgVolumeCutter, CurvedBladeTwistingWhileAdvancingCutsThrough) {
+  EfgModel model = cylinder();
+  const EfgModel before = model;
+  EfgVolumeCutter cutter(model);
+  // Arc blade in the xz-plane, bulging by 4 mm, rotating 0.4 rad about y as it rises.
+  const auto blade = [](double s) {
+    const int k = 7;
+    Eigen::Matrix3Xd b(3, k);
+    const Eigen::Matrix3d R =
+        Eigen::AngleAxisd(0.4 * s, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    for (int i = 0; i < k; ++i) {
+      const double x = -0.03 + 0.06 * i / (k - 1);
+      b.col(i) = R * Eigen::Vector3d(x, 0.0, 0.0011 + 0.004 * (1.0 - x * x / 0.0009)) +
+                 Eigen::Vector3d(0.0, -0.015 + 0.03 * s, 0.0);
+    }
+    return b;
+  };
+  const int steps = 10;
+  std::vector<int> changed;
+  int severed = 0;
+  for (int i = 0; i < steps; ++i) {
+    const EfgCutResult r = cutter.cut({blade(double(i) / steps), blade(double(i + 1) / steps)},
+                                      model.restPositions(), model.restPositions());
+    severed += static_cast<int>(r.severed_links.size());
+    changed.insert(changed.end(), r.changed_ips.begin(), r.changed_ips.end());
+  }
+  EXPECT_GT(severed, 50);
+  EXPECT_EQ(cutter.pieces(), 2);
+  EXPECT_EQ(cutter.graph().numSevered(), severed);
+  std::sort(changed.begin(), changed.end());
+  changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+  expectInvariants(before, model, changed);
+}
+
+TEST(EfgVolumeCutter, TorusSectionCutFreeFallsAtGWhileTheHeldPartStays) {
+  const double R = 0.03, r = 0.01;
+  EfgModel model = efgModel(makeTorus(R, r, 48, 16), 0.003, 1e6);
+  const EfgModel before = model;
+  EfgVolumeCutter cutter(model);
+  // Radial blades sweeping down through the tube at angle u; the last one only half-way.
+  const auto radial = [&](double u, double z_end) {
+    const Eigen::Vector3d d(std::cos(u), std::sin(u), 0.0);
+    Eigen::Matrix3Xd start(3, 2), end(3, 2);
+    start << (R - 2 * r) * d + Eigen::Vector3d(0, 0, 2 * r),
+        (R + 2 * r) * d + Eigen::Vector3d(0, 0, 2 * r);
+    end = start;
+    end.row(2).setConstant(z_end);
+    return BladeSweep{start, end};
+  };
+  std::vector<int> changed;
+  std::vector<int> unused;  // particles left without material: pinned
+  for (const auto& [u, z_end] :
+       {std::pair{0.45, -2 * r}, std::pair{-0.6, -2 * r}, std::pair{2.5, 0.0}}) {
+    const EfgCutResult c =
+        cutter.cut(radial(u, z_end), model.restPositions(), model.restPositions());
+    ASSERT_FALSE(c.severed_links.empty());
+    unused.insert(unused.end(), c.unused_particles.begin(), c.unused_particles.end());
+    changed.insert(changed.end(), c.changed_ips.begin(), c.changed_ips.end());
+  }
+  EXPECT_EQ(cutter.pieces(), 2);
+  std::sort(changed.begin(), changed.end());
+  changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+  expectInvariants(before, model, changed);
+
+  EXPECT_EQ(cutter.unusedParticles(), [&] {
+    std::sort(unused.begin(), unused.end());
+    return unused;
+  }());
+  for (const int p : unused) EXPECT_EQ(model.lumpedMass()(3 * p), 0.0);
+  // Hold the particles with x < -R / 2 and the unused ones; gravity -z.
+  const std::vector<int> label = cutter.particlePieces();
+  const Eigen::Matrix3Xd& X = model.grid().particles;
+  int free_piece = -1;
+  (X.colwise() - Eigen::Vector3d(R, 0.0, 0.0)).colwise().squaredNorm().minCoeff(&free_piece);
+  free_piece = label[static_cast<size_t>(free_piece)];
+  DynamicsProblem problem;
+  problem.model = &model;
+  const Eigen::Vector3d g(0.0, 0.0, -9.81);
+  problem.external_force = model.bodyForce(g);
+  for (int p = 0; p < model.numNodes(); ++p) {
+    const bool pinned = std::find(unused.begin(), unused.end(), p) != unused.end();
+    if (X(0, p) >= -R / 2 && !pinned) continue;
+    if (!pinned) ASSERT_NE(label[static_cast<size_t>(p)], free_piece);
+    for (int k = 0; k < 3; ++k) problem.dirichlet.dofs.push_back(3 * p + k);
+  }
+  problem.dirichlet.positions.resize(static_cast<Eigen::Index>(problem.dirichlet.dofs.size()));
+  for (size_t i = 0; i < problem.dirichlet.dofs.size(); ++i)
+    problem.dirichlet.positions(static_cast<Eigen::Index>(i)) =
+        model.restPositions()(problem.dirichlet.dofs[i]);
+  SimulationState state{model.restPositions(), Eigen::VectorXd::Zero(model.restPositions().size()),
+                        0.0};
+  const auto integrator = makeIntegrator(IntegratorKind::ImplicitEulerLinearized, {},
+                                         makeLinearSolver(SolverKind::Cholmod, {}));
+  const double dt = 0.01;
+  const int steps = 10;
+  for (int i = 0; i < steps; ++i)
+    ASSERT_EQ(integrator->step(problem, dt, state).status, StepStatus::Ok);
+  double free_mass = 0.0, free_dz = 0.0, held_dz = 0.0;
+  for (int p = 0; p < model.numNodes(); ++p) {
+    const double dz = state.x(3 * p + 2) - model.restPositions()(3 * p + 2);
+    const double m = model.lumpedMass()(3 * p);
+    if (label[static_cast<size_t>(p)] == free_piece) {
+      free_mass += m;
+      free_dz += m * dz;
+    } else {
+      held_dz = std::min(held_dz, dz);
+    }
+  }
+  const double expected = -9.81 * dt * dt * steps * (steps + 1) / 2.0;
+  EXPECT_GT(free_mass, 0.05 * totalMass(model));
+  EXPECT_NEAR(free_dz / free_mass, expected, 1e-6 * std::abs(expected));
+  EXPECT_GT(held_dz, 0.2 * expected);  // the held part only sags
+}
+
+TEST(EfgVolumeCutter, ThinSliceStaysFiniteAndIsolatedPointsKeepTheMass) {
+  EfgModel model = cylinder();
+  const EfgModel before = model;
+  EfgVolumeCutter cutter(model);
+  std::vector<int> changed;
+  int isolated = 0;
+  // Two cuts one integration cell apart, then one inside the slice.
+  for (const double z : {0.0006, 0.0031, 0.0019}) {
+    const EfgCutResult r = cutter.cut(upwardSweep(z), model.restPositions(), model.restPositions());
+    changed.insert(changed.end(), r.changed_ips.begin(), r.changed_ips.end());
+    for (const int e : r.isolated_ips) EXPECT_EQ(model.grid().volumes(e), 0.0);
+    isolated += static_cast<int>(r.isolated_ips.size());
+  }
+  EXPECT_EQ(cutter.pieces(), 2);  // the slice holds no particle: its IPs are isolated
+  EXPECT_GT(isolated, 0);
+  std::sort(changed.begin(), changed.end());
+  changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+  std::vector<int> active;
+  for (const int e : changed)
+    if (model.grid().volumes(e) > 0.0) active.push_back(e);
+  expectInvariants(before, model, active);
+}
+
+TEST(EfgVolumeCutter, MidCellCutMovesTheVolumeBeyondThePlane) {
+  const double z_cut = 0.0006;
+  EfgModel model = cylinder();
+  const Eigen::VectorXd v0 = model.grid().volumes;
+  EfgVolumeCutter cutter(model);
+  cutter.cut(upwardSweep(z_cut), model.restPositions(), model.restPositions());
+  // Cells [0, d] in z are crossed at 0.24 d: their IPs (z > z_cut) lose the part below.
+  double moved_out = 0.0, moved_in = 0.0;
+  for (int e = 0; e < model.numIntegrationPoints(); ++e) {
+    const double dv = model.grid().volumes(e) - v0(e);
+    const double z = model.grid().integration_points(2, e);
+    if (dv < 0.0) {
+      EXPECT_GT(z, z_cut);
+      moved_out -= dv;
+    } else if (dv > 0.0) {
+      EXPECT_LT(z, z_cut);
+      moved_in += dv;
+    }
+  }
+  EXPECT_GT(moved_out, 0.0);
+  EXPECT_NEAR(moved_in, moved_out, 1e-15);
+}
+
+TEST(EfgVolumeCutter, RandomSweepsKeepMassCompletenessAndFiniteness) {
+  EfgModel model = cylinder();
+  const EfgModel before = model;
+  EfgVolumeCutter cutter(model);
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-0.025, 0.025);
+  const auto point = [&] { return Eigen::Vector3d(u(rng), u(rng), u(rng)); };
+  std::vector<int> changed;
+  for (int i = 0; i < 40; ++i) {
+    BladeSweep sweep{Eigen::Matrix3Xd(3, 3), Eigen::Matrix3Xd(3, 3)};
+    for (int c = 0; c < 3; ++c) {
+      sweep.start.col(c) = point();
+      sweep.end.col(c) = sweep.start.col(c) + 0.4 * point();
+    }
+    const EfgCutResult r = cutter.cut(sweep, model.restPositions(), model.restPositions());
+    for (const int e : r.changed_ips)
+      if (model.grid().volumes(e) > 0.0) changed.push_back(e);
+  }
+  std::sort(changed.begin(), changed.end());
+  changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+  EXPECT_GT(changed.size(), 100u);
+  EXPECT_NEAR(totalMass(model), totalMass(before), 1e-12 * totalMass(before));
+  expectLinearCompleteness(model, changed);
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(model.restPositions().size());
+  model.addInternalForce(model.restPositions(), f);
+  EXPECT_LT(f.cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_TRUE(model.bodyForce(Eigen::Vector3d(0, 0, -9.81)).allFinite());
+}
+
+TEST(EfgVolumeCutter, BladeThatMissesChangesNoBit) {
+  EfgModel model = cylinder();
+  const EfgModel before = model;
+  EfgVolumeCutter cutter(model);
+  // Beside the outermost particles, inside the broad phase's margin.
+  const double x_side = model.grid().particles.row(0).maxCoeff() + 0.001;
+  Eigen::Matrix3Xd b(3, 2);
+  b << x_side, x_side, -0.02, -0.02, -0.03, 0.03;
+  Eigen::Matrix3Xd e = b;
+  e.row(1).setConstant(0.02);
+  const EfgCutResult r = cutter.cut({b, e}, model.restPositions(), model.restPositions());
+  EXPECT_TRUE(r.severed_links.empty());
+  EXPECT_TRUE(r.changed_ips.empty());
+  EXPECT_FALSE(r.pieces_changed);
+  EXPECT_EQ(r.pieces, 1);
+  EXPECT_EQ(cutter.graph().numSevered(), 0);
+  const auto bits = [](const Eigen::VectorXd& v) {
+    return std::vector<double>(v.data(), v.data() + v.size());
+  };
+  EXPECT_EQ(bits(model.lumpedMass()), bits(before.lumpedMass()));
+  EXPECT_EQ(bits(model.bodyForce(Eigen::Vector3d(0, 0, -9.81))),
+            bits(before.bodyForce(Eigen::Vector3d(0, 0, -9.81))));
+  EXPECT_EQ(bits(model.grid().volumes), bits(before.grid().volumes));
+  Eigen::VectorXd x = model.restPositions();
+  x(7) += 1e-4;
+  Eigen::VectorXd fa = Eigen::VectorXd::Zero(x.size()), fb = fa;
+  model.addInternalForce(x, fa);
+  before.addInternalForce(x, fb);
+  EXPECT_EQ(bits(fa), bits(fb));
+  EXPECT_EQ(model.stiffnessPattern().nonZeros(), before.stiffnessPattern().nonZeros());
+  for (int ip = 0; ip < model.numIntegrationPoints(); ++ip) {
+    EXPECT_EQ(model.ipParticles(ip), before.ipParticles(ip));
+    EXPECT_EQ(bits(model.shapeValues(ip)), bits(before.shapeValues(ip)));
+  }
+}
+
+TEST(EfgVolumeCutter, BadInputIsNamed) {
+  EfgModel model = cylinder();
+  EfgVolumeCutter cutter(model);
+  const Eigen::VectorXd x = model.restPositions();
+  const auto message = [&](const BladeSweep& s, const Eigen::VectorXd& a,
+                           const Eigen::VectorXd& b) {
+    try {
+      cutter.cut(s, a, b);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  BladeSweep nan_blade = upwardSweep(0.0);
+  nan_blade.end(1, 0) = NAN;
+  EXPECT_NE(message(nan_blade, x, x).find("blade_sweep.end"), std::string::npos);
+  EXPECT_NE(message(upwardSweep(0.0), x.head(6), x).find("x_start has size 6"), std::string::npos);
+  Eigen::VectorXd bad = x;
+  bad(3) = INFINITY;
+  EXPECT_NE(message(upwardSweep(0.0), x, bad).find("x_end is not finite"), std::string::npos);
+  EXPECT_EQ(cutter.graph().numSevered(), 0);
+}
+
+}  // namespace
+}  // namespace surgical_sim::core
