@@ -26,7 +26,7 @@ constexpr int kClusterEdges = 32;
 /// Crossing parameters are kept this far from the edge ends, and tip barycentric coordinates
 /// at least this large, so no split triangle degenerates to zero area.
 constexpr double kEdgeMargin = 0.02;
-constexpr double kTipMargin = 0.05;
+constexpr double kTipMargin = 0.01;
 
 /// Spreads the 10 low bits of x to every third bit (Morton code).
 std::uint32_t spreadBits(std::uint32_t x) {
@@ -383,19 +383,19 @@ bool EfgSurfaceCutter::accept(int edge, double s) {
   return false;
 }
 
-void EfgSurfaceCutter::placeTip(int end, const BladeSweep& sweep, const Eigen::Matrix3Xd& x_end) {
+bool EfgSurfaceCutter::placeTip(int end, const BladeSweep& sweep, const Eigen::Matrix3Xd& x_end) {
   const auto& tri = at(tris_, tip_tri_[static_cast<std::size_t>(end)]);
   Eigen::Vector3d bary;
-  for (Eigen::Index i = 0; i + 1 < sweep.end.cols(); ++i)
-    if (segmentTriangle(sweep.end.col(i), sweep.end.col(i + 1), x_end.col(tri[0]),
-                        x_end.col(tri[1]), x_end.col(tri[2]), bary)) {
-      tip_bary_[static_cast<std::size_t>(end)] = clampBary(bary);
-      break;
-    }
+  bool pierced = false;
+  for (Eigen::Index i = 0; i + 1 < sweep.end.cols() && !pierced; ++i)
+    pierced = segmentTriangle(sweep.end.col(i), sweep.end.col(i + 1), x_end.col(tri[0]),
+                              x_end.col(tri[1]), x_end.col(tri[2]), bary);
+  if (pierced) tip_bary_[static_cast<std::size_t>(end)] = clampBary(bary);
   const Eigen::Vector3d& b = tip_bary_[static_cast<std::size_t>(end)];
   at(verts_, tip_vertex_[static_cast<std::size_t>(end)]).rest = b[0] * at(verts_, tri[0]).rest +
                                                                 b[1] * at(verts_, tri[1]).rest +
                                                                 b[2] * at(verts_, tri[2]).rest;
+  return pierced;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -494,12 +494,22 @@ void EfgSurfaceCutter::rebuild() {
   std::vector<std::array<int, 3>> sheet = fixed_sheet_;
   const std::vector<int> behind = chain();
   if (completed_) {
-    // Fill the closed chain: a strip between its two halves.
-    const std::size_t m = behind.size() / 2;
-    const std::vector<int> first(behind.begin(), behind.begin() + static_cast<long>(m) + 1);
-    std::vector<int> second = {behind.front()};
-    second.insert(second.end(), behind.rbegin(), behind.rend() - static_cast<long>(m));
-    appendStrip(first, second, restOf(), sheet);
+    // Fill the closed chain: a strip from its last fixed row to the rest of the polygon walked
+    // the other way round; without a row, between the polygon's two halves.
+    std::vector<int> upper, lower;
+    if (row_.empty()) {
+      const auto m = static_cast<long>(behind.size() / 2);
+      upper.assign(behind.begin(), behind.begin() + m + 1);
+      lower = {behind.front()};
+      lower.insert(lower.end(), behind.rbegin(), behind.rend() - m);
+    } else {
+      const auto m = std::find(path_.begin(), path_.end(), row_attach_[0]) - path_.begin();
+      const auto end = m + static_cast<long>(row_.size()) + 1;
+      upper.assign(behind.begin() + m, behind.begin() + end + 1);
+      lower.assign(behind.rend() - m - 1, behind.rend());
+      lower.insert(lower.end(), behind.rbegin(), behind.rend() - end);
+    }
+    appendStrip(upper, lower, restOf(), sheet);
   } else {
     std::vector<int> ahead = {tip_vertex_[0]};
     ahead.insert(ahead.end(), front_.begin(), front_.end());
@@ -560,11 +570,13 @@ Eigen::Vector3d EfgSurfaceCutter::vertexNormal(int v) const {
   return len > 1e-300 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
 }
 
-void EfgSurfaceCutter::remap(int v) {
+void EfgSurfaceCutter::remap(int v, const std::vector<std::uint8_t>* excluded) {
   std::vector<int> ring;
   forIncident(v, [&](const std::array<int, 3>& t) {
-    for (int u : t)
-      if (u != v && at(verts_, u).ip >= 0) ring.push_back(at(verts_, u).ip);
+    for (int u : t) {
+      const int ip = at(verts_, u).ip;
+      if (u != v && ip >= 0 && !(excluded && at(*excluded, ip))) ring.push_back(ip);
+    }
   });
   std::sort(ring.begin(), ring.end());
   ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
@@ -591,7 +603,11 @@ std::vector<int> EfgSurfaceCutter::remapVerticesOfIps(const std::vector<int>& ch
   for (int v = 0; v < numVertices(); ++v)
     if (at(verts_, v).used && at(verts_, v).ip >= 0 && at(changed, at(verts_, v).ip))
       out.push_back(v);
-  for (int v : out) remap(v);
+  // The 1-ring test first ignores the changed IPs (their sets are what changed), then a second
+  // pass sees every neighbour's new IP.
+  for (int v : out) remap(v, &changed);
+  for (int v : out)
+    if (at(changed, at(verts_, v).ip)) remap(v);
   return out;
 }
 
@@ -686,9 +702,10 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
     to_remap.push_back(h.first);
   }
   if (active_) {
+    bool pierced = false;
     if (!completed_) {
-      placeTip(0, sweep, x_end);
-      placeTip(1, sweep, x_end);
+      const bool left = placeTip(0, sweep, x_end), right = placeTip(1, sweep, x_end);
+      pierced = left || right;
     }
     // Cut normal at a crossing: its edge direction (side A -> B) without the front's direction.
     const Eigen::Vector3d front =
@@ -725,6 +742,10 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
     } else {
       to_remap.insert(to_remap.end(), front_.begin(), front_.end());
       to_remap.insert(to_remap.end(), tip_vertex_.begin(), tip_vertex_.end());
+      if (!pierced) {  // the blade left the cut: keep it as a crack
+        commit();
+        out.crack = true;
+      }
     }
   }
   // Existing vertices first, so new ones see mapped neighbours.

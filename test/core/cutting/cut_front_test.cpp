@@ -35,7 +35,7 @@ TEST(CutFront, StripBetweenTwoChainsIsADiskBoundedByTheChainsAndTheEndRungs) {
     EXPECT_GT(n.z(), 0.0);  // counter-clockwise about +z
     area += 0.5 * n.z();
   }
-  EXPECT_NEAR(area, 3.0, 1e-12);  // the trapezoid between the chains
+  EXPECT_NEAR(area, 4.0, 1e-12);  // the rectangle between the chains
   // Interior edges are used once in each direction; boundary edges once.
   const auto uses = directedEdges(tris);
   int boundary = 0;

@@ -24,6 +24,8 @@ struct EfgSurfaceCutStep {
   int crossed_edges = 0;      ///< surface edges cut this step
   int ignored_crossings = 0;  ///< crossings that would start a second front (not cut)
   bool completed = false;     ///< the cut closed this step (its fronts met, no transient left)
+  bool crack = false;  ///< the blade left a running cut without closing it: the cut is kept as a
+                       ///< crack (its front and tip vertices stay, shared by both lips)
   std::vector<int> remapped;  ///< vertices whose mapping row changed or that are new, sorted
 };
 
@@ -54,13 +56,17 @@ struct EfgSurfaceCutStep {
 ///   sheet with its own vertices (crossing copies, fixed rows), oppositely oriented.
 /// - Transient rest positions interpolate linearly between the two tips' rest positions (exact
 ///   for a straight blade under a locally affine deformation).
-/// - Completion: the last chain closes into a polygon, filled by a strip between its halves;
+/// - Completion: the last chain closes into a polygon, filled by a strip from the last fixed row
+///   (without a row: the polygon's first half) to the rest of the polygon;
 ///   transient vertices are freed and the edge tables are rebuilt (O(t log t), once per cut).
+/// - A step whose blade pierces neither tip triangle (the blade left the body) ends the cut as a
+///   crack: the surface is committed as it is, front and tip vertices stay, shared by both lips.
 /// Remapping (SurfaceRemapper criteria): new vertices; the endpoints of a cut edge, each with a
 /// plane through the crossing whose normal is the cut's (the edge direction without its
 /// component along the front); a vertex whose segment to its IP the blade crosses (plane
 /// through the crossing, normal along vertex -> IP); tips and transient vertices each step;
-/// remapVerticesOfIps() after a volume cut.
+/// remapVerticesOfIps() after a volume cut (first ignoring neighbours on the changed IPs in the
+/// 1-ring test, then once more with every neighbour's new IP for those still on a changed IP).
 /// The surface stays closed and edge-manifold at every step (checkSurfaceClosure).
 class EfgSurfaceCutter {
  public:
@@ -128,7 +134,8 @@ class EfgSurfaceCutter {
   int newVertex(Eigen::Vector3d rest);
   void freeVertex(int v);
   bool accept(int edge, double s);
-  void placeTip(int end, const BladeSweep& sweep, const Eigen::Matrix3Xd& x_end);
+  /// Moves tip `end` to where the blade pierces its triangle; false when it does not.
+  bool placeTip(int end, const BladeSweep& sweep, const Eigen::Matrix3Xd& x_end);
   /// Resamples the front, drops a fixed row when due; appends the new vertices to `created`.
   void updateFront(std::vector<int>& created);
   void rebuild();
@@ -140,7 +147,8 @@ class EfgSurfaceCutter {
   int crossingCopy(int c, int vertex) const;
   int crossedCount(int tri) const;
   Eigen::Vector3d vertexNormal(int v) const;
-  void remap(int v);
+  /// Remaps v; the 1-ring test ignores neighbours on IPs flagged in `excluded`.
+  void remap(int v, const std::vector<std::uint8_t>* excluded = nullptr);
   void addPlane(int v, const Eigen::Vector3d& point, const Eigen::Vector3d& normal);
 
   const EfgMappingSource& source_;
