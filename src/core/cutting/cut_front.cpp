@@ -40,6 +40,8 @@ void appendStrip(const std::vector<int>& behind, const std::vector<int>& ahead,
   auto emit = [&out](int a, int b, int c) {
     if (a != b && b != c && c != a) out.push_back({a, b, c});
   };
+  const bool shared_start = behind.front() == ahead.front();
+  const bool shared_end = behind.back() == ahead.back();
   std::size_t i = 0, j = 0;
   while (i + 1 < nb || j + 1 < na) {
     bool advance_behind;
@@ -53,6 +55,13 @@ void appendStrip(const std::vector<int>& behind, const std::vector<int>& ahead,
       const double q_ahead = quality(rest(behind[i]), rest(ahead[j + 1]), rest(ahead[j]));
       if (advance_behind ? q_behind < kSliver * q_ahead : q_ahead < kSliver * q_behind)
         advance_behind = !advance_behind;
+      // At a shared end vertex no triangle may take all three corners from one chain (it would
+      // overlap the neighbouring strip): leave the shared start at once, reach the shared end
+      // last.
+      if (shared_start && j == 0 && i > 0) advance_behind = false;
+      if (shared_start && i == 0 && j > 0) advance_behind = true;
+      if (shared_end && j + 2 == na && i + 2 < nb) advance_behind = true;
+      if (shared_end && i + 2 == nb && j + 2 < na) advance_behind = false;
     }
     if (advance_behind) {
       emit(behind[i], behind[i + 1], ahead[j]);

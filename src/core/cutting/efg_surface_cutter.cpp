@@ -442,7 +442,8 @@ void EfgSurfaceCutter::updateFront(std::vector<int>& created) {
       nearest = std::min(nearest, (at(verts_, t).rest - at(verts_, b).rest).norm());
     farthest = std::max(farthest, nearest);
   }
-  if (farthest <= w) return;
+  // A row needs distinct chain ends to attach to (a path of one crossing has one).
+  if (farthest <= w || path_.size() < 2) return;
   std::vector<int> row;
   for (int t : front_) {
     const int a = newVertex(at(verts_, t).rest), b = newVertex(at(verts_, t).rest);
@@ -534,6 +535,7 @@ void EfgSurfaceCutter::rebuild() {
   };
   const bool flip = mustFlip();
   auto other = [this](int v) { return at(verts_, v).twin >= 0 ? at(verts_, v).twin : v; };
+  sheet_start_ = intSize(generated_);
   for (const auto& t : sheet) {
     if (flip) {
       generated_.push_back({t[0], t[2], t[1]});
@@ -557,6 +559,19 @@ void EfgSurfaceCutter::forIncident(int v, const F& f) const {
     }
   for (const auto& t : generated_)
     if (t[0] == v || t[1] == v || t[2] == v) f(t);
+}
+
+Eigen::Vector3d EfgSurfaceCutter::sheetNormal(int v) const {
+  Eigen::Vector3d n = Eigen::Vector3d::Zero();
+  for (std::size_t k = static_cast<std::size_t>(sheet_start_); k < generated_.size(); k += 2) {
+    const auto& t = generated_[k];
+    if (t[0] != v && t[1] != v && t[2] != v) continue;
+    const Eigen::Vector3d &a = at(verts_, t[0]).rest, &b = at(verts_, t[1]).rest,
+                          &c = at(verts_, t[2]).rest;
+    n += (b - a).cross(c - a);
+  }
+  const double len = n.norm();
+  return len > 1e-300 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
 }
 
 Eigen::Vector3d EfgSurfaceCutter::vertexNormal(int v) const {
@@ -707,17 +722,18 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
       const bool left = placeTip(0, sweep, x_end), right = placeTip(1, sweep, x_end);
       pierced = left || right;
     }
-    // Cut normal at a crossing: its edge direction (side A -> B) without the front's direction.
-    const Eigen::Vector3d front =
-        (at(verts_, tip_vertex_[1]).rest - at(verts_, tip_vertex_[0]).rest).normalized();
+    std::vector<int> row;
+    if (!completed_) updateFront(row);
+    rebuild();
+    // Planes with the cut's normal: each endpoint and copy of a new crossing, through it.
     for (int c = first_crossing; c < intSize(crossings_); ++c) {
       const Crossing& x = at(crossings_, c);
       const auto& ev = at(edges_, x.edge);
       const int a = ev[static_cast<std::size_t>(x.a_end)],
                 b = ev[static_cast<std::size_t>(1 - x.a_end)];
-      Eigen::Vector3d n = at(verts_, b).rest - at(verts_, a).rest;
-      if (front.allFinite()) n -= n.dot(front) * front;
-      n.normalize();
+      const Eigen::Vector3d d = at(verts_, b).rest - at(verts_, a).rest;
+      Eigen::Vector3d n = sheetNormal(x.copy[x.a_end]);
+      if (!(n.dot(d) > 0.0)) n = d.normalized();  // the plane must separate a from b
       const Eigen::Vector3d& X = at(verts_, x.copy[0]).rest;
       addPlane(a, X, n);
       addPlane(x.copy[x.a_end], X, n);
@@ -725,12 +741,11 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
       addPlane(x.copy[1 - x.a_end], X, -n);
       to_remap.insert(to_remap.end(), {a, b, x.copy[0], x.copy[1]});
     }
-    std::vector<int> row;
-    if (!completed_) updateFront(row);
-    rebuild();
     for (int v : row) {
-      if (at(verts_, v).twin < 0) continue;  // new transient vertex
-      addPlane(v, at(verts_, v).rest, vertexNormal(v));
+      const int t = at(verts_, v).twin;
+      if (t < 0) continue;  // new transient vertex
+      const Eigen::Vector3d n = sheetNormal(v);
+      addPlane(v, at(verts_, v).rest, n.squaredNorm() > 0.0 ? n : Eigen::Vector3d(-sheetNormal(t)));
     }
     to_remap.insert(to_remap.end(), row.begin(), row.end());
     if (completed_) {

@@ -13,7 +13,9 @@ namespace surgical_sim::core {
 /// (behind_i, ahead_j+1, ahead_j) are counter-clockwise about that normal. The chains advance
 /// together by normalised rest arc length, except that a candidate triangle of less than 0.2
 /// times the other's quality (area over the sum of squared edge lengths) gives way to the other,
-/// so collinear chain vertices (a chain running along a face) get no zero-area fans. The chains may
+/// so collinear chain vertices (a chain running along a face) get no zero-area fans; at a shared
+/// end no triangle takes all three corners from one chain (such an ear would overlap the
+/// neighbouring strip). The chains may
 /// share their first and/or last vertex (a lens); triangles with a repeated vertex are not emitted.
 /// Without shared ends the strip has |behind| + |ahead| - 2 triangles; its boundary is the two
 /// chains and the two end rungs (behind_0, ahead_0), (behind_last, ahead_last).

@@ -61,9 +61,10 @@ struct EfgSurfaceCutStep {
 ///   transient vertices are freed and the edge tables are rebuilt (O(t log t), once per cut).
 /// - A step whose blade pierces neither tip triangle (the blade left the body) ends the cut as a
 ///   crack: the surface is committed as it is, front and tip vertices stay, shared by both lips.
-/// Remapping (SurfaceRemapper criteria): new vertices; the endpoints of a cut edge, each with a
-/// plane through the crossing whose normal is the cut's (the edge direction without its
-/// component along the front); a vertex whose segment to its IP the blade crosses (plane
+/// Remapping (SurfaceRemapper criteria): new vertices; the endpoints and copies of a cut edge,
+/// each with a plane through the crossing whose normal is the cut's (the side A sheet's normal
+/// there, or the edge direction if that does not separate the endpoints); a fixed row vertex with
+/// its sheet's normal; a vertex whose segment to its IP the blade crosses (plane
 /// through the crossing, normal along vertex -> IP); tips and transient vertices each step;
 /// remapVerticesOfIps() after a volume cut (first ignoring neighbours on the changed IPs in the
 /// 1-ring test, then once more with every neighbour's new IP for those still on a changed IP).
@@ -147,6 +148,9 @@ class EfgSurfaceCutter {
   int crossingCopy(int c, int vertex) const;
   int crossedCount(int tri) const;
   Eigen::Vector3d vertexNormal(int v) const;
+  /// Unit normal of the side A sheet at v (zero when v is on no side A sheet triangle): the
+  /// cut's normal, pointing from side A to side B.
+  Eigen::Vector3d sheetNormal(int v) const;
   /// Remaps v; the 1-ring test ignores neighbours on IPs flagged in `excluded`.
   void remap(int v, const std::vector<std::uint8_t>* excluded = nullptr);
   void addPlane(int v, const Eigen::Vector3d& point, const Eigen::Vector3d& normal);
@@ -179,6 +183,7 @@ class EfgSurfaceCutter {
   std::vector<std::uint8_t> replaced_;           ///< per committed triangle
   std::vector<int> cut_tris_;                    ///< committed triangles replaced by splits
   std::vector<std::array<int, 3>> generated_;    ///< triangles of the running cut
+  int sheet_start_ = 0;  ///< first sheet triangle in generated_ (side A, B alternating)
   bool completed_ = false;
 };
 
