@@ -60,14 +60,11 @@ Eigen::Vector3d clampBary(Eigen::Vector3d b) {
   return b / b.sum();
 }
 
-void checkPositions(const char* name, const Eigen::Matrix3Xd& x, int n) {
+void checkShape(const char* name, const Eigen::Matrix3Xd& x, int n) {
   if (x.cols() != n)
     throw std::invalid_argument(std::string("EfgSurfaceCutter::cut: ") + name + " has " +
                                 std::to_string(x.cols()) + " columns, numVertices() is " +
                                 std::to_string(n));
-  if (!x.allFinite())
-    throw std::invalid_argument(std::string("EfgSurfaceCutter::cut: ") + name +
-                                " has a non-finite coordinate");
 }
 
 }  // namespace
@@ -632,8 +629,8 @@ std::vector<int> EfgSurfaceCutter::remapVerticesOfIps(const std::vector<int>& ch
 EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Matrix3Xd& x_start,
                                         const Eigen::Matrix3Xd& x_end) {
   validateBladeSweep(sweep);
-  checkPositions("x_start", x_start, numVertices());
-  checkPositions("x_end", x_end, numVertices());
+  checkShape("x_start", x_start, numVertices());
+  checkShape("x_end", x_end, numVertices());
   EfgSurfaceCutStep out;
   const double tol = options_.tolerance;
   const Eigen::Vector3d blade_lo =
@@ -642,7 +639,26 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
       sweep.start.rowwise().maxCoeff().cwiseMax(sweep.end.rowwise().maxCoeff()).array() + tol;
   const Eigen::Index segments = sweep.start.cols() - 1;
 
-  // Broad phase over edge clusters, then every blade segment against the cluster's uncut edges.
+  // Outcodes: bit d (d + 3) when the vertex stays below (above) the blade's swept box along axis
+  // d over the step. One pass over the positions, which also checks them.
+  outcode_.resize(verts_.size());
+  bool finite = true;
+  for (int v = 0; v < numVertices(); ++v) {
+    std::uint8_t code = 0;
+    for (int d = 0; d < 3; ++d) {
+      const double a = x_start(d, v), b = x_end(d, v);
+      finite = finite && a - a == 0.0 && b - b == 0.0;
+      code |= static_cast<std::uint8_t>((std::max(a, b) < blade_lo[d] ? 1 : 0) << d);
+      code |= static_cast<std::uint8_t>((std::min(a, b) > blade_hi[d] ? 1 : 0) << (d + 3));
+    }
+    at(outcode_, v) = code;
+  }
+  if (!finite)
+    throw std::invalid_argument(
+        "EfgSurfaceCutter::cut: x_start or x_end has a non-finite coordinate");
+
+  // Broad phase: a cluster whose vertices all stay on one side of the swept box is skipped; the
+  // others test every blade segment against their uncut edges.
   struct Hit {
     double t;
     int edge;
@@ -651,19 +667,17 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
   std::vector<Hit> hits;
   std::vector<int> near;
   for (int c = 0; c + 1 < intSize(cluster_start_); ++c) {
-    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::max()), hi = -lo;
-    for (int k = at(cluster_vstart_, c); k < at(cluster_vstart_, c + 1); ++k) {
-      const int v = at(cluster_verts_, k);
-      lo = lo.cwiseMin(x_start.col(v)).cwiseMin(x_end.col(v));
-      hi = hi.cwiseMax(x_start.col(v)).cwiseMax(x_end.col(v));
-    }
-    if ((lo.array() > blade_hi.array()).any() || (hi.array() < blade_lo.array()).any()) continue;
+    std::uint8_t common = 0x3f;
+    for (int k = at(cluster_vstart_, c); k < at(cluster_vstart_, c + 1) && common; ++k)
+      common &= at(outcode_, at(cluster_verts_, k));
+    if (common) continue;
     near.insert(near.end(), cluster_verts_.begin() + at(cluster_vstart_, c),
                 cluster_verts_.begin() + at(cluster_vstart_, c + 1));
     for (int k = at(cluster_start_, c); k < at(cluster_start_, c + 1); ++k) {
       const int e = at(cluster_edges_, k);
       if (at(edge_crossing_, e) >= 0) continue;
       const int a = at(edges_, e)[0], b = at(edges_, e)[1];
+      if (at(outcode_, a) & at(outcode_, b)) continue;
       std::optional<EdgeSweepHit> best;
       for (Eigen::Index i = 0; i < segments; ++i) {
         const auto hit = edgeSweepCrossing(sweep.start.col(i), sweep.start.col(i + 1),

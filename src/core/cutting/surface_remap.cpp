@@ -12,8 +12,8 @@ namespace surgical_sim::core {
 namespace {
 
 /// Grid cells per IP (about) and search radius in cells.
-constexpr double kIpsPerCell = 8.0;
-constexpr double kSearchCells = 2.0;
+constexpr double kIpsPerCell = 4.0;
+constexpr double kSearchCells = 1.0;
 
 bool shareParticle(const std::vector<int>& a, const std::vector<int>& b) {
   std::size_t i = 0, j = 0;

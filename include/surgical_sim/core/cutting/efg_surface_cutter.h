@@ -39,9 +39,10 @@ struct EfgSurfaceCutStep {
 /// One cut at a time. A cut starts when the blade crosses a surface edge and ends when its two
 /// ends meet. While it runs:
 /// - Crossings: blade polyline segments vs the committed surface's uncut edges, both moving
-///   linearly over the step (edgeSweepCrossing, current configuration); a broad phase bounds
-///   edge clusters (32 edges, spatially sorted at commit) by their current positions, so only
-///   the clusters touching the blade's swept box are tested edge by edge. A crossing is kept as
+///   linearly over the step (edgeSweepCrossing, current configuration). Broad phase: one pass
+///   gives each vertex an outcode against the blade's swept box; edge clusters (32 edges,
+///   spatially sorted at commit) whose vertices all share a bit are skipped, so only the
+///   clusters touching the swept box are tested edge by edge. A crossing is kept as
 ///   its edge parameter s and applied in the rest configuration.
 /// - Each crossed edge gets a pair of vertices at s, one per side. The crossed triangles form
 ///   one path whose two end (tip) triangles hold a blade-tip vertex at the blade's piercing
@@ -183,6 +184,7 @@ class EfgSurfaceCutter {
   std::vector<std::uint8_t> replaced_;           ///< per committed triangle
   std::vector<int> cut_tris_;                    ///< committed triangles replaced by splits
   std::vector<std::array<int, 3>> generated_;    ///< triangles of the running cut
+  std::vector<std::uint8_t> outcode_;            ///< per vertex, broad-phase scratch of cut()
   int sheet_start_ = 0;  ///< first sheet triangle in generated_ (side A, B alternating)
   bool completed_ = false;
 };
