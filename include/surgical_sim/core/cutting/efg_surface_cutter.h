@@ -81,7 +81,9 @@ class EfgSurfaceCutter {
                    const EfgSurfaceCutOptions& options);
 
   /// One step: finds the crossings of `sweep` (tissue frame, current configuration) and updates
-  /// surface, front and mapping. No crossing and no running cut: nothing changes.
+  /// surface, front and mapping. No crossing and no running cut: nothing changes. Cost: one pass
+  /// over the positions, the edges of the clusters the swept box touches, the running cut's
+  /// size; a step that ends a cut also rebuilds the edge tables, O(t log t).
   /// @param x_start, x_end current vertex positions at the step start and end [m], shape
   ///        3 x numVertices() (free slots: any finite value).
   /// @throws std::invalid_argument for a sweep failing validateBladeSweep or positions of the

@@ -54,8 +54,8 @@ struct RemapResult {
 ///   3. it lies below every cut plane stored on the vertex.
 /// Among valid IPs the nearest to X wins. When none is valid the criteria are relaxed in the
 /// order of RemapRelaxation (cut planes, which keep a vertex on its own side, are dropped last),
-/// first over the IPs within a few IP spacings, then over every IP. Uses a uniform grid of
-/// the IP rest positions built once (O(IPs)).
+/// first over the IPs within one grid cell (4 IPs a cell, about 1.6 IP spacings), then over
+/// every IP. Uses a uniform grid of the IP rest positions built once (O(IPs)).
 class SurfaceRemapper {
  public:
   /// @throws std::invalid_argument when the source has no IP or an IP position is not finite.
