@@ -226,6 +226,26 @@ TEST(EfgSurfaceCutter, OneBigStepGivesTheSameTopologyClassAsManySmallSteps) {
   }
 }
 
+TEST(EfgSurfaceCutter, StaticBladeCutsTissueMovingThroughIt) {
+  // The box rises through a static blade (current = rest + lift): same pieces as a falling blade.
+  UnitBox box;
+  const BladeSweep still = verticalSweep(kCutX, -0.5, 1.5, 0.513, 0.513, kTilt);
+  for (int i = 0; i < 40; ++i) {
+    const Eigen::Matrix3Xd X = box.cutter.restVertices();
+    const Eigen::Matrix3Xd x0 = X.colwise() + V(0, 0, -1.0 + 0.05 * i);
+    const Eigen::Matrix3Xd x1 = X.colwise() + V(0, 0, -0.95 + 0.05 * i);
+    box.cutter.cut(still, x0, x1);
+    expectClosed(box.cutter);
+  }
+  EXPECT_FALSE(box.cutter.cutActive());
+  std::vector<int> piece;
+  std::vector<double> v = pieceVolumes(box.cutter, piece);
+  ASSERT_EQ(v.size(), 2u);
+  std::sort(v.begin(), v.end());
+  EXPECT_NEAR(v[0], kCutX, 1e-9);
+  EXPECT_NEAR(v[1], 1.0 - kCutX, 1e-9);
+}
+
 TEST(EfgSurfaceCutter, BladeCrossingAVertexToIpSegmentAddsAPlaneAndRemaps) {
   UnitBox box;
   // A short blade inside the box near the top face, crossing vertex-IP segments only.
