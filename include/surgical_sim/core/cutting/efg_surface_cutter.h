@@ -1,0 +1,194 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "surgical_sim/core/cutting/blade_sweep.h"
+#include "surgical_sim/core/cutting/surface_remap.h"
+#include "surgical_sim/core/mesh/tet_mesh.h"
+#include "surgical_sim/core/tissue/surface_mapping.h"
+
+namespace surgical_sim::core {
+
+/// Parameters of EfgSurfaceCutter.
+struct EfgSurfaceCutOptions {
+  double front_width = 0.0;  ///< w [m] > 0: desired largest width of an exposed-surface triangle
+  double tolerance = 0.0;    ///< blade-edge contact distance [m], >= 0 (edgeSweepCrossing)
+};
+
+/// What one EfgSurfaceCutter::cut() call changed.
+struct EfgSurfaceCutStep {
+  int crossed_edges = 0;      ///< surface edges cut this step
+  int ignored_crossings = 0;  ///< crossings that would start a second front (not cut)
+  bool completed = false;     ///< the cut closed this step (its fronts met, no transient left)
+  bool crack = false;  ///< the blade left a running cut without closing it: the cut is kept as a
+                       ///< crack (its front and tip vertices stay, shared by both lips)
+  std::vector<int> remapped;  ///< vertices whose mapping row changed or that are new, sorted
+};
+
+/// Progressive cutting of the explicit surface of a meshless (EFG) body (Magnoux §4.2.4, §5.2).
+///
+/// State: the triangle surface (rest and, given by the caller each step, current vertex
+/// positions), per vertex its IP, its mapping row (EfgMappingSource::pointWeights at its rest
+/// position) and its stored cut planes. Vertex ids are stable; a vertex without triangles is a
+/// free slot (vertexUsed()), reused later.
+///
+/// One cut at a time. A cut starts when the blade crosses a surface edge and ends when its two
+/// ends meet. While it runs:
+/// - Crossings: blade polyline segments vs the committed surface's uncut edges, both moving
+///   linearly over the step (edgeSweepCrossing, current configuration). Broad phase: one pass
+///   gives each vertex an outcode against the blade's swept box; edge clusters (32 edges,
+///   spatially sorted at commit) whose vertices all share a bit are skipped, so only the
+///   clusters touching the swept box are tested edge by edge. A crossing is kept as
+///   its edge parameter s and applied in the rest configuration.
+/// - Each crossed edge gets a pair of vertices at s, one per side. The crossed triangles form
+///   one path whose two end (tip) triangles hold a blade-tip vertex at the blade's piercing
+///   point: a triangle cut through becomes 3 triangles, a tip triangle 4. A crossing is accepted
+///   only in a tip triangle (or, for the first, anywhere), so the path stays one strip.
+/// - The exposed surface is meshed by a front (Alg. 1): transient vertices on the blade between
+///   the two tips (shared by both sides, where the lips meet), a chain behind it (path crossings
+///   and the last row of fixed vertices), a strip between chain and front rebuilt each step.
+///   The front has k >= 2 segments (frontSegmentCount: split above w, merge below w/2); when an
+///   interior transient vertex is farther than w from the chain, a row of fixed vertices is
+///   dropped at the transient positions and the strip behind it is fixed. Each side has its own
+///   sheet with its own vertices (crossing copies, fixed rows), oppositely oriented.
+/// - Transient rest positions interpolate linearly between the two tips' rest positions (exact
+///   for a straight blade under a locally affine deformation).
+/// - Completion: the last chain closes into a polygon, filled by a strip from the last fixed row
+///   (without a row: the polygon's first half) to the rest of the polygon;
+///   transient vertices are freed and the edge tables are rebuilt (O(t log t), once per cut).
+/// - A step whose blade pierces neither tip triangle (the blade left the body) ends the cut as a
+///   crack: the surface is committed as it is, front and tip vertices stay, shared by both lips.
+/// Remapping (SurfaceRemapper criteria): new vertices; the endpoints and copies of a cut edge,
+/// each with a plane through the crossing whose normal is the cut's (the side A sheet's normal
+/// there, or the edge direction if that does not separate the endpoints); a fixed row vertex with
+/// its sheet's normal; a vertex whose segment to its IP the blade crosses (plane
+/// through the crossing, normal along vertex -> IP); tips and transient vertices each step;
+/// remapVerticesOfIps() after a volume cut (first ignoring neighbours on the changed IPs in the
+/// 1-ring test, then once more with every neighbour's new IP for those still on a changed IP).
+/// The surface stays closed and edge-manifold at every step (checkSurfaceClosure).
+class EfgSurfaceCutter {
+ public:
+  /// @param surface closed, edge-manifold, outward-oriented rest surface [m].
+  /// @param source the EFG model side; must outlive the cutter.
+  /// @throws std::invalid_argument for bad options (names the field and range), a surface that
+  ///         is empty, not finite, has out-of-range or repeated triangle indices, or is not
+  ///         closed and edge-manifold, or a source without IPs.
+  EfgSurfaceCutter(const TriMesh& surface, const EfgMappingSource& source,
+                   const EfgSurfaceCutOptions& options);
+
+  /// One step: finds the crossings of `sweep` (tissue frame, current configuration) and updates
+  /// surface, front and mapping. No crossing and no running cut: nothing changes. Cost: one pass
+  /// over the positions, the edges of the clusters the swept box touches, the running cut's
+  /// size; a step that ends a cut also rebuilds the edge tables, O(t log t).
+  /// @param x_start, x_end current vertex positions at the step start and end [m], shape
+  ///        3 x numVertices() (free slots: any finite value).
+  /// @throws std::invalid_argument for a sweep failing validateBladeSweep or positions of the
+  ///         wrong shape or not finite.
+  EfgSurfaceCutStep cut(const BladeSweep& sweep, const Eigen::Matrix3Xd& x_start,
+                        const Eigen::Matrix3Xd& x_end);
+
+  /// Remaps every vertex mapped to one of `changed_ips` (their particle sets changed after a
+  /// volume cut). @return the remapped vertices, sorted.
+  /// @throws std::invalid_argument for an IP out of range.
+  std::vector<int> remapVerticesOfIps(const std::vector<int>& changed_ips);
+
+  int numVertices() const { return static_cast<int>(verts_.size()); }
+  bool vertexUsed(int v) const;
+  /// Rest positions [m], shape 3 x numVertices().
+  Eigen::Matrix3Xd restVertices() const;
+  /// Current triangles (vertex ids), shape 3 x t, outward-oriented.
+  Eigen::Matrix3Xi triangles() const;
+  int vertexIp(int v) const;
+  const std::vector<CutPlane>& vertexPlanes(int v) const;
+  /// The other side's vertex of a crossing or fixed-row vertex, -1 for any other vertex.
+  int twin(int v) const;
+  /// True while a cut is running (transient vertices exist).
+  bool cutActive() const { return active_; }
+  /// Transient (front and tip) vertices of the running cut.
+  std::vector<int> transientVertices() const;
+  /// Mapping row of vertex v (particles, MLS weights [-]).
+  void mappingRow(int v, std::vector<int>& particles, std::vector<double>& weights) const;
+  /// The surface mapping onto a model with `nodes` particles (slot = vertex id, every used
+  /// vertex has a row). @throws std::invalid_argument when a row names a particle >= nodes.
+  SurfaceMapping mapping(int nodes) const;
+
+ private:
+  struct Crossing {
+    int edge = 0;
+    double s = 0.0;    ///< along edges_[edge] from its first vertex
+    int a_end = 0;     ///< endpoint (0/1) of the edge on side A
+    int copy[2] = {};  ///< vertex on the side of endpoint 0 / 1
+  };
+  struct Vertex {
+    Eigen::Vector3d rest = Eigen::Vector3d::Zero();
+    int ip = -1;
+    int twin = -1;
+    bool used = true;
+    std::vector<CutPlane> planes;
+    std::vector<int> particles;
+    std::vector<double> weights;
+  };
+
+  void commit();
+  void buildClusters();
+  int newVertex(Eigen::Vector3d rest);
+  void freeVertex(int v);
+  bool accept(int edge, double s);
+  /// Moves tip `end` to where the blade pierces its triangle; false when it does not.
+  bool placeTip(int end, const BladeSweep& sweep, const Eigen::Matrix3Xd& x_end);
+  /// Resamples the front, drops a fixed row when due; appends the new vertices to `created`.
+  void updateFront(std::vector<int>& created);
+  void rebuild();
+  std::function<Eigen::Vector3d(int)> restOf() const;
+  /// Calls f(triangle) for every current triangle holding v.
+  template <class F>
+  void forIncident(int v, const F& f) const;
+  std::vector<int> chain() const;
+  int crossingCopy(int c, int vertex) const;
+  int crossedCount(int tri) const;
+  Eigen::Vector3d vertexNormal(int v) const;
+  /// Unit normal of the side A sheet at v (zero when v is on no side A sheet triangle): the
+  /// cut's normal, pointing from side A to side B.
+  Eigen::Vector3d sheetNormal(int v) const;
+  /// Remaps v; the 1-ring test ignores neighbours on IPs flagged in `excluded`.
+  void remap(int v, const std::vector<std::uint8_t>* excluded = nullptr);
+  void addPlane(int v, const Eigen::Vector3d& point, const Eigen::Vector3d& normal);
+
+  const EfgMappingSource& source_;
+  EfgSurfaceCutOptions options_;
+  SurfaceRemapper remapper_;
+  std::vector<Vertex> verts_;  ///< per vertex id
+  std::vector<int> free_;
+  // Committed surface (changes only at commit).
+  std::vector<std::array<int, 3>> tris_;
+  std::vector<std::array<int, 2>> edges_;      ///< (lower, higher vertex)
+  std::vector<std::array<int, 3>> tri_edges_;  ///< edge k = (tri[k], tri[k+1])
+  std::vector<std::array<int, 2>> edge_tris_;
+  std::vector<int> vertex_tri_start_, vertex_tris_;  ///< CSR vertex -> committed triangles
+  std::vector<int> cluster_start_, cluster_edges_;   ///< CSR cluster -> edges
+  std::vector<int> cluster_vstart_, cluster_verts_;  ///< CSR cluster -> distinct vertices
+  // Running cut.
+  bool active_ = false;
+  std::vector<Crossing> crossings_;
+  std::vector<int> edge_crossing_;  ///< per committed edge, its crossing or -1
+  std::vector<int> path_;           ///< crossings from the L end to the R end
+  std::array<int, 2> tip_tri_ = {-1, -1};
+  std::array<int, 2> tip_vertex_ = {-1, -1};
+  std::array<Eigen::Vector3d, 2> tip_bary_;
+  std::vector<int> row_;                         ///< fixed row, side A vertices, L to R
+  std::array<int, 2> row_attach_ = {-1, -1};     ///< crossings the row's ends attach to
+  std::vector<int> front_;                       ///< interior transient vertices, L to R
+  std::vector<std::array<int, 3>> fixed_sheet_;  ///< side A sheet triangles behind the chain
+  std::vector<std::uint8_t> replaced_;           ///< per committed triangle
+  std::vector<int> cut_tris_;                    ///< committed triangles replaced by splits
+  std::vector<std::array<int, 3>> generated_;    ///< triangles of the running cut
+  std::vector<std::uint8_t> outcode_;            ///< per vertex, broad-phase scratch of cut()
+  int sheet_start_ = 0;  ///< first sheet triangle in generated_ (side A, B alternating)
+  bool completed_ = false;
+};
+
+}  // namespace surgical_sim::core

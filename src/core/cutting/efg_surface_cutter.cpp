@@ -1,0 +1,792 @@
+#include "surgical_sim/core/cutting/efg_surface_cutter.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "index_at.h"
+#include "surgical_sim/core/cutting/cut_front.h"
+#include "surgical_sim/core/cutting/edge_sweep_ccd.h"
+#include "surgical_sim/core/mesh/surface_closure.h"
+
+namespace surgical_sim::core {
+
+using cutting_index::at;
+using cutting_index::intSize;
+
+namespace {
+
+/// Edges per broad-phase cluster.
+constexpr int kClusterEdges = 32;
+/// Crossing parameters are kept this far from the edge ends, and tip barycentric coordinates
+/// at least this large, so no split triangle degenerates to zero area.
+constexpr double kEdgeMargin = 0.02;
+constexpr double kTipMargin = 0.01;
+
+/// Spreads the 10 low bits of x to every third bit (Morton code).
+std::uint32_t spreadBits(std::uint32_t x) {
+  x &= 0x3ffu;
+  x = (x | (x << 16)) & 0x030000ffu;
+  x = (x | (x << 8)) & 0x0300f00fu;
+  x = (x | (x << 4)) & 0x030c30c3u;
+  x = (x | (x << 2)) & 0x09249249u;
+  return x;
+}
+
+/// Barycentric coordinates of the crossing of segment [p, q] with triangle (a, b, c), if any.
+bool segmentTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& a,
+                     const Eigen::Vector3d& b, const Eigen::Vector3d& c, Eigen::Vector3d& bary) {
+  const Eigen::Vector3d d = q - p, e1 = b - a, e2 = c - a;
+  const Eigen::Vector3d h = d.cross(e2);
+  const double det = e1.dot(h);
+  if (std::abs(det) <= 1e-14 * d.norm() * e1.norm() * e2.norm()) return false;
+  const Eigen::Vector3d s = p - a;
+  const double u = s.dot(h) / det;
+  const Eigen::Vector3d sq = s.cross(e1);
+  const double v = d.dot(sq) / det;
+  const double t = e2.dot(sq) / det;
+  if (u < 0.0 || v < 0.0 || u + v > 1.0 || t < 0.0 || t > 1.0) return false;
+  bary = {1.0 - u - v, u, v};
+  return true;
+}
+
+Eigen::Vector3d clampBary(Eigen::Vector3d b) {
+  b = b.cwiseMax(kTipMargin);
+  return b / b.sum();
+}
+
+void checkShape(const char* name, const Eigen::Matrix3Xd& x, int n) {
+  if (x.cols() != n)
+    throw std::invalid_argument(std::string("EfgSurfaceCutter::cut: ") + name + " has " +
+                                std::to_string(x.cols()) + " columns, numVertices() is " +
+                                std::to_string(n));
+}
+
+}  // namespace
+
+EfgSurfaceCutter::EfgSurfaceCutter(const TriMesh& surface, const EfgMappingSource& source,
+                                   const EfgSurfaceCutOptions& options)
+    : source_(source), options_(options), remapper_(source) {
+  if (!(std::isfinite(options.front_width) && options.front_width > 0.0))
+    throw std::invalid_argument("EfgSurfaceCutOptions.front_width = " +
+                                std::to_string(options.front_width) + " m, must be finite and > 0");
+  if (!(std::isfinite(options.tolerance) && options.tolerance >= 0.0))
+    throw std::invalid_argument("EfgSurfaceCutOptions.tolerance = " +
+                                std::to_string(options.tolerance) + " m, must be finite and >= 0");
+  const Eigen::Index n = surface.vertices.cols();
+  if (n == 0 || surface.triangles.cols() == 0)
+    throw std::invalid_argument("EfgSurfaceCutter: surface has no vertices or no triangles");
+  if (!surface.vertices.allFinite())
+    throw std::invalid_argument("EfgSurfaceCutter: surface.vertices has a non-finite coordinate");
+  for (Eigen::Index t = 0; t < surface.triangles.cols(); ++t) {
+    const Eigen::Vector3i tri = surface.triangles.col(t);
+    if (tri.minCoeff() < 0 || tri.maxCoeff() >= n)
+      throw std::invalid_argument("EfgSurfaceCutter: surface.triangles column " +
+                                  std::to_string(t) + " has a vertex outside [0, " +
+                                  std::to_string(n) + ")");
+    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0])
+      throw std::invalid_argument("EfgSurfaceCutter: surface.triangles column " +
+                                  std::to_string(t) + " repeats a vertex");
+  }
+  const SurfaceClosure closure = checkSurfaceClosure(surface.triangles);
+  if (closure.open_edges != 0 || closure.pinched_edges != 0)
+    throw std::invalid_argument("EfgSurfaceCutter: surface must be closed and edge-manifold, has " +
+                                std::to_string(closure.open_edges) + " open and " +
+                                std::to_string(closure.pinched_edges) + " pinched edges");
+  verts_.resize(static_cast<std::size_t>(n));
+  for (Eigen::Index v = 0; v < n; ++v)
+    verts_[static_cast<std::size_t>(v)].rest = surface.vertices.col(v);
+  tris_.resize(static_cast<std::size_t>(surface.triangles.cols()));
+  for (Eigen::Index t = 0; t < surface.triangles.cols(); ++t)
+    tris_[static_cast<std::size_t>(t)] = {surface.triangles(0, t), surface.triangles(1, t),
+                                          surface.triangles(2, t)};
+  commit();
+  // Initial mapping: nearest IP below the tangent plane (no 1-ring test: no vertex is mapped).
+  for (int v = 0; v < numVertices(); ++v) {
+    Vertex& vert = at(verts_, v);
+    vert.ip = remapper_.find(vert.rest, vertexNormal(v), vert.planes, {}).ip;
+    source_.pointWeights(vert.ip, vert.rest, vert.particles, vert.weights);
+  }
+}
+
+bool EfgSurfaceCutter::vertexUsed(int v) const { return at(verts_, v).used; }
+int EfgSurfaceCutter::vertexIp(int v) const { return at(verts_, v).ip; }
+int EfgSurfaceCutter::twin(int v) const { return at(verts_, v).twin; }
+const std::vector<CutPlane>& EfgSurfaceCutter::vertexPlanes(int v) const {
+  return at(verts_, v).planes;
+}
+
+Eigen::Matrix3Xd EfgSurfaceCutter::restVertices() const {
+  Eigen::Matrix3Xd X(3, numVertices());
+  for (int v = 0; v < numVertices(); ++v) X.col(v) = at(verts_, v).rest;
+  return X;
+}
+
+Eigen::Matrix3Xi EfgSurfaceCutter::triangles() const {
+  Eigen::Matrix3Xi out(3, intSize(tris_) - intSize(cut_tris_) + intSize(generated_));
+  Eigen::Index k = 0;
+  for (std::size_t t = 0; t < tris_.size(); ++t)
+    if (!replaced_[t]) out.col(k++) = Eigen::Map<const Eigen::Vector3i>(tris_[t].data());
+  for (const auto& t : generated_) out.col(k++) = Eigen::Map<const Eigen::Vector3i>(t.data());
+  return out;
+}
+
+std::vector<int> EfgSurfaceCutter::transientVertices() const {
+  if (!active_) return {};
+  std::vector<int> out = front_;
+  out.push_back(tip_vertex_[0]);
+  out.push_back(tip_vertex_[1]);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+void EfgSurfaceCutter::mappingRow(int v, std::vector<int>& particles,
+                                  std::vector<double>& weights) const {
+  particles = at(verts_, v).particles;
+  weights = at(verts_, v).weights;
+}
+
+SurfaceMapping EfgSurfaceCutter::mapping(int nodes) const {
+  std::vector<int> vertices;
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int v = 0; v < numVertices(); ++v) {
+    const Vertex& vert = at(verts_, v);
+    if (!vert.used) continue;
+    const int row = intSize(vertices);
+    vertices.push_back(v);
+    for (std::size_t k = 0; k < vert.particles.size(); ++k) {
+      if (vert.particles[k] < 0 || vert.particles[k] >= nodes)
+        throw std::invalid_argument("EfgSurfaceCutter::mapping: vertex " + std::to_string(v) +
+                                    " maps to particle " + std::to_string(vert.particles[k]) +
+                                    ", nodes = " + std::to_string(nodes));
+      entries.emplace_back(row, vert.particles[k], vert.weights[k]);
+    }
+  }
+  Eigen::SparseMatrix<double, Eigen::RowMajor> W(intSize(vertices), nodes);
+  W.setFromTriplets(entries.begin(), entries.end());
+  return SurfaceMapping(numVertices(), std::move(vertices), W);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Committed surface tables.
+
+void EfgSurfaceCutter::commit() {
+  if (active_) {
+    std::vector<std::array<int, 3>> all;
+    all.reserve(tris_.size() + generated_.size());
+    for (std::size_t t = 0; t < tris_.size(); ++t)
+      if (!replaced_[t]) all.push_back(tris_[t]);
+    all.insert(all.end(), generated_.begin(), generated_.end());
+    tris_ = std::move(all);
+    active_ = false;
+  }
+  completed_ = false;
+  crossings_.clear();
+  path_.clear();
+  row_.clear();
+  row_attach_ = {-1, -1};
+  front_.clear();
+  fixed_sheet_.clear();
+  generated_.clear();
+  cut_tris_.clear();
+  tip_tri_ = {-1, -1};
+  tip_vertex_ = {-1, -1};
+  // Edges: (lower, higher, triangle, local edge), sorted.
+  std::vector<std::array<int, 4>> uses;
+  uses.reserve(3 * tris_.size());
+  for (std::size_t t = 0; t < tris_.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int a = tris_[t][static_cast<std::size_t>(k)];
+      const int b = tris_[t][static_cast<std::size_t>((k + 1) % 3)];
+      uses.push_back({std::min(a, b), std::max(a, b), static_cast<int>(t), k});
+    }
+  std::sort(uses.begin(), uses.end());
+  edges_.clear();
+  edge_tris_.clear();
+  tri_edges_.assign(tris_.size(), {-1, -1, -1});
+  for (std::size_t i = 0; i < uses.size(); ++i) {
+    if (i == 0 || uses[i][0] != uses[i - 1][0] || uses[i][1] != uses[i - 1][1]) {
+      edges_.push_back({uses[i][0], uses[i][1]});
+      edge_tris_.push_back({uses[i][2], -1});
+    } else {
+      edge_tris_.back()[1] = uses[i][2];
+    }
+    at(tri_edges_, uses[i][2])[static_cast<std::size_t>(uses[i][3])] = intSize(edges_) - 1;
+  }
+  edge_crossing_.assign(edges_.size(), -1);
+  replaced_.assign(tris_.size(), 0);
+  vertex_tri_start_.assign(verts_.size() + 1, 0);
+  for (const auto& t : tris_)
+    for (int v : t) ++at(vertex_tri_start_, v + 1);
+  for (std::size_t v = 1; v < vertex_tri_start_.size(); ++v)
+    vertex_tri_start_[v] += vertex_tri_start_[v - 1];
+  vertex_tris_.resize(3 * tris_.size());
+  std::vector<int> fill(vertex_tri_start_.begin(), vertex_tri_start_.end() - 1);
+  for (std::size_t t = 0; t < tris_.size(); ++t)
+    for (int v : tris_[t]) at(vertex_tris_, at(fill, v)++) = static_cast<int>(t);
+  buildClusters();
+}
+
+void EfgSurfaceCutter::buildClusters() {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::max()), hi = -lo;
+  for (const auto& e : edges_)
+    for (int v : e) {
+      lo = lo.cwiseMin(at(verts_, v).rest);
+      hi = hi.cwiseMax(at(verts_, v).rest);
+    }
+  const Eigen::Vector3d scale = 1023.0 / (hi - lo).cwiseMax(1e-300).array();
+  std::vector<std::pair<std::uint32_t, int>> order(edges_.size());
+  for (std::size_t e = 0; e < edges_.size(); ++e) {
+    const Eigen::Vector3d mid =
+        0.5 * (at(verts_, edges_[e][0]).rest + at(verts_, edges_[e][1]).rest);
+    const Eigen::Vector3d q = (mid - lo).cwiseProduct(scale);
+    order[e] = {spreadBits(static_cast<std::uint32_t>(q.x())) |
+                    (spreadBits(static_cast<std::uint32_t>(q.y())) << 1) |
+                    (spreadBits(static_cast<std::uint32_t>(q.z())) << 2),
+                static_cast<int>(e)};
+  }
+  std::sort(order.begin(), order.end());
+  cluster_start_.assign(1, 0);
+  cluster_edges_.clear();
+  cluster_vstart_.assign(1, 0);
+  cluster_verts_.clear();
+  std::vector<int> vs;
+  for (std::size_t i = 0; i < order.size(); i += kClusterEdges) {
+    vs.clear();
+    for (std::size_t j = i; j < std::min(order.size(), i + kClusterEdges); ++j) {
+      cluster_edges_.push_back(order[j].second);
+      vs.push_back(at(edges_, order[j].second)[0]);
+      vs.push_back(at(edges_, order[j].second)[1]);
+    }
+    std::sort(vs.begin(), vs.end());
+    vs.erase(std::unique(vs.begin(), vs.end()), vs.end());
+    cluster_verts_.insert(cluster_verts_.end(), vs.begin(), vs.end());
+    cluster_start_.push_back(intSize(cluster_edges_));
+    cluster_vstart_.push_back(intSize(cluster_verts_));
+  }
+}
+
+int EfgSurfaceCutter::newVertex(Eigen::Vector3d rest) {  // by value: verts_ may reallocate
+  int v;
+  if (!free_.empty()) {
+    v = free_.back();
+    free_.pop_back();
+  } else {
+    v = numVertices();
+    verts_.emplace_back();
+  }
+  Vertex& vert = at(verts_, v);
+  vert = Vertex{};
+  vert.rest = rest;
+  return v;
+}
+
+void EfgSurfaceCutter::freeVertex(int v) {
+  at(verts_, v) = Vertex{};
+  at(verts_, v).used = false;
+  free_.push_back(v);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Crossings and tips.
+
+int EfgSurfaceCutter::crossingCopy(int c, int vertex) const {
+  const Crossing& x = at(crossings_, c);
+  return x.copy[at(edges_, x.edge)[0] == vertex ? 0 : 1];
+}
+
+int EfgSurfaceCutter::crossedCount(int tri) const {
+  int n = 0;
+  for (int e : at(tri_edges_, tri)) n += at(edge_crossing_, e) >= 0 ? 1 : 0;
+  return n;
+}
+
+bool EfgSurfaceCutter::accept(int edge, double s) {
+  s = std::clamp(s, kEdgeMargin, 1.0 - kEdgeMargin);
+  const auto& ev = at(edges_, edge);
+  auto addCrossing = [&](int a_end) {
+    Crossing c;
+    c.edge = edge;
+    c.s = s;
+    c.a_end = a_end;
+    const Eigen::Vector3d X = (1.0 - s) * at(verts_, ev[0]).rest + s * at(verts_, ev[1]).rest;
+    c.copy[0] = newVertex(X);
+    c.copy[1] = newVertex(X);
+    at(verts_, c.copy[0]).twin = c.copy[1];
+    at(verts_, c.copy[1]).twin = c.copy[0];
+    crossings_.push_back(c);
+    at(edge_crossing_, edge) = intSize(crossings_) - 1;
+    return intSize(crossings_) - 1;
+  };
+  auto enterTriangle = [&](int end, int tri) {
+    tip_tri_[static_cast<std::size_t>(end)] = tri;
+    if (!at(replaced_, tri)) {
+      at(replaced_, tri) = 1;
+      cut_tris_.push_back(tri);
+    }
+    // Default tip: a third of the way from the crossing to the opposite corner.
+    const auto& te = at(tri_edges_, tri);
+    const int k = static_cast<int>(std::find(te.begin(), te.end(), edge) - te.begin());
+    const int a = at(tris_, tri)[static_cast<std::size_t>(k)];
+    const double s_a = ev[0] == a ? s : 1.0 - s;
+    Eigen::Vector3d b;
+    b[k] = 2.0 / 3.0 * (1.0 - s_a);
+    b[(k + 1) % 3] = 2.0 / 3.0 * s_a;
+    b[(k + 2) % 3] = 1.0 / 3.0;
+    tip_bary_[static_cast<std::size_t>(end)] = clampBary(b);
+  };
+  if (at(edge_crossing_, edge) >= 0) return false;
+  if (!active_) {
+    active_ = true;
+    path_ = {addCrossing(0)};
+    for (int end = 0; end < 2; ++end) {
+      enterTriangle(end, at(edge_tris_, edge)[static_cast<std::size_t>(end)]);
+      tip_vertex_[static_cast<std::size_t>(end)] = newVertex(Eigen::Vector3d::Zero());
+    }
+    return true;
+  }
+  if (completed_) return false;
+  for (int end = 0; end < 2; ++end) {
+    const int tri = tip_tri_[static_cast<std::size_t>(end)];
+    const auto& te = at(tri_edges_, tri);
+    if (std::find(te.begin(), te.end(), edge) == te.end()) continue;
+    const auto& et = at(edge_tris_, edge);
+    const int other = et[0] == tri ? et[1] : et[0];
+    const bool closing = other == tip_tri_[static_cast<std::size_t>(1 - end)];
+    if (!closing && crossedCount(other) != 0) return false;
+    // The corner shared with the end crossing's edge keeps its side.
+    const Crossing& last = at(crossings_, end == 0 ? path_.front() : path_.back());
+    const auto& lv = at(edges_, last.edge);
+    const int v = (lv[0] == ev[0] || lv[1] == ev[0]) ? ev[0] : ev[1];
+    const bool v_on_a = lv[static_cast<std::size_t>(last.a_end)] == v;
+    const int c = addCrossing((ev[0] == v) == v_on_a ? 0 : 1);
+    if (end == 0)
+      path_.insert(path_.begin(), c);
+    else
+      path_.push_back(c);
+    if (closing) {
+      tip_tri_[static_cast<std::size_t>(end)] = other;
+      completed_ = true;
+    } else {
+      enterTriangle(end, other);
+    }
+    return true;
+  }
+  return false;
+}
+
+bool EfgSurfaceCutter::placeTip(int end, const BladeSweep& sweep, const Eigen::Matrix3Xd& x_end) {
+  const auto& tri = at(tris_, tip_tri_[static_cast<std::size_t>(end)]);
+  Eigen::Vector3d bary;
+  bool pierced = false;
+  for (Eigen::Index i = 0; i + 1 < sweep.end.cols() && !pierced; ++i)
+    pierced = segmentTriangle(sweep.end.col(i), sweep.end.col(i + 1), x_end.col(tri[0]),
+                              x_end.col(tri[1]), x_end.col(tri[2]), bary);
+  if (pierced) tip_bary_[static_cast<std::size_t>(end)] = clampBary(bary);
+  const Eigen::Vector3d& b = tip_bary_[static_cast<std::size_t>(end)];
+  at(verts_, tip_vertex_[static_cast<std::size_t>(end)]).rest = b[0] * at(verts_, tri[0]).rest +
+                                                                b[1] * at(verts_, tri[1]).rest +
+                                                                b[2] * at(verts_, tri[2]).rest;
+  return pierced;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Front and exposed surface.
+
+std::vector<int> EfgSurfaceCutter::chain() const {
+  auto copyA = [this](int c) { return at(crossings_, c).copy[at(crossings_, c).a_end]; };
+  std::vector<int> out;
+  const int n = intSize(path_);
+  int i_l = n - 1, i_r = 0;
+  if (!row_.empty()) {
+    i_l = static_cast<int>(std::find(path_.begin(), path_.end(), row_attach_[0]) - path_.begin());
+    i_r = static_cast<int>(std::find(path_.begin(), path_.end(), row_attach_[1]) - path_.begin());
+  }
+  for (int i = 0; i <= i_l; ++i) out.push_back(copyA(at(path_, i)));
+  if (!row_.empty()) {
+    out.insert(out.end(), row_.begin(), row_.end());
+    for (int i = i_r; i < n; ++i) out.push_back(copyA(at(path_, i)));
+  }
+  return out;
+}
+
+void EfgSurfaceCutter::updateFront(std::vector<int>& created) {
+  const Eigen::Vector3d X_l = at(verts_, tip_vertex_[0]).rest;
+  const Eigen::Vector3d X_r = at(verts_, tip_vertex_[1]).rest;
+  const double w = options_.front_width;
+  const int k = frontSegmentCount((X_r - X_l).norm(), intSize(front_) + 1, w);
+  while (intSize(front_) > k - 1) {
+    freeVertex(front_.back());
+    front_.pop_back();
+  }
+  while (intSize(front_) < k - 1) {
+    front_.push_back(newVertex(Eigen::Vector3d::Zero()));
+    created.push_back(front_.back());
+  }
+  for (int i = 0; i < k - 1; ++i)
+    at(verts_, at(front_, i)).rest = X_l + (X_r - X_l) * (i + 1.0) / k;
+  // Drop a row of fixed vertices once the front is farther than w from the chain behind it.
+  const std::vector<int> behind = chain();
+  double farthest = 0.0;
+  for (int t : front_) {
+    double nearest = std::numeric_limits<double>::max();
+    for (int b : behind)
+      nearest = std::min(nearest, (at(verts_, t).rest - at(verts_, b).rest).norm());
+    farthest = std::max(farthest, nearest);
+  }
+  // A row needs distinct chain ends to attach to (a path of one crossing has one).
+  if (farthest <= w || path_.size() < 2) return;
+  std::vector<int> row;
+  for (int t : front_) {
+    const int a = newVertex(at(verts_, t).rest), b = newVertex(at(verts_, t).rest);
+    at(verts_, a).twin = b;
+    at(verts_, b).twin = a;
+    row.push_back(a);
+    created.push_back(a);
+    created.push_back(b);
+  }
+  std::vector<int> ahead = {behind.front()};
+  ahead.insert(ahead.end(), row.begin(), row.end());
+  ahead.push_back(behind.back());
+  appendStrip(behind, ahead, restOf(), fixed_sheet_);
+  row_ = std::move(row);
+  row_attach_ = {path_.front(), path_.back()};
+}
+
+std::function<Eigen::Vector3d(int)> EfgSurfaceCutter::restOf() const {
+  return [this](int v) { return at(verts_, v).rest; };
+}
+
+void EfgSurfaceCutter::rebuild() {
+  generated_.clear();
+  for (int t : cut_tris_) {
+    const auto& tri = at(tris_, t);
+    const auto& te = at(tri_edges_, t);
+    std::array<int, 3> c{};
+    for (std::size_t k = 0; k < 3; ++k) c[k] = at(edge_crossing_, te[k]);
+    const int crossed = (c[0] >= 0) + (c[1] >= 0) + (c[2] >= 0);
+    if (crossed == 2) {
+      // Corner v between the two crossed edges (v, p) and (r, v).
+      std::size_t i = 0;
+      while (!(c[i] >= 0 && c[(i + 2) % 3] >= 0)) ++i;
+      const int v = tri[i], p = tri[(i + 1) % 3], r = tri[(i + 2) % 3];
+      const int c_vp = c[i], c_rv = c[(i + 2) % 3];
+      generated_.push_back({v, crossingCopy(c_vp, v), crossingCopy(c_rv, v)});
+      generated_.push_back({crossingCopy(c_vp, p), p, r});
+      generated_.push_back({crossingCopy(c_vp, p), r, crossingCopy(c_rv, r)});
+    } else {
+      const std::size_t i = c[0] >= 0 ? 0 : (c[1] >= 0 ? 1 : 2);
+      const int a = tri[i], b = tri[(i + 1) % 3], d = tri[(i + 2) % 3];
+      const int tip = tip_vertex_[tip_tri_[0] == t ? 0 : 1];
+      generated_.push_back({a, crossingCopy(c[i], a), tip});
+      generated_.push_back({crossingCopy(c[i], b), b, tip});
+      generated_.push_back({b, d, tip});
+      generated_.push_back({d, a, tip});
+    }
+  }
+  std::vector<std::array<int, 3>> sheet = fixed_sheet_;
+  const std::vector<int> behind = chain();
+  if (completed_) {
+    // Fill the closed chain: a strip from its last fixed row to the rest of the polygon walked
+    // the other way round; without a row, between the polygon's two halves.
+    std::vector<int> upper, lower;
+    if (row_.empty()) {
+      const auto m = static_cast<long>(behind.size() / 2);
+      upper.assign(behind.begin(), behind.begin() + m + 1);
+      lower = {behind.front()};
+      lower.insert(lower.end(), behind.rbegin(), behind.rend() - m);
+    } else {
+      const auto m = std::find(path_.begin(), path_.end(), row_attach_[0]) - path_.begin();
+      const auto end = m + static_cast<long>(row_.size()) + 1;
+      upper.assign(behind.begin() + m, behind.begin() + end + 1);
+      lower.assign(behind.rend() - m - 1, behind.rend());
+      lower.insert(lower.end(), behind.rbegin(), behind.rend() - end);
+    }
+    appendStrip(upper, lower, restOf(), sheet);
+  } else {
+    std::vector<int> ahead = {tip_vertex_[0]};
+    ahead.insert(ahead.end(), front_.begin(), front_.end());
+    ahead.push_back(tip_vertex_[1]);
+    appendStrip(behind, ahead, restOf(), sheet);
+  }
+  // Orientation: the sheet must use each slit edge against the split triangles' direction.
+  std::vector<std::pair<int, int>> split_edges;
+  for (const auto& t : generated_)
+    for (std::size_t k = 0; k < 3; ++k) split_edges.emplace_back(t[k], t[(k + 1) % 3]);
+  std::sort(split_edges.begin(), split_edges.end());
+  auto used = [&](int a, int b) {
+    return std::binary_search(split_edges.begin(), split_edges.end(), std::make_pair(a, b));
+  };
+  auto mustFlip = [&] {
+    for (const auto& t : sheet)
+      for (std::size_t k = 0; k < 3; ++k) {
+        if (used(t[k], t[(k + 1) % 3])) return true;
+        if (used(t[(k + 1) % 3], t[k])) return false;
+      }
+    return false;
+  };
+  const bool flip = mustFlip();
+  auto other = [this](int v) { return at(verts_, v).twin >= 0 ? at(verts_, v).twin : v; };
+  sheet_start_ = intSize(generated_);
+  for (const auto& t : sheet) {
+    if (flip) {
+      generated_.push_back({t[0], t[2], t[1]});
+      generated_.push_back({other(t[0]), other(t[1]), other(t[2])});
+    } else {
+      generated_.push_back(t);
+      generated_.push_back({other(t[0]), other(t[2]), other(t[1])});
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Mapping.
+
+template <class F>
+void EfgSurfaceCutter::forIncident(int v, const F& f) const {
+  if (v + 1 < intSize(vertex_tri_start_))
+    for (int k = at(vertex_tri_start_, v); k < at(vertex_tri_start_, v + 1); ++k) {
+      const int t = at(vertex_tris_, k);
+      if (!at(replaced_, t)) f(at(tris_, t));
+    }
+  for (const auto& t : generated_)
+    if (t[0] == v || t[1] == v || t[2] == v) f(t);
+}
+
+Eigen::Vector3d EfgSurfaceCutter::sheetNormal(int v) const {
+  Eigen::Vector3d n = Eigen::Vector3d::Zero();
+  for (std::size_t k = static_cast<std::size_t>(sheet_start_); k < generated_.size(); k += 2) {
+    const auto& t = generated_[k];
+    if (t[0] != v && t[1] != v && t[2] != v) continue;
+    const Eigen::Vector3d &a = at(verts_, t[0]).rest, &b = at(verts_, t[1]).rest,
+                          &c = at(verts_, t[2]).rest;
+    n += (b - a).cross(c - a);
+  }
+  const double len = n.norm();
+  return len > 1e-300 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
+}
+
+Eigen::Vector3d EfgSurfaceCutter::vertexNormal(int v) const {
+  Eigen::Vector3d n = Eigen::Vector3d::Zero();
+  forIncident(v, [&](const std::array<int, 3>& t) {
+    const Eigen::Vector3d &a = at(verts_, t[0]).rest, &b = at(verts_, t[1]).rest,
+                          &c = at(verts_, t[2]).rest;
+    n += (b - a).cross(c - a);
+  });
+  const double len = n.norm();
+  return len > 1e-300 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
+}
+
+void EfgSurfaceCutter::remap(int v, const std::vector<std::uint8_t>* excluded) {
+  std::vector<int> ring;
+  forIncident(v, [&](const std::array<int, 3>& t) {
+    for (int u : t) {
+      const int ip = at(verts_, u).ip;
+      if (u != v && ip >= 0 && !(excluded && at(*excluded, ip))) ring.push_back(ip);
+    }
+  });
+  std::sort(ring.begin(), ring.end());
+  ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+  Vertex& vert = at(verts_, v);
+  vert.ip = remapper_.find(vert.rest, vertexNormal(v), vert.planes, ring).ip;
+  source_.pointWeights(vert.ip, vert.rest, vert.particles, vert.weights);
+}
+
+void EfgSurfaceCutter::addPlane(int v, const Eigen::Vector3d& point,
+                                const Eigen::Vector3d& normal) {
+  if (normal.squaredNorm() > 0.0) at(verts_, v).planes.push_back({point, normal});
+}
+
+std::vector<int> EfgSurfaceCutter::remapVerticesOfIps(const std::vector<int>& changed_ips) {
+  const int n = source_.numIntegrationPoints();
+  std::vector<std::uint8_t> changed(static_cast<std::size_t>(n), 0);
+  for (int ip : changed_ips) {
+    if (ip < 0 || ip >= n)
+      throw std::invalid_argument("EfgSurfaceCutter::remapVerticesOfIps: IP " + std::to_string(ip) +
+                                  " outside [0, " + std::to_string(n) + ")");
+    at(changed, ip) = 1;
+  }
+  std::vector<int> out;
+  for (int v = 0; v < numVertices(); ++v)
+    if (at(verts_, v).used && at(verts_, v).ip >= 0 && at(changed, at(verts_, v).ip))
+      out.push_back(v);
+  // The 1-ring test first ignores the changed IPs (their sets are what changed), then a second
+  // pass sees every neighbour's new IP.
+  for (int v : out) remap(v, &changed);
+  for (int v : out)
+    if (at(changed, at(verts_, v).ip)) remap(v);
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// One step.
+
+EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Matrix3Xd& x_start,
+                                        const Eigen::Matrix3Xd& x_end) {
+  validateBladeSweep(sweep);
+  checkShape("x_start", x_start, numVertices());
+  checkShape("x_end", x_end, numVertices());
+  EfgSurfaceCutStep out;
+  const double tol = options_.tolerance;
+  const Eigen::Vector3d blade_lo =
+      sweep.start.rowwise().minCoeff().cwiseMin(sweep.end.rowwise().minCoeff()).array() - tol;
+  const Eigen::Vector3d blade_hi =
+      sweep.start.rowwise().maxCoeff().cwiseMax(sweep.end.rowwise().maxCoeff()).array() + tol;
+  const Eigen::Index segments = sweep.start.cols() - 1;
+
+  // Outcodes: bit d (d + 3) when the vertex stays below (above) the blade's swept box along axis
+  // d over the step. One pass over the positions, which also checks them.
+  outcode_.resize(verts_.size());
+  bool finite = true;
+  for (int v = 0; v < numVertices(); ++v) {
+    std::uint8_t code = 0;
+    for (int d = 0; d < 3; ++d) {
+      const double a = x_start(d, v), b = x_end(d, v);
+      finite = finite && a - a == 0.0 && b - b == 0.0;
+      code |= static_cast<std::uint8_t>((std::max(a, b) < blade_lo[d] ? 1 : 0) << d);
+      code |= static_cast<std::uint8_t>((std::min(a, b) > blade_hi[d] ? 1 : 0) << (d + 3));
+    }
+    at(outcode_, v) = code;
+  }
+  if (!finite)
+    throw std::invalid_argument(
+        "EfgSurfaceCutter::cut: x_start or x_end has a non-finite coordinate");
+
+  // Broad phase: a cluster whose vertices all stay on one side of the swept box is skipped; the
+  // others test every blade segment against their uncut edges.
+  struct Hit {
+    double t;
+    int edge;
+    double s;
+  };
+  std::vector<Hit> hits;
+  std::vector<int> near;
+  for (int c = 0; c + 1 < intSize(cluster_start_); ++c) {
+    std::uint8_t common = 0x3f;
+    for (int k = at(cluster_vstart_, c); k < at(cluster_vstart_, c + 1) && common; ++k)
+      common &= at(outcode_, at(cluster_verts_, k));
+    if (common) continue;
+    near.insert(near.end(), cluster_verts_.begin() + at(cluster_vstart_, c),
+                cluster_verts_.begin() + at(cluster_vstart_, c + 1));
+    for (int k = at(cluster_start_, c); k < at(cluster_start_, c + 1); ++k) {
+      const int e = at(cluster_edges_, k);
+      if (at(edge_crossing_, e) >= 0) continue;
+      const int a = at(edges_, e)[0], b = at(edges_, e)[1];
+      if (at(outcode_, a) & at(outcode_, b)) continue;
+      std::optional<EdgeSweepHit> best;
+      for (Eigen::Index i = 0; i < segments; ++i) {
+        const auto hit = edgeSweepCrossing(sweep.start.col(i), sweep.start.col(i + 1),
+                                           sweep.end.col(i), sweep.end.col(i + 1), x_start.col(a),
+                                           x_start.col(b), x_end.col(a), x_end.col(b), tol);
+        if (hit && (!best || hit->t < best->t)) best = hit;
+      }
+      if (best) hits.push_back({best->t, e, best->s});
+    }
+  }
+  // Blade crossing the segment from a vertex to its IP (IP held at its current position).
+  std::vector<std::pair<int, CutPlane>> ip_hits;
+  std::sort(near.begin(), near.end());
+  near.erase(std::unique(near.begin(), near.end()), near.end());
+  for (int v : near) {
+    const Vertex& vert = at(verts_, v);
+    if (!vert.used || vert.ip < 0) continue;
+    const Eigen::Vector3d x_ip = source_.ipPosition(vert.ip);
+    for (Eigen::Index i = 0; i < segments; ++i) {
+      const auto hit =
+          edgeSweepCrossing(sweep.start.col(i), sweep.start.col(i + 1), sweep.end.col(i),
+                            sweep.end.col(i + 1), x_start.col(v), x_ip, x_end.col(v), x_ip, tol);
+      if (!hit) continue;
+      const Eigen::Vector3d d = source_.ipRestPosition(vert.ip) - vert.rest;
+      if (d.squaredNorm() > 0.0) ip_hits.push_back({v, {vert.rest + hit->s * d, d.normalized()}});
+      break;
+    }
+  }
+  if (hits.empty() && ip_hits.empty() && !active_) return out;
+
+  // Accept crossings in time order; one pass may enable others (a tip moved next to them).
+  std::sort(hits.begin(), hits.end(), [](const Hit& x, const Hit& y) {
+    return x.t < y.t || (x.t == y.t && x.edge < y.edge);
+  });
+  const int first_crossing = intSize(crossings_);
+  for (bool progress = true; progress;) {
+    progress = false;
+    for (auto it = hits.begin(); it != hits.end();)
+      if (accept(it->edge, it->s)) {
+        it = hits.erase(it);
+        progress = true;
+        ++out.crossed_edges;
+      } else {
+        ++it;
+      }
+  }
+  out.ignored_crossings = intSize(hits);
+  std::vector<int> to_remap;
+  for (const auto& h : ip_hits) {
+    addPlane(h.first, h.second.point, h.second.normal);
+    to_remap.push_back(h.first);
+  }
+  if (active_) {
+    bool pierced = false;
+    if (!completed_) {
+      const bool left = placeTip(0, sweep, x_end), right = placeTip(1, sweep, x_end);
+      pierced = left || right;
+    }
+    std::vector<int> row;
+    if (!completed_) updateFront(row);
+    rebuild();
+    // Planes with the cut's normal: each endpoint and copy of a new crossing, through it.
+    for (int c = first_crossing; c < intSize(crossings_); ++c) {
+      const Crossing& x = at(crossings_, c);
+      const auto& ev = at(edges_, x.edge);
+      const int a = ev[static_cast<std::size_t>(x.a_end)],
+                b = ev[static_cast<std::size_t>(1 - x.a_end)];
+      const Eigen::Vector3d d = at(verts_, b).rest - at(verts_, a).rest;
+      Eigen::Vector3d n = sheetNormal(x.copy[x.a_end]);
+      if (!(n.dot(d) > 0.0)) n = d.normalized();  // the plane must separate a from b
+      const Eigen::Vector3d& X = at(verts_, x.copy[0]).rest;
+      addPlane(a, X, n);
+      addPlane(x.copy[x.a_end], X, n);
+      addPlane(b, X, -n);
+      addPlane(x.copy[1 - x.a_end], X, -n);
+      to_remap.insert(to_remap.end(), {a, b, x.copy[0], x.copy[1]});
+    }
+    for (int v : row) {
+      const int t = at(verts_, v).twin;
+      if (t < 0) continue;  // new transient vertex
+      const Eigen::Vector3d n = sheetNormal(v);
+      addPlane(v, at(verts_, v).rest, n.squaredNorm() > 0.0 ? n : Eigen::Vector3d(-sheetNormal(t)));
+    }
+    to_remap.insert(to_remap.end(), row.begin(), row.end());
+    if (completed_) {
+      for (int v : front_) freeVertex(v);
+      freeVertex(tip_vertex_[0]);
+      freeVertex(tip_vertex_[1]);
+      commit();
+      out.completed = true;
+    } else {
+      to_remap.insert(to_remap.end(), front_.begin(), front_.end());
+      to_remap.insert(to_remap.end(), tip_vertex_.begin(), tip_vertex_.end());
+      if (!pierced) {  // the blade left the cut: keep it as a crack
+        commit();
+        out.crack = true;
+      }
+    }
+  }
+  // Existing vertices first, so new ones see mapped neighbours.
+  std::vector<int> done;
+  for (int v : to_remap) {
+    if (!at(verts_, v).used || std::find(done.begin(), done.end(), v) != done.end()) continue;
+    remap(v);
+    done.push_back(v);
+  }
+  std::sort(done.begin(), done.end());
+  out.remapped = std::move(done);
+  return out;
+}
+
+}  // namespace surgical_sim::core
