@@ -66,6 +66,16 @@ std::vector<double> pieceVolumes(const EfgSurfaceCutter& c, std::vector<int>& pi
   return volume;
 }
 
+/// The unit box cut through at x = kCutX: two pieces of volumes kCutX and 1 - kCutX.
+void expectCutInTwoAtCutX(const EfgSurfaceCutter& c) {
+  std::vector<int> piece;
+  std::vector<double> v = pieceVolumes(c, piece);
+  ASSERT_EQ(v.size(), 2u);
+  std::sort(v.begin(), v.end());
+  EXPECT_NEAR(v[0], kCutX, 1e-9);
+  EXPECT_NEAR(v[1], 1.0 - kCutX, 1e-9);
+}
+
 TEST(EfgSurfaceCutter, StraightCutThroughABoxLeavesTwoClosedPiecesOfTheRightVolumes) {
   UnitBox box;
   bool completed = false;
@@ -217,12 +227,7 @@ TEST(EfgSurfaceCutter, OneBigStepGivesTheSameTopologyClassAsManySmallSteps) {
   for (UnitBox* b : {&big, &small}) {
     expectClosed(b->cutter);
     EXPECT_FALSE(b->cutter.cutActive());
-    std::vector<int> piece;
-    std::vector<double> v = pieceVolumes(b->cutter, piece);
-    ASSERT_EQ(v.size(), 2u);
-    std::sort(v.begin(), v.end());
-    EXPECT_NEAR(v[0], kCutX, 1e-9);
-    EXPECT_NEAR(v[1], 1.0 - kCutX, 1e-9);
+    expectCutInTwoAtCutX(b->cutter);
   }
 }
 
@@ -238,12 +243,7 @@ TEST(EfgSurfaceCutter, StaticBladeCutsTissueMovingThroughIt) {
     expectClosed(box.cutter);
   }
   EXPECT_FALSE(box.cutter.cutActive());
-  std::vector<int> piece;
-  std::vector<double> v = pieceVolumes(box.cutter, piece);
-  ASSERT_EQ(v.size(), 2u);
-  std::sort(v.begin(), v.end());
-  EXPECT_NEAR(v[0], kCutX, 1e-9);
-  EXPECT_NEAR(v[1], 1.0 - kCutX, 1e-9);
+  expectCutInTwoAtCutX(box.cutter);
 }
 
 TEST(EfgSurfaceCutter, BladeCrossingAVertexToIpSegmentAddsAPlaneAndRemaps) {
