@@ -2,6 +2,7 @@
 """rostest: the palpation checks (palpation_rostest.PalpationTest) on the EFG liver, with the bag's
 press moved to the liver's top: the tool goes as deep below the liver's top as the bag goes below
 the palpation organ's (top z = 24 mm)."""
+import copy
 import sys
 
 import rospy
@@ -18,6 +19,11 @@ class LiverEfgTest(PalpationTest):
     @classmethod
     def setUpClass(cls):
         super().setUpClass()
+        # One step with the tool far above publishes the surface (replays start with a reset).
+        clear = copy.deepcopy(cls.poses[0])
+        clear.pose.position.z = 1.0
+        clear.header.stamp += rospy.Duration(2000.0)  # a stamp no replay uses
+        cls.collector.send(clear)
         surface = rospy.wait_for_message("tissue/surface", Marker, timeout=60.0)
         x0 = cls.poses[0].pose.position.x
         y0 = cls.poses[0].pose.position.y
