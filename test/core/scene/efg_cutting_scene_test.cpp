@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "scene_blade.h"
 #include "surgical_sim/core/mesh/surface_closure.h"
 #include "surgical_sim/core/scene/scene_config.h"
 #include "surgical_sim/core/scene/tissue_simulation.h"
@@ -38,15 +39,8 @@ fixed:
                            "efg_cut_box.yaml");
 }
 
-/// A blade along y (wider than the box) at x = kCutX moving down from z_from to z_to [m].
-BladeSweep bladeDown(double z_from, double z_to) {
-  BladeSweep sweep;
-  sweep.start.resize(3, 2);
-  sweep.end.resize(3, 2);
-  sweep.start << kCutX, kCutX, -0.01, 0.03, z_from, z_from;
-  sweep.end << kCutX, kCutX, -0.01, 0.03, z_to, z_to;
-  return sweep;
-}
+/// The blade across the box at x = kCutX moving down from z_from to z_to [m].
+BladeSweep bladeDown(double z_from, double z_to) { return test::bladeDown(kCutX, z_from, z_to); }
 
 /// +1 beyond the cut plane, -1 before it.
 int side(double x) { return x > kCutX ? 1 : -1; }
