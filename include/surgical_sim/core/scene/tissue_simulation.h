@@ -78,22 +78,24 @@ class TissueSimulation {
   /// last step), the surface cut (EfgSurfaceCutter on the mapped vertex motion) and the remapping
   /// of the vertices on the changed IPs; then the mapping, the body force, the boundary
   /// conditions (particles no IP with volume uses any more are fixed where they are) and the
-  /// contact structures are rebuilt and the solver re-analyses. A cut the cutters reject leaves
-  /// the state as it was and the step reports SolverFailed (cutError() says why).
+  /// contact structures are rebuilt and the solver re-analyses. A sweep a cutter rejects (it
+  /// throws) keeps the positions and velocities, the model, surface and mapping follow what the
+  /// cutters kept, and the step reports SolverFailed (cutError() says why).
   /// @throws std::invalid_argument for an invalid sweep or a tet scene mesh that is not tet4.
   void requestCut(const BladeSweep& sweep);
   /// Connected pieces of the tissue holding material (1 before any cut).
   int numComponents() const;
   /// Why the last step's cut failed (empty if it did not).
   const std::string& cutError() const { return cut_error_; }
-  /// Per surface triangle: true on a cut (empty before any cut).
+  /// Per surface triangle: true on a cut (empty before any cut request; all false after an efg
+  /// request that has not cut yet).
   const std::vector<bool>& cutFaces() const { return cut_faces_; }
 
   int numTools() const { return static_cast<int>(scene_.tools.size()); }
   const RuntimeScene& scene() const { return scene_; }
   double timeStep() const { return scene_.time_step; }
-  /// The scene's tet mesh; for a body given by a closed surface (mesh.generator liver) the
-  /// surface's vertices, without elements.
+  /// The scene's tet mesh; for a body given by a closed surface (mesh.generator liver), and for an
+  /// efg model after its first cut request, the surface's vertices, without elements.
   const TetMesh& mesh() const { return mesh_; }
   /// The tissue surface; its triangles index the mesh's nodes (the mapping's slots).
   const SurfaceMesh& surface() const { return surface_; }
