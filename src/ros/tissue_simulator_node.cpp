@@ -287,6 +287,9 @@ bool TissueSimulatorNode::stepAndPublish(const ros::Time& stamp, bool publish_su
   if (failed)
     ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator", "step %u failed: %s (state kept finite)",
                             step_count_, stats.status.c_str());
+  if (!sim_->cutError().empty())
+    ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator", "step %u: %s", step_count_,
+                            sim_->cutError().c_str());
   return !failed;
 }
 

@@ -1,5 +1,6 @@
 #include "surgical_sim/core/scene/tissue_simulation.h"
 
+#include <algorithm>
 #include <future>
 #include <numeric>
 #include <stdexcept>
@@ -7,6 +8,8 @@
 #include "surgical_sim/core/common/stopwatch.h"
 #include "surgical_sim/core/contact/contact_phase.h"
 #include "surgical_sim/core/cutting/cut_tissue_model.h"
+#include "surgical_sim/core/cutting/efg_surface_cutter.h"
+#include "surgical_sim/core/cutting/efg_volume_cutter.h"
 #include "surgical_sim/core/mesh/mesh_check.h"
 #include "surgical_sim/core/scene/scene_build.h"
 #include "surgical_sim/core/tissue/efg_model.h"
@@ -31,17 +34,53 @@ StepStatus combined(StepStatus integrator, StepStatus contact) {
   return StepStatus::Ok;
 }
 
-/// Cutting splits the mesh's tets; a meshless model cannot be cut yet.
-std::invalid_argument efgCutError(const std::string& path) {
-  return std::invalid_argument("scene " + path +
-                               ": key 'blades': cutting needs a tet model; model efg cannot be "
-                               "cut (remove 'blades' or choose a tet model)");
+/// An EfgModel and the simulation's positions as the surface cutter's source: IP positions
+/// follow the current particle positions x (a reference to the simulation state).
+class EfgStateSource final : public EfgMappingSource {
+ public:
+  EfgStateSource(const EfgModel& model, const Eigen::VectorXd& x) : model_(model), x_(x) {}
+  int numIntegrationPoints() const override { return model_.numIntegrationPoints(); }
+  Eigen::Vector3d ipRestPosition(int ip) const override {
+    return model_.grid().integration_points.col(ip);
+  }
+  Eigen::Vector3d ipPosition(int ip) const override {
+    const std::vector<int>& particles = model_.ipParticles(ip);
+    const auto phi = model_.shapeValues(ip);
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    for (std::size_t a = 0; a < particles.size(); ++a)
+      p += phi[static_cast<Eigen::Index>(a)] * x_.segment<3>(3 * particles[a]);
+    return p;
+  }
+  const std::vector<int>& ipParticles(int ip) const override { return model_.ipParticles(ip); }
+  void pointWeights(int ip, const Eigen::Vector3d& X, std::vector<int>& particles,
+                    std::vector<double>& weights) const override {
+    model_.pointWeights(ip, X, particles, weights);
+  }
+
+ private:
+  const EfgModel& model_;
+  const Eigen::VectorXd& x_;
+};
+
+/// Vertex positions of `mapping` at model positions x [m], 3 x slots.
+Eigen::Matrix3Xd vertexPositions(const SurfaceMapping& mapping, const Eigen::VectorXd& x) {
+  Eigen::VectorXd flat;
+  mapping.apply(x, flat);
+  return Eigen::Map<const Eigen::Matrix3Xd>(flat.data(), 3, mapping.numSlots());
 }
 
 }  // namespace
 
+struct TissueSimulation::EfgCutting {
+  EfgCutting(EfgModel& model, const Eigen::VectorXd& x, const TriMesh& surface,
+             const EfgSurfaceCutOptions& options)
+      : source(model, x), volume(model), surface(surface, source, options) {}
+  EfgStateSource source;
+  EfgVolumeCutter volume;
+  EfgSurfaceCutter surface;
+};
+
 TissueSimulation::TissueSimulation(const RuntimeScene& scene) : scene_(scene) {
-  if (scene_.model == ModelKind::Efg && !scene_.blades.empty()) throw efgCutError(scene_.path);
   if (isSurfaceGenerator(scene_.mesh.generator)) {
     if (scene_.model != ModelKind::Efg) {
       throw std::invalid_argument("scene " + scene_.path +
@@ -105,6 +144,8 @@ TissueSimulation::~TissueSimulation() = default;
 void TissueSimulation::reset() {
   // Back to the uncut scene: the original mesh and model, no cut structures.
   cutter_.reset();
+  efg_cut_.reset();
+  cut_error_.clear();
   pending_cuts_.clear();
   cut_faces_.clear();
   mesh_ = original_mesh_;
@@ -149,13 +190,130 @@ void TissueSimulation::setGrasp(int tool, bool closed) {
 }
 
 void TissueSimulation::requestCut(const BladeSweep& sweep) {
-  if (scene_.model == ModelKind::Efg) throw efgCutError(scene_.path);
   validateBladeSweep(sweep);
-  if (!cutter_) cutter_ = std::make_unique<TetCutter>(mesh_, scene_.material.density);
+  if (scene_.model == ModelKind::Efg) {
+    if (!efg_cut_) startEfgCutting();
+  } else if (!cutter_) {
+    cutter_ = std::make_unique<TetCutter>(mesh_, scene_.material.density);
+  }
   pending_cuts_.push_back(sweep);
 }
 
+int TissueSimulation::numComponents() const {
+  if (efg_cut_) return efg_cut_->volume.pieces();
+  return cutter_ ? cutter_->numComponents() : 1;
+}
+
+void TissueSimulation::startEfgCutting() {
+  // The surface's used vertices, compacted: the surface cutter's vertex ids.
+  std::vector<int> id(static_cast<std::size_t>(mesh_.numNodes()), -1);
+  TriMesh surface;
+  surface.triangles.resize(3, surface_.triangles.cols());
+  std::vector<int> used;
+  for (Eigen::Index t = 0; t < surface_.triangles.cols(); ++t)
+    for (int c = 0; c < 3; ++c) {
+      int& v = id[static_cast<std::size_t>(surface_.triangles(c, t))];
+      if (v < 0) {
+        v = static_cast<int>(used.size());
+        used.push_back(surface_.triangles(c, t));
+      }
+      surface.triangles(c, t) = v;
+    }
+  surface.vertices.resize(3, static_cast<Eigen::Index>(used.size()));
+  for (std::size_t v = 0; v < used.size(); ++v)
+    surface.vertices.col(static_cast<Eigen::Index>(v)) = mesh_.nodes.col(used[v]);
+  EfgSurfaceCutOptions options;
+  options.front_width = scene_.efg.spacing;
+  options.tolerance = 1e-9 * scene_.efg.spacing;  // the volume cutter's contact distance
+  efg_cut_ =
+      std::make_unique<EfgCutting>(dynamic_cast<EfgModel&>(*model_), state_.x, surface, options);
+  efg_original_vertices_ = static_cast<int>(used.size());
+  adoptEfgSurface();
+  // Contact structures on the new vertex slots: grasps are released.
+  if (!contact_settings_.tools.empty()) contact_ = makeContact(model_->restPositions());
+}
+
+void TissueSimulation::adoptEfgSurface() {
+  const EfgSurfaceCutter& cutter = efg_cut_->surface;
+  surface_.triangles = cutter.triangles();
+  surface_.nodes.clear();
+  for (int v = 0; v < cutter.numVertices(); ++v)
+    if (cutter.vertexUsed(v)) surface_.nodes.push_back(v);
+  mesh_.nodes = cutter.restVertices();
+  mesh_.elements.resize(4, 0);
+  mapping_ = cutter.mapping(model_->numNodes());
+  mapping_.apply(state_.x, surface_x_);
+  cut_faces_.assign(static_cast<std::size_t>(surface_.triangles.cols()), false);
+  for (Eigen::Index t = 0; t < surface_.triangles.cols(); ++t)
+    cut_faces_[static_cast<std::size_t>(t)] =
+        (surface_.triangles.col(t).array() >= efg_original_vertices_).all();
+}
+
+void TissueSimulation::adoptEfgModel() {
+  base_force_ = model_->bodyForce(scene_.gravity);
+  problem_.external_force = base_force_;
+  // The scene's fixed DOFs and, fixed where they are, the particles without material.
+  DirichletBc bc = fixedDirichlet(scene_, model_->restPositions());
+  std::vector<char> fixed(static_cast<std::size_t>(state_.x.size()), 0);
+  for (int d : bc.dofs) fixed[static_cast<std::size_t>(d)] = 1;
+  std::vector<std::pair<int, double>> dofs;
+  for (std::size_t k = 0; k < bc.dofs.size(); ++k) dofs.emplace_back(bc.dofs[k], bc.positions[k]);
+  for (int p : efg_cut_->volume.unusedParticles())
+    for (int c = 0; c < 3; ++c) {
+      const int d = 3 * p + c;
+      state_.v[d] = 0.0;
+      if (!fixed[static_cast<std::size_t>(d)]) dofs.emplace_back(d, state_.x[d]);
+    }
+  std::sort(dofs.begin(), dofs.end());
+  base_dirichlet_.dofs.resize(dofs.size());
+  base_dirichlet_.positions.resize(static_cast<Eigen::Index>(dofs.size()));
+  for (std::size_t k = 0; k < dofs.size(); ++k) {
+    base_dirichlet_.dofs[k] = dofs[k].first;
+    base_dirichlet_.positions[static_cast<Eigen::Index>(k)] = dofs[k].second;
+  }
+  problem_.dirichlet = base_dirichlet_;
+  integrator_->reset();  // new stiffness pattern and masses: the linear solver re-analyses them
+}
+
+bool TissueSimulation::applyEfgCuts() {
+  bool surface_changed = false;
+  bool model_changed = false;
+  for (const BladeSweep& sweep : pending_cuts_) {
+    // Vertex motion over the last step with the mapping before this sweep.
+    const Eigen::Matrix3Xd start = vertexPositions(mapping_, x_previous_);
+    const Eigen::Matrix3Xd end = vertexPositions(mapping_, state_.x);
+    const EfgCutResult volume = efg_cut_->volume.cut(sweep, x_previous_, state_.x);
+    const EfgSurfaceCutStep surface = efg_cut_->surface.cut(sweep, start, end);
+    bool remapped = !surface.remapped.empty();
+    if (!volume.changed_ips.empty())
+      remapped = !efg_cut_->surface.remapVerticesOfIps(volume.changed_ips).empty() || remapped;
+    model_changed = model_changed || !volume.changed_ips.empty();
+    if (remapped || surface.crossed_edges > 0) {
+      surface_changed = true;
+      adoptEfgSurface();
+    }
+  }
+  if (model_changed) adoptEfgModel();
+  const bool changed = surface_changed || model_changed;
+  if (changed && !contact_settings_.tools.empty()) contact_ = makeContact(model_->restPositions());
+  return changed;
+}
+
 bool TissueSimulation::applyCuts() {
+  if (efg_cut_) {
+    bool changed = true;
+    try {
+      changed = applyEfgCuts();
+    } catch (const std::exception& e) {
+      // The cutters keep a consistent model and surface after a rejected cut: follow them.
+      cut_error_ = std::string("cut rejected: ") + e.what();
+      adoptEfgSurface();
+      adoptEfgModel();
+      if (!contact_settings_.tools.empty()) contact_ = makeContact(model_->restPositions());
+    }
+    pending_cuts_.clear();
+    return changed;
+  }
   bool changed = false;
   for (const BladeSweep& sweep : pending_cuts_) {
     if (!cutter_->cut(sweep, x_previous_, state_.x).topology_changed) continue;
@@ -189,6 +347,7 @@ SimulationStepStats TissueSimulation::step() {
   Stopwatch step_watch;
   if (!pending_cuts_.empty()) {
     Stopwatch cut_watch;
+    cut_error_.clear();
     stats.topology_changed = applyCuts();
     stats.cut_seconds = cut_watch.seconds();
   }
@@ -227,6 +386,8 @@ SimulationStepStats TissueSimulation::step() {
     restoreStart(time_previous);
     stats.report.status = StepStatus::NonFinite;
   }
+  if (!cut_error_.empty())
+    stats.report.status = combined(stats.report.status, StepStatus::SolverFailed);
   mapping_.apply(state_.x, surface_x_);
   stats.step_seconds = step_watch.seconds();
   return stats;
@@ -253,7 +414,7 @@ std::vector<std::string> TissueSimulation::components() const {
                                 "integrator:" + integrator_->name()};
   if (problem_.damping.active()) c.push_back("damping");
   if (contact_) c.push_back("contact");
-  if (cutter_) c.push_back("cutting");
+  if (cutter_ || efg_cut_) c.push_back("cutting");
   return c;
 }
 

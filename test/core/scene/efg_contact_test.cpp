@@ -150,21 +150,5 @@ TEST(EfgContact, TetSurfacePositionsAreTheStateBitForBit) {
               Eigen::Vector3d(sim.state().x.segment<3>(3 * v)));
 }
 
-TEST(EfgContact, EfgRunsButCannotBeCutNamingBlades) {
-  TissueSimulation sim(parsed("efg", "tet4", 8));
-  EXPECT_EQ(sim.step().report.status, StepStatus::Ok);
-  BladeSweep sweep;
-  sweep.start = Eigen::Matrix3Xd::Zero(3, 2);
-  sweep.end = Eigen::Matrix3Xd::Zero(3, 2);
-  sweep.start.col(1).x() = sweep.end.col(1).x() = 0.01;
-  sweep.end.row(2).setConstant(-0.01);
-  try {
-    sim.requestCut(sweep);
-    FAIL() << "accepted";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("'blades'"), std::string::npos) << e.what();
-  }
-}
-
 }  // namespace
 }  // namespace surgical_sim::core

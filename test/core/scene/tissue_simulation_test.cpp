@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "scene_blade.h"
 #include "surgical_sim/core/scene/scene_config.h"
 #include "surgical_sim/core/scene/tissue_simulation.h"
 
@@ -78,15 +79,7 @@ TEST(TissueSimulation, PalpationForceRisesWithIndentationAndVanishesAway) {
   EXPECT_EQ(sim.state().x, sim.model().restPositions());
 }
 
-/// A 20 cm blade along y at x = x_cut moving down from z_from to z_to [m].
-BladeSweep bladeDown(double x_cut, double z_from, double z_to) {
-  BladeSweep sweep;
-  sweep.start.resize(3, 2);
-  sweep.end.resize(3, 2);
-  sweep.start << x_cut, x_cut, -0.1, 0.1, z_from, z_from;
-  sweep.end << x_cut, x_cut, -0.1, 0.1, z_to, z_to;
-  return sweep;
-}
+using test::bladeDown;
 
 double totalMass(const TissueSimulation& sim) { return sim.model().lumpedMass().sum() / 3.0; }
 

@@ -42,9 +42,10 @@ struct SimulationStepStats {
 /// no damping work without damping, no cut structures before the first cut. step() never throws.
 class TissueSimulation {
  public:
-  /// Every model kind runs; an efg scene with 'blades' is rejected (cutting needs a tet model).
-  /// A body given by a closed surface (mesh.generator liver) runs the efg model only: its cells
-  /// are sampled inside the surface and all of the surface's vertices are mapped.
+  /// Every model kind runs and can be cut (tet4 meshes with the tet cutter, efg with the meshless
+  /// volume and surface cutters). A body given by a closed surface (mesh.generator liver) runs the
+  /// efg model only: its cells are sampled inside the surface and all of the surface's vertices are
+  /// mapped.
   /// @throws std::invalid_argument / std::runtime_error naming the scene key on bad input.
   explicit TissueSimulation(const RuntimeScene& scene);
   ~TissueSimulation();
@@ -71,19 +72,30 @@ class TissueSimulation {
   /// The first request builds the cutter (no cut structures before). A cut that changes the
   /// topology rebuilds the masses, the model (the solver re-analyses the new pattern), the
   /// boundary conditions, the surface and the contact structures; grasps are released.
-  /// @throws std::invalid_argument for an invalid sweep, a scene mesh that is not tet4 or a
-  ///         model that cannot be cut (efg, naming 'blades').
+  /// An efg model keeps its DOFs: the first request replaces the surface by the surface
+  /// cutter's (its vertices become mesh().nodes, without elements; tools are released), and each
+  /// step with cuts runs, per sweep, the volume cut (EfgVolumeCutter on the particle motion of the
+  /// last step), the surface cut (EfgSurfaceCutter on the mapped vertex motion) and the remapping
+  /// of the vertices on the changed IPs; then the mapping, the body force, the boundary
+  /// conditions (particles no IP with volume uses any more are fixed where they are) and the
+  /// contact structures are rebuilt and the solver re-analyses. A sweep a cutter rejects (it
+  /// throws) keeps the positions and velocities, the model, surface and mapping follow what the
+  /// cutters kept, and the step reports SolverFailed (cutError() says why).
+  /// @throws std::invalid_argument for an invalid sweep or a tet scene mesh that is not tet4.
   void requestCut(const BladeSweep& sweep);
-  /// Connected pieces of the tissue (1 before any cut).
-  int numComponents() const { return cutter_ ? cutter_->numComponents() : 1; }
-  /// Per surface triangle: true on a cut (empty before any cut).
+  /// Connected pieces of the tissue holding material (1 before any cut).
+  int numComponents() const;
+  /// Why the last step's cut failed (empty if it did not).
+  const std::string& cutError() const { return cut_error_; }
+  /// Per surface triangle: true on a cut (empty before any cut request; all false after an efg
+  /// request that has not cut yet).
   const std::vector<bool>& cutFaces() const { return cut_faces_; }
 
   int numTools() const { return static_cast<int>(scene_.tools.size()); }
   const RuntimeScene& scene() const { return scene_; }
   double timeStep() const { return scene_.time_step; }
-  /// The scene's tet mesh; for a body given by a closed surface (mesh.generator liver) the
-  /// surface's vertices, without elements.
+  /// The scene's tet mesh; for a body given by a closed surface (mesh.generator liver), and for an
+  /// efg model after its first cut request, the surface's vertices, without elements.
   const TetMesh& mesh() const { return mesh_; }
   /// The tissue surface; its triangles index the mesh's nodes (the mapping's slots).
   const SurfaceMesh& surface() const { return surface_; }
@@ -118,6 +130,15 @@ class TissueSimulation {
   std::unique_ptr<ContactPhase> makeContact(const Eigen::VectorXd& rest) const;
   /// Applies the queued cuts; returns true if the topology changed.
   bool applyCuts();
+  /// applyCuts() of an efg model; throws what the cutters throw.
+  bool applyEfgCuts();
+  /// Builds the efg cutters on the current surface and makes the cutter's surface the scene's.
+  void startEfgCutting();
+  /// After an efg surface change: surface, mesh nodes, mapping, cut faces from the cutters.
+  void adoptEfgSurface();
+  /// After an efg model change: body force, boundary conditions (unused particles fixed where
+  /// they are), solver re-analysis.
+  void adoptEfgModel();
   /// Index of scene tool `tool` in the contact phase; -1 for a tool without contact or an
   /// index out of range.
   int contactIndex(int tool) const;
@@ -146,6 +167,11 @@ class TissueSimulation {
   /// Last X_ST of each contact tool (contact phase order), if any.
   std::vector<std::optional<Eigen::Isometry3d>> tool_poses_;
   std::unique_ptr<TetCutter> cutter_;  ///< null until the first cut request
+  /// The efg model's volume and surface cutters; null until the first cut request on efg.
+  struct EfgCutting;
+  std::unique_ptr<EfgCutting> efg_cut_;
+  int efg_original_vertices_ = 0;  ///< surface vertices before any efg cut (cut faces: the rest)
+  std::string cut_error_;
   std::vector<BladeSweep> pending_cuts_;
   Eigen::VectorXd x_previous_;  ///< positions at the start of the last step [m]
   Eigen::VectorXd v_previous_;  ///< velocities at the start of the last step [m/s]
