@@ -1,5 +1,6 @@
 #include "surgical_sim/bench/connective_case.h"
 
+#include <algorithm>
 #include <cmath>
 #include <ctime>
 #include <sstream>
@@ -32,6 +33,7 @@ void checkSpec(const RigidNodeBeamSpec& spec) {
   if (spec.load_steps < 0) fail("load_steps", spec.load_steps, ">= 0");
   if (!(spec.relative_tolerance > 0.0 && spec.relative_tolerance < 1.0))
     fail("relative_tolerance", spec.relative_tolerance, "in (0, 1)");
+  if (spec.max_iterations < 1) fail("max_iterations", spec.max_iterations, ">= 1");
   if (spec.timed_steps < 0) fail("timed_steps", spec.timed_steps, ">= 0");
   if (!(std::isfinite(spec.time_step) && spec.time_step > 0.0))
     fail("time_step", spec.time_step, "finite and > 0");
@@ -79,21 +81,26 @@ RigidNodeBeamResult runRigidNodeBeam(const RigidNodeBeamSpec& spec) {
   auto keep = [&](StepStatus status) {
     if (result.status == StepStatus::Ok) result.status = status;
   };
+  auto failed = [](StepStatus status) {
+    return status != StepStatus::Ok && status != StepStatus::NotConverged;
+  };
 
   if (spec.load_steps > 0) {
     RigidNodeNewtonSettings settings;
     settings.relative_tolerance = spec.relative_tolerance;
+    settings.max_iterations = spec.max_iterations;
     RigidNodeQuasiStatic solver(settings);
     RigidNodeConfiguration q = layout.rest;
     const Stopwatch watch;
-    for (int k = 1; k <= spec.load_steps && result.status == StepStatus::Ok; ++k) {
+    for (int k = 1; k <= spec.load_steps && !failed(result.status); ++k) {
       problem.body_acceleration = spec.gravity * (static_cast<double>(k) / spec.load_steps);
       const StepReport report = solver.solve(problem, q);
       result.newton_iterations += report.newton_iterations;
+      result.residual = std::max(result.residual, report.residual);
       keep(report.status);
     }
     result.solve_ms = watch.milliseconds();
-    if (result.status == StepStatus::Ok) {
+    if (!failed(result.status)) {
       double sum = 0.0;
       int count = 0;
       for (int i = 0; i < model.numNodes(); ++i) {
@@ -112,20 +119,24 @@ RigidNodeBeamResult runRigidNodeBeam(const RigidNodeBeamSpec& spec) {
     state.configuration = layout.rest;
     state.velocity.setZero(model.numDofs());
     RigidNodeImplicitEuler integrator;
-    keep(integrator.step(problem, spec.time_step, state).status);
+    StepStatus status = integrator.step(problem, spec.time_step, state).status;
     StepPhaseTimes sum;
     const Stopwatch watch;
     const double cpu = threadCpuSeconds();
-    for (int k = 0; k < spec.timed_steps && result.status == StepStatus::Ok; ++k) {
+    int steps = 0;
+    for (; steps < spec.timed_steps && status == StepStatus::Ok; ++steps) {
       const StepReport report = integrator.step(problem, spec.time_step, state);
-      keep(report.status);
+      status = report.status;
       sum.forces += report.phases.forces;
       sum.factorization += report.phases.factorization;
     }
-    result.ms_per_step = watch.milliseconds() / spec.timed_steps;
-    result.cpu_ms_per_step = 1e3 * (threadCpuSeconds() - cpu) / spec.timed_steps;
-    result.forces_ms = 1e3 * sum.forces / spec.timed_steps;
-    result.factor_ms = 1e3 * sum.factorization / spec.timed_steps;
+    keep(status);
+    if (steps > 0) {
+      result.ms_per_step = watch.milliseconds() / steps;
+      result.cpu_ms_per_step = 1e3 * (threadCpuSeconds() - cpu) / steps;
+      result.forces_ms = 1e3 * sum.forces / steps;
+      result.factor_ms = 1e3 * sum.factorization / steps;
+    }
   }
   return result;
 }

@@ -34,6 +34,7 @@ struct RigidNodeBeamSpec {
   /// quasi-static solve).
   int load_steps = 1;
   double relative_tolerance = 1e-8;  ///< of each Newton solve, in (0, 1)
+  int max_iterations = 200;          ///< Newton iterations per load increment, >= 1
   /// Linearized implicit Euler steps timed from rest after one untimed step, >= 0 (0: none).
   int timed_steps = 0;
   double time_step = 0.01;    ///< [s], > 0
@@ -46,8 +47,10 @@ struct RigidNodeBeamResult {
   int samples = 0;
   int dofs = 0;  ///< 6 per rigid node (fixed ones included)
   /// Quasi-static: mean displacement of the rigid nodes at x = size.x along `component` [m]
-  /// (NaN without a quasi-static solve or when it failed).
+  /// (NaN without a quasi-static solve or when it failed; the last accepted iterate when an
+  /// increment did not converge).
   double tip = std::numeric_limits<double>::quiet_NaN();
+  double residual = 0.0;      ///< largest relative residual of the load increments [-]
   int newton_iterations = 0;  ///< summed over the load increments
   double solve_ms = 0.0;      ///< wall time of the quasi-static solve [ms]
   /// Mean wall and thread CPU time of one timed implicit Euler step [ms] (NaN: none timed).
@@ -57,7 +60,8 @@ struct RigidNodeBeamResult {
   /// factorization [ms].
   double forces_ms = std::numeric_limits<double>::quiet_NaN();
   double factor_ms = std::numeric_limits<double>::quiet_NaN();
-  StepStatus status = StepStatus::Ok;  ///< first non-Ok status, or Ok
+  /// First non-Ok status of the quasi-static solve and of the timed steps, or Ok.
+  StepStatus status = StepStatus::Ok;
 };
 
 /// Builds the beam of `spec` and runs its quasi-static solve and its timed steps.
