@@ -58,6 +58,17 @@ const char* rigidNodeWeightsName(RigidNodeWeights weights) {
   return weights == RigidNodeWeights::Tet ? "tet" : "trilinear";
 }
 
+RigidNodeBeamSpec t1CantileverSpec(const Eigen::Vector3i& nodes) {
+  RigidNodeBeamSpec spec;
+  spec.size = Eigen::Vector3d(16.0, 0.5, 0.5);
+  spec.material = Material::create(200e9, 0.3, 7800.0);
+  spec.gravity = Eigen::Vector3d(0, -9.81, 0);
+  spec.component = 1;
+  spec.cells = nodes - Eigen::Vector3i::Ones();
+  spec.relative_tolerance = 1e-8;
+  return spec;
+}
+
 double threadCpuSeconds() {
   timespec t;
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);

@@ -71,14 +71,7 @@ int runT1(std::ofstream& csv) {
                                              grids[i].first + " " + std::to_string(nodes.x()) +
                                              "x" + std::to_string(nodes.y()) + "x" +
                                              std::to_string(nodes.z()));
-    RigidNodeBeamSpec spec;
-    spec.size = Eigen::Vector3d(16.0, 0.5, 0.5);
-    spec.material = Material::create(200e9, 0.3, 7800.0);
-    spec.gravity = Eigen::Vector3d(0, -9.81, 0);
-    spec.component = 1;
-    spec.cells = nodes - Eigen::Vector3i::Ones();
-    spec.relative_tolerance = 1e-8;
-    const RigidNodeBeamResult r = runRigidNodeBeam(spec);
+    const RigidNodeBeamResult r = runRigidNodeBeam(t1CantileverSpec(nodes));
     const double deflection = -r.tip;
     if (r.status != StepStatus::Ok) ++failures;
     emit(csv, grids[i].first + "," + std::to_string(nodes.x()) + "," + std::to_string(nodes.y()) +

@@ -12,12 +12,7 @@ namespace {
 
 /// The T1 steel cantilever with `nodes` rigid nodes per axis: its tip deflection [m].
 double t1Deflection(const Eigen::Vector3i& nodes) {
-  RigidNodeBeamSpec spec;
-  spec.size = Eigen::Vector3d(16.0, 0.5, 0.5);
-  spec.material = Material::create(200e9, 0.3, 7800.0);
-  spec.gravity = Eigen::Vector3d(0, -9.81, 0);
-  spec.component = 1;
-  spec.cells = nodes - Eigen::Vector3i::Ones();
+  const RigidNodeBeamSpec spec = t1CantileverSpec(nodes);
   const RigidNodeBeamResult r = runRigidNodeBeam(spec);
   EXPECT_EQ(r.status, StepStatus::Ok);
   EXPECT_EQ(r.nodes, nodes.prod());

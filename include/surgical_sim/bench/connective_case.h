@@ -64,6 +64,11 @@ struct RigidNodeBeamResult {
   StepStatus status = StepStatus::Ok;
 };
 
+/// BENCHMARKS.md T1 with rigid nodes: the steel cantilever 16 x 0.5 x 0.5 m (E 200 GPa, nu 0.3,
+/// 7800 kg/m^3) under self-weight along -y, trilinear weights, `nodes` rigid nodes per axis
+/// (each >= 2), one load increment, Newton to 1e-8; its tip is the y displacement.
+RigidNodeBeamSpec t1CantileverSpec(const Eigen::Vector3i& nodes);
+
 /// Builds the beam of `spec` and runs its quasi-static solve and its timed steps.
 /// @throws std::invalid_argument naming a field of spec out of range
 RigidNodeBeamResult runRigidNodeBeam(const RigidNodeBeamSpec& spec);
