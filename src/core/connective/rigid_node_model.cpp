@@ -1,6 +1,8 @@
 #include "surgical_sim/core/connective/rigid_node_model.h"
 
+#if defined(__x86_64__)
 #include <immintrin.h>
+#endif
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -17,10 +19,10 @@
 namespace surgical_sim::core {
 namespace {
 
+#if defined(__x86_64__)
 /// C(i, j) += sum_r X(r, i) X(r, j) on every 4 x 4 tile of C that touches its upper triangle,
 /// with AVX2 + FMA: X is rows x n row-major, C is n x n column-major, n a multiple of 4 (entries
-/// below the diagonal inside diagonal tiles are written too). Call only where
-/// hasAvx2Fma().
+/// below the diagonal inside diagonal tiles are written too).
 __attribute__((target("avx2,fma"))) void upperRankUpdateAvx2(int rows, int n, const double* X,
                                                              double* C) {
   for (int j = 0; j < n; j += 4) {
@@ -43,11 +45,19 @@ __attribute__((target("avx2,fma"))) void upperRankUpdateAvx2(int rows, int n, co
     }
   }
 }
+#endif
 
-/// Whether the CPU runs upperRankUpdateAvx2 (checked once).
-bool hasAvx2Fma() {
+/// upperRankUpdateAvx2 where the CPU has AVX2 and FMA (checked once) and n is a multiple of 4;
+/// false (nothing done) otherwise.
+bool fastUpperRankUpdate(int rows, int n, const double* X, double* C) {
+#if defined(__x86_64__)
   static const bool supported = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  return supported;
+  if (!supported || n % 4 != 0) return false;
+  upperRankUpdateAvx2(rows, n, X, C);
+  return true;
+#else
+  return false;
+#endif
 }
 
 /// Voigt index pairs (00, 11, 22, 12, 02, 01).
@@ -338,10 +348,8 @@ void RigidNodeModel::evaluate(const RigidNodeConfiguration& q,
   int stacked_rows = 0;
   auto flush = [&]() {
     if (stacked_rows == 0) return;
-    if (material.rows() % 4 == 0 && hasAvx2Fma()) {
-      upperRankUpdateAvx2(stacked_rows, static_cast<int>(material.rows()), stacked.data(),
-                          material.data());
-    } else {
+    if (!fastUpperRankUpdate(stacked_rows, static_cast<int>(material.rows()), stacked.data(),
+                             material.data())) {
       material.selfadjointView<Eigen::Upper>().rankUpdate(
           stacked.topRows(stacked_rows).transpose());
     }
