@@ -1,8 +1,13 @@
 #include "surgical_sim/core/connective/rigid_node_model.h"
 
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -13,6 +18,47 @@
 
 namespace surgical_sim::core {
 namespace {
+
+#if defined(__x86_64__)
+/// C(i, j) += sum_r X(r, i) X(r, j) on every 4 x 4 tile of C that touches its upper triangle,
+/// with AVX2 + FMA: X is rows x n row-major, C is n x n column-major, n a multiple of 4 (entries
+/// below the diagonal inside diagonal tiles are written too).
+__attribute__((target("avx2,fma"))) void upperRankUpdateAvx2(int rows, int n, const double* X,
+                                                             double* C) {
+  for (int j = 0; j < n; j += 4) {
+    for (int i = 0; i <= j; i += 4) {
+      double* c = C + static_cast<std::ptrdiff_t>(j) * n + i;
+      __m256d c0 = _mm256_loadu_pd(c), c1 = _mm256_loadu_pd(c + n);
+      __m256d c2 = _mm256_loadu_pd(c + 2 * n), c3 = _mm256_loadu_pd(c + 3 * n);
+      for (int r = 0; r < rows; ++r) {
+        const double* x = X + static_cast<std::ptrdiff_t>(r) * n;
+        const __m256d xi = _mm256_loadu_pd(x + i);
+        c0 = _mm256_fmadd_pd(xi, _mm256_broadcast_sd(x + j), c0);
+        c1 = _mm256_fmadd_pd(xi, _mm256_broadcast_sd(x + j + 1), c1);
+        c2 = _mm256_fmadd_pd(xi, _mm256_broadcast_sd(x + j + 2), c2);
+        c3 = _mm256_fmadd_pd(xi, _mm256_broadcast_sd(x + j + 3), c3);
+      }
+      _mm256_storeu_pd(c, c0);
+      _mm256_storeu_pd(c + n, c1);
+      _mm256_storeu_pd(c + 2 * n, c2);
+      _mm256_storeu_pd(c + 3 * n, c3);
+    }
+  }
+}
+#endif
+
+/// upperRankUpdateAvx2 where the CPU has AVX2 and FMA (checked once) and n is a multiple of 4;
+/// false (nothing done) otherwise.
+bool fastUpperRankUpdate(int rows, int n, const double* X, double* C) {
+#if defined(__x86_64__)
+  static const bool supported = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  if (!supported || n % 4 != 0) return false;
+  upperRankUpdateAvx2(rows, n, X, C);
+  return true;
+#else
+  return false;
+#endif
+}
 
 /// Voigt index pairs (00, 11, 22, 12, 02, 01).
 constexpr int kVoigtRow[6] = {0, 1, 2, 1, 0, 0};
@@ -302,7 +348,11 @@ void RigidNodeModel::evaluate(const RigidNodeConfiguration& q,
   int stacked_rows = 0;
   auto flush = [&]() {
     if (stacked_rows == 0) return;
-    material.selfadjointView<Eigen::Upper>().rankUpdate(stacked.topRows(stacked_rows).transpose());
+    if (!fastUpperRankUpdate(stacked_rows, static_cast<int>(material.rows()), stacked.data(),
+                             material.data())) {
+      material.selfadjointView<Eigen::Upper>().rankUpdate(
+          stacked.topRows(stacked_rows).transpose());
+    }
     stacked_rows = 0;
   };
   bool run_started = false;

@@ -1,12 +1,15 @@
 #include "surgical_sim/core/connective/rigid_node_quasi_static.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 
 #include "surgical_sim/core/common/validate.h"
+#include "surgical_sim/core/solve/absolute_product_norm.h"
 #include "surgical_sim/core/solve/armijo_line_search.h"
 #include "surgical_sim/core/solve/dirichlet_projection.h"
+#include "surgical_sim/core/solve/newton_constants.h"
 
 namespace surgical_sim::core {
 
@@ -48,6 +51,8 @@ StepReport RigidNodeQuasiStatic::solve(const RigidNodeProblem& problem, RigidNod
   model.addBodyForce(q, problem.body_acceleration, load_);
   if (problem.external_force.size() != 0) load_ += problem.external_force;
   const double load_scale = load_.norm();
+  magnitude_.resize(model.numDofs());
+  work_.resize(model.numDofs());
 
   for (int iteration = 0;; ++iteration) {
     if (!system_.assemble(problem, q, 0.0, 1.0)) {
@@ -64,8 +69,15 @@ StepReport RigidNodeQuasiStatic::solve(const RigidNodeProblem& problem, RigidNod
       report.status = StepStatus::NonFinite;
       return report;
     }
-    report.residual = scale > 0.0 ? norm / scale : 0.0;
-    if (norm <= settings_.relative_tolerance * scale) break;
+    // The scale raised to the round-off floor of the forces over the tolerance: a residual at
+    // round-off (stiff, nearly incompressible layers) counts as converged.
+    for (int i = 0; i < q.numNodes(); ++i)
+      magnitude_.segment<kRigidNodeDofs>(kRigidNodeDofs * i) << q.p_TN[i].cwiseAbs(), 1.0, 1.0, 1.0;
+    const double floor =
+        kNewtonResidualRoundOff * absoluteProductNorm(system_.stiffness(), magnitude_, work_);
+    const double denominator = std::max(scale, floor / settings_.relative_tolerance);
+    report.residual = denominator > 0.0 ? norm / denominator : 0.0;
+    if (report.residual <= settings_.relative_tolerance) break;
     if (iteration == settings_.max_iterations) {
       report.status = StepStatus::NotConverged;
       break;

@@ -11,7 +11,7 @@ namespace surgical_sim::core {
 /// Settings of RigidNodeQuasiStatic.
 struct RigidNodeNewtonSettings {
   int max_iterations = 50;           ///< Newton iterations, >= 1
-  double relative_tolerance = 1e-9;  ///< |r| <= tol (|f_int| + |f_load|), in (0, 1)
+  double relative_tolerance = 1e-9;  ///< see RigidNodeQuasiStatic::solve, in (0, 1)
   int max_halvings = 30;             ///< line-search halvings, >= 0
 };
 
@@ -25,9 +25,11 @@ class RigidNodeQuasiStatic {
   /// @throws std::invalid_argument naming a setting out of range
   explicit RigidNodeQuasiStatic(const RigidNodeNewtonSettings& settings = {});
 
-  /// Solves in place from q. Ok when converged; NotConverged (last accepted iterate kept) at the
-  /// iteration cap or when the line search finds no decrease; SolverFailed / NonFinite with q
-  /// restored. report.residual: |r| / (|f_int| + |f_load|) at the end.
+  /// Solves in place from q. Ok when converged: |r| <= tol (|f_int| + |f_load|), or |r| at the
+  /// round-off floor kNewtonResidualRoundOff || |K| |z| || (z: the rigid nodes' |positions| [m]
+  /// and 1 rad per rotation); NotConverged (last accepted iterate kept) at the iteration cap or
+  /// when the line search finds no decrease; SolverFailed / NonFinite with q restored.
+  /// report.residual: |r| / max(|f_int| + |f_load|, floor / tol) at the end.
   /// @throws std::invalid_argument for a malformed problem (checkRigidNodeProblem) or a q of
   ///         the wrong size
   StepReport solve(const RigidNodeProblem& problem, RigidNodeConfiguration& q);
@@ -42,7 +44,7 @@ class RigidNodeQuasiStatic {
   RigidNodeNewtonSettings settings_;
   RigidNodeTangentSystem system_;
   RigidNodeConfiguration start_, base_, trial_;
-  Eigen::VectorXd residual_, increment_, travelled_, trial_travelled_, load_;
+  Eigen::VectorXd residual_, increment_, travelled_, trial_travelled_, load_, magnitude_, work_;
 };
 
 }  // namespace surgical_sim::core
