@@ -326,8 +326,8 @@ void applyBenchThreads(const BenchmarkScene& scene) {
 
 std::string referenceGroup(const BenchmarkVariant& variant) {
   const auto solver_only = [](const std::string& key) {
-    for (const char* k :
-         {"solvers", "integrators", "models", "threads", "mesh.resolutions", "mesh.element_types"})
+    for (const char* k : {"solvers", "integrators", "models", "threads", "mesh.resolutions",
+                          "mesh.element_types", "contact.full_delassus"})
       if (key == k) return true;
     return key.rfind("pcg.", 0) == 0 || key.rfind("newton.", 0) == 0;
   };

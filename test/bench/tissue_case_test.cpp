@@ -176,6 +176,7 @@ variants:
   - name: after
     solvers: [pcg_cholesky_reuse]
     pcg: {tolerance: 1.0e-8}
+    contact: {full_delassus: true}
     threads: 2
     mesh: {resolutions: [[1, 1, 1], [2, 1, 1]]}
   - name: stiffer

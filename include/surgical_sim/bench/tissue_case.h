@@ -98,8 +98,8 @@ void applyBenchThreads(const BenchmarkScene& scene);
 
 /// Name of the reference group of `variant`: "" when the variant sets only keys that leave the
 /// tight reference runs unchanged (solvers, integrators, models, pcg.*, newton.*, threads,
-/// mesh.resolutions, mesh.element_types), so all such variants share their references; else
-/// the variant's name.
+/// mesh.resolutions, mesh.element_types, contact.full_delassus), so all such variants share their
+/// references; else the variant's name.
 std::string referenceGroup(const BenchmarkVariant& variant);
 
 /// All cases of a scene's sweep, in a stable order. Models that only support linear tets

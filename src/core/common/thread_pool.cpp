@@ -97,4 +97,17 @@ void ThreadPool::drain() {
   }
 }
 
+LazyThreadPool::LazyThreadPool(int threads) : threads_(threads) {
+  requireInRange("threads", threads, 1, kMaxThreads, "");
+}
+
+void LazyThreadPool::run(int count, const std::function<void(int)>& task) {
+  if (threads_ == 1 || count <= 1) {
+    for (int i = 0; i < count; ++i) task(i);
+    return;
+  }
+  std::call_once(started_, [this] { pool_ = std::make_unique<ThreadPool>(threads_); });
+  pool_->run(count, task);
+}
+
 }  // namespace surgical_sim::core

@@ -61,6 +61,9 @@ ContactSolver::ContactSolver(const ContactSolverSettings& settings, int max_cont
   lambda_.setZero(max_contacts);
   active_.reserve(static_cast<size_t>(max_contacts));
   column_slot_.reserve(static_cast<size_t>(max_contacts));
+  previous_slot_.reserve(static_cast<size_t>(max_contacts));
+  column_keys_.assign(static_cast<size_t>(max_contacts), Eigen::Vector4i::Constant(-1));
+  previous_keys_.assign(static_cast<size_t>(max_contacts), Eigen::Vector4i::Constant(-1));
   tools_.assign(static_cast<size_t>(max_contacts), 0);
   contact_normals_.setZero(3, max_contacts);
   dn_du_.assign(static_cast<size_t>(max_contacts), Eigen::Matrix3d::Zero());
@@ -72,6 +75,16 @@ void ContactSolver::resize(Eigen::Index size) {
   for (Eigen::VectorXd* v : {&tissue_force_, &column_, &response_, &carried_, &correction_}) {
     v->setZero(size);
   }
+}
+
+void ContactSolver::keepColumnsAsStarts() {
+  if (columns_used_ == 0) return;
+  std::swap(columns_, previous_columns_);
+  previous_slot_.assign(column_slot_.begin(), column_slot_.end());
+  std::copy(column_keys_.begin(),
+            column_keys_.begin() + static_cast<std::ptrdiff_t>(column_slot_.size()),
+            previous_keys_.begin());
+  columns_used_ = 0;
 }
 
 double ContactSolver::rowDot(const SurfaceMapping& mapping, const ContactPoint& contact,
@@ -142,11 +155,13 @@ StepStatus ContactSolver::solveContacts(Integrator& integrator, const SurfaceMap
   }
   const bool carried = applied_force.squaredNorm() > 0.0;
   if (contacts.empty() && !carried) return StepStatus::Ok;
+  // carried_ holds the last S F_a: the start of this one (the same force on a steady press).
   if (carried) {
     if (!integrator.applyStepCompliance(applied_force, carried_)) return StepStatus::SolverFailed;
   } else {
     carried_.setZero();
   }
+  keepColumnsAsStarts();
 
   const auto m = static_cast<Eigen::Index>(contacts.size());
   double q_scale = 0.0;
@@ -159,13 +174,13 @@ StepStatus ContactSolver::solveContacts(Integrator& integrator, const SurfaceMap
         compliance_[tool] * (couplings_[tool].damping / dt) * contact.n_S.dot(body_offset_[tool]);
     q_scale = std::max(q_scale, std::abs(q_[i]));
     tools_[static_cast<size_t>(i)] = contact.tool;
+    column_keys_[static_cast<size_t>(i)] << contact.tool, contact.nodes;
     contact_normals_.col(i) = contact.n_S;
     dn_du_[static_cast<size_t>(i)] = contact.dn_du;
     dn_dx_[static_cast<size_t>(i)] = contact.dn_dx;
   }
   if (coupling_.size() < static_cast<size_t>(m * m)) coupling_.resize(static_cast<size_t>(m * m));
   column_slot_.assign(static_cast<size_t>(m), -1);
-  columns_used_ = 0;
   column_failed_ = false;
   // W starts as the tool-body coupling C: contacts of one tool share its displacement
   // -c_t sum lambda_j n_j. computeColumn adds the columns of H S H^T.
@@ -233,6 +248,13 @@ bool ContactSolver::computeColumn(const ColumnInputs& inputs, Eigen::Index j) {
   if (columns_.size() <= slot) columns_.emplace_back();
   Eigen::VectorXd& response = columns_[slot];
   const ContactPoint& contact = contacts[static_cast<size_t>(j)];
+  response.setZero(column_.size());
+  for (size_t i = 0; i < previous_slot_.size(); ++i) {
+    if (previous_slot_[i] >= 0 && previous_keys_[i] == column_keys_[static_cast<size_t>(j)]) {
+      response = previous_columns_[static_cast<size_t>(previous_slot_[i])];
+      break;
+    }
+  }
   addColumn(mapping, contact, 1.0, column_);
   const bool ok = inputs.integrator->applyStepCompliance(column_, response);
   for (int k = 0; k < 3; ++k) {
@@ -267,6 +289,7 @@ bool ContactSolver::correct(Integrator& integrator, const Eigen::VectorXd& appli
   correction_ = tissue_force_ - applied_force;
   if (!(correction_.squaredNorm() > 0.0)) return true;
   if (settings_.full_delassus) {
+    response_.setZero();
     if (!integrator.applyStepCompliance(correction_, response_)) return false;
   } else {
     // S (H^T lambda - F_a) from the computed columns (lambda_j > 0 only for those) and S F_a.

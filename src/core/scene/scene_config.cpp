@@ -664,6 +664,11 @@ void readBase(const KeyReader& r, const std::set<std::string>& mesh_keys, SceneB
     checkRange(p, "tolerance", s.pcg_tolerance, 1e-15, 1.0, "");
     s.pcg_refresh_interval = p.integer("refresh_interval", 1, 100000, s.pcg_refresh_interval);
   }
+  if (r.has("contact")) {
+    const KeyReader c = r.child("contact");
+    c.onlyKeys({"full_delassus"});
+    s.contact_full_delassus = c.choice("full_delassus", {"true", "false"}) == "true";
+  }
   forEachItem(r, "fixed", [&](const KeyReader& item) {
     item.onlyKeys({"region", "components"});
     s.fixed.push_back({readRegion(item, "region"), readComponents(item)});
@@ -751,9 +756,9 @@ BladeSpec readBlade(const KeyReader& r, const std::vector<ToolSpec>& tools) {
 RuntimeScene parseRuntime(const YAML::Node& root, const std::string& path) {
   const KeyReader r(root, "", path);
   rejectForeignKeys(r, kBenchmarkKeys, kBenchmarkMeshKeys);
-  r.onlyKeys({"name", "description", "mesh", "material", "model", "integrator", "solver",
-              "time_step", "gravity", "damping", "newton", "pcg", "fixed", "tools", "trocars",
-              "blades", "robot", "tissue_pose", "efg"});
+  r.onlyKeys({"name",      "description", "mesh",    "material",    "model", "integrator", "solver",
+              "time_step", "gravity",     "damping", "newton",      "pcg",   "fixed",      "tools",
+              "trocars",   "blades",      "robot",   "tissue_pose", "efg",   "contact"});
   RuntimeScene s;
   s.path = path;
   readBase(r, {"resolution", "element_type"}, s);
@@ -874,7 +879,7 @@ BenchmarkScene parseBenchmark(const YAML::Node& root, const std::string& path) {
   r.onlyKeys({"name",        "description", "mesh",     "material",     "models",  "integrators",
               "solvers",     "time_step",   "steps",    "load_factors", "gravity", "damping",
               "newton",      "pcg",         "fixed",    "prescribed",   "measure", "tools",
-              "tissue_pose", "efg",         "variants", "threads"});
+              "tissue_pose", "efg",         "variants", "threads",      "contact"});
   BenchmarkScene s;
   s.path = path;
   readBase(r, {"resolutions", "element_types"}, s);

@@ -101,6 +101,7 @@ TissueSimulation::TissueSimulation(const RuntimeScene& scene) : scene_(scene) {
   problem_.damping.stiffness_coefficient = scene_.damping_stiffness;
   contact_settings_.solver.max_iterations = 500;
   contact_settings_.solver.relative_tolerance = 1e-6;
+  contact_settings_.solver.full_delassus = scene_.contact_full_delassus;
   for (const ToolSpec& t : scene_.tools) {
     if (!t.contact) {
       contact_index_.push_back(-1);

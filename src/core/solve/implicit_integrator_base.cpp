@@ -67,9 +67,11 @@ StepReport ImplicitIntegratorBase::restoreState(SimulationState& state, StepStat
 
 bool ImplicitIntegratorBase::applyStepCompliance(const Eigen::VectorXd& f, Eigen::VectorXd& dx) {
   ++compliance_use_.calls;
-  return timed(compliance_use_.seconds, [&] {
+  const bool ok = timed(compliance_use_.seconds, [&] {
     return compliance_.apply(*solver_, mask_, f, dx, [this] { return factorizeCompliance(); });
   });
+  compliance_use_.iterations += compliance_.lastIterations();
+  return ok;
 }
 
 }  // namespace surgical_sim::core

@@ -56,7 +56,7 @@ void GroupSchedule::setThreads(int threads) {
   if (threads == 1) {
     pool_.reset();
   } else if (!pool_ || pool_->threads() != threads) {
-    pool_ = std::make_shared<ThreadPool>(threads);
+    pool_ = std::make_shared<LazyThreadPool>(threads);
   }
 }
 

@@ -1,11 +1,14 @@
 // ThreadPool runs every task of a run exactly once, also when two threads run at once;
-// defaultThreadCount reads SURGICAL_SIM_THREADS and rejects bad values by name.
+// LazyThreadPool starts its workers only with its first parallel run; defaultThreadCount reads
+// SURGICAL_SIM_THREADS and rejects bad values by name.
 #include "surgical_sim/core/common/thread_pool.h"
 
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <cstdlib>
+#include <filesystem>
+#include <iterator>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -39,6 +42,12 @@ class ThreadsVariable {
   std::optional<std::string> old_;
 };
 
+/// Threads of this process (Linux: entries of /proc/self/task).
+long processThreads() {
+  const std::filesystem::directory_iterator tasks("/proc/self/task");
+  return std::distance(std::filesystem::begin(tasks), std::filesystem::end(tasks));
+}
+
 TEST(ThreadPool, RunsEveryTaskExactlyOnce) {
   for (int threads = 1; threads <= 3; ++threads) {
     ThreadPool pool(threads);
@@ -70,6 +79,30 @@ TEST(ThreadPool, TwoCallersAtOnceEachGetAllTheirTasks) {
 TEST(ThreadPool, RejectsAThreadCountOutOfRange) {
   EXPECT_THROW(ThreadPool(0), std::invalid_argument);
   EXPECT_THROW(ThreadPool(kMaxThreads + 1), std::invalid_argument);
+}
+
+TEST(LazyThreadPool, StartsItsWorkersWithTheFirstParallelRunOnly) {
+  const long before = processThreads();
+  LazyThreadPool pool(3);
+  EXPECT_EQ(pool.threads(), 3);
+  std::atomic<int> runs{0};
+  pool.run(1, [&](int) { ++runs; });
+  EXPECT_EQ(processThreads(), before);  // one task: on the caller, nothing started
+  constexpr int kTasks = 40;
+  for (int r = 0; r < 3; ++r) pool.run(kTasks, [&](int) { ++runs; });
+  EXPECT_EQ(runs, 1 + 3 * kTasks);
+  EXPECT_EQ(processThreads(), before + 2);  // started once, kept for later runs
+}
+
+TEST(LazyThreadPool, OneThreadNeverStartsAWorker) {
+  const long before = processThreads();
+  LazyThreadPool pool(1);
+  std::vector<int> order;
+  pool.run(5, [&](int i) { order.push_back(i); });
+  EXPECT_EQ(order, (std::vector<int>{0, 1, 2, 3, 4}));
+  EXPECT_EQ(processThreads(), before);
+  EXPECT_THROW(LazyThreadPool(0), std::invalid_argument);
+  EXPECT_THROW(LazyThreadPool(kMaxThreads + 1), std::invalid_argument);
 }
 
 TEST(DefaultElementThreads, ReadsTheEnvironmentVariable) {

@@ -27,12 +27,12 @@ constexpr int kSettleSteps = 12;   // quasi-static steps at a fixed pose
 struct Palpation {
   explicit Palpation(ContactResponse response = ContactResponse::Constraint,
                      const std::string& integrator_name = "quasi_static", int cells = 8,
-                     double max_force = 20.0)
+                     double max_force = 20.0, SolverKind solver = SolverKind::Cholmod)
       : mesh(makeBox({0, 0, 0}, {kSide, kSide, kHeight}, {cells, cells, 4}, ElementType::Tet4)),
         surface(extractSurface(mesh)),
         model(makeTissueModel(ModelKind::Corotational, mesh, Material::create(5e3, 0.3, 1000.0))),
         integrator(makeIntegrator(*enumFromName(kIntegratorNames, integrator_name),
-                                  newtonSettings(), makeLinearSolver(SolverKind::Cholmod, {}))) {
+                                  newtonSettings(), makeLinearSolver(solver, {}))) {
     for (int a = 0; a < mesh.numNodes(); ++a) {
       if (mesh.nodes(2, a) < 1e-12) {
         for (int c = 0; c < 3; ++c) base_bc.dofs.push_back(3 * a + c);
@@ -144,6 +144,75 @@ TEST(ContactPhase, PressedCapsuleDoesNotPenetrateAndForceBalancesSupport) {
   EXPECT_GT(previous_force, 0.0);
   // Sanity: order of magnitude of a flat punch E a d / (1 - nu^2) (rigid flat punch) or less.
   EXPECT_LT(previous_force, 2.0 * 5e3 * 2.0 * kRadius * max_depth / (1.0 - 0.09));
+}
+
+/// Flat punch at depth [m] below the top face on the top surface nodes within radius [m] of its
+/// centre (one vertex contact each, normal -z: the punch is above), gaps at the positions x.
+std::vector<ContactPoint> flatPunch(const Palpation& p, const Eigen::VectorXd& x, double depth,
+                                    double radius) {
+  std::vector<ContactPoint> contacts;
+  for (size_t slot = 0; slot < p.surface.nodes.size(); ++slot) {
+    const Eigen::Vector3d rest = p.mesh.nodes.col(p.surface.nodes[slot]);
+    if (rest.z() < kHeight - 1e-9 ||
+        (rest.head<2>() - Eigen::Vector2d::Constant(0.5 * kSide)).norm() > radius)
+      continue;
+    ContactPoint c;
+    c.nodes.setConstant(static_cast<int>(slot));
+    c.weights = Eigen::Vector3d::UnitX();
+    c.n_S = -Eigen::Vector3d::UnitZ();
+    c.gap = (kHeight - depth) - x[3 * p.surface.nodes[slot] + 2];  // < 0: inside the punch
+    contacts.push_back(c);
+  }
+  return contacts;
+}
+
+TEST(ContactSolver, WarmStartedColumnsTakeFewerIterationsOnASteadyPressForTheSameForce) {
+  // Linearized implicit Euler with a block-Jacobi PCG (tolerance 1e-10): every compliance column
+  // is an iterative solve.
+  Palpation p(ContactResponse::Constraint, "implicit_euler_linearized", 8, 20.0,
+              SolverKind::PcgBlockJacobi);
+  p.problem.dirichlet = p.base_bc;
+  p.problem.damping.mass_coefficient = 5.0;
+  const SurfaceMapping mapping = SurfaceMapping::selection(p.mesh.numNodes(), p.surface.nodes);
+  ContactSolverSettings settings;
+  settings.relative_tolerance = 1e-12;
+  ToolCoupling coupling;
+  coupling.stiffness = 1e4;
+  coupling.max_force = 20.0;
+  const int max_contacts = 64;
+  ContactSolver warm(settings, max_contacts, {coupling});
+  const double dt = 0.01;
+  Eigen::VectorXd applied = Eigen::VectorXd::Zero(p.state.x.size());
+  for (int s = 0; s < 8; ++s) {  // the punch holds 1 mm
+    p.problem.external_force = p.base_force + applied;
+    ASSERT_EQ(p.integrator->step(p.problem, dt, p.state).status, StepStatus::Ok) << s;
+    const std::vector<ContactPoint> contacts = flatPunch(p, p.state.x, 1e-3, 0.006);
+    ASSERT_GE(contacts.size(), 4U);
+    // A solver without history takes the same contact solve from zero starts.
+    SimulationState cold_state = p.state;
+    ContactSolver cold(settings, max_contacts, {coupling});
+    const long before_cold = p.integrator->complianceUse().iterations;
+    ASSERT_EQ(cold.solve(*p.integrator, mapping, contacts, applied, dt, true, cold_state),
+              StepStatus::Ok);
+    const long cold_iterations = p.integrator->complianceUse().iterations - before_cold;
+    const long before_warm = p.integrator->complianceUse().iterations;
+    ASSERT_EQ(warm.solve(*p.integrator, mapping, contacts, applied, dt, true, p.state),
+              StepStatus::Ok);
+    const long warm_iterations = p.integrator->complianceUse().iterations - before_warm;
+    const Eigen::VectorXd lambda = warm.multipliers();
+    ASSERT_GT(lambda.sum(), 0.0);
+    EXPECT_LT((lambda - cold.multipliers()).norm(), 1e-7 * lambda.norm()) << s;
+    EXPECT_LT((p.state.x - cold_state.x).norm(),
+              1e-7 * (p.state.x - p.model->restPositions()).norm())
+        << s;
+    if (s == 0) {
+      EXPECT_EQ(warm_iterations, cold_iterations);  // no history yet
+    } else {
+      // Fewer from the first held step on; under half once the press has settled.
+      EXPECT_LT(warm_iterations, s < 3 ? cold_iterations : cold_iterations / 2) << s;
+    }
+    applied = warm.tissueForce();
+  }
 }
 
 /// Ok, or NotConverged (Gauss-Seidel iteration limit on nearly redundant contacts: the state is

@@ -1,7 +1,8 @@
-// Scene keys tools[].coupling_stiffness, coupling_damping and max_force: defaults, plumbing,
-// validation.
+// Scene keys tools[].coupling_stiffness, coupling_damping, max_force and contact.full_delassus:
+// defaults, plumbing, validation.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -73,6 +74,57 @@ TEST(ToolCouplingKeys, MaxForceReachesTheSimulation) {
   EXPECT_EQ(s.report.status, StepStatus::ContactLimited) << toString(s.report.status);
   EXPECT_NEAR(sim.toolContact(0).f0_S.norm(), 3.0, 1e-9);
   EXPECT_STREQ(toString(StepStatus::ContactLimited), "contact_limited");
+}
+
+TEST(ContactSolverKeys, FullDelassusIsTrueOrFalseAndDefaultsToFalse) {
+  EXPECT_FALSE(parseRuntimeScene(sceneWithTool(""), "keys.yaml").contact_full_delassus);
+  for (const std::string value : {"true", "false"}) {
+    const RuntimeScene scene = parseRuntimeScene(
+        sceneWithTool("") + "contact: {full_delassus: " + value + "}\n", "keys.yaml");
+    EXPECT_EQ(scene.contact_full_delassus, value == "true");
+  }
+  for (const std::string bad : {"1", "yes", "[true]", "''"}) {
+    try {
+      parseRuntimeScene(sceneWithTool("") + "contact: {full_delassus: " + bad + "}\n", "keys.yaml");
+      ADD_FAILURE() << "accepted " << bad;
+    } catch (const std::invalid_argument& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("key 'contact.full_delassus'"), std::string::npos) << message;
+    }
+  }
+  try {
+    parseRuntimeScene(sceneWithTool("") + "contact: {full_delasus: true}\n", "keys.yaml");
+    ADD_FAILURE() << "accepted a misspelt key";
+  } catch (const std::invalid_argument& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("key 'contact.full_delasus': unknown key"), std::string::npos)
+        << message;
+  }
+}
+
+TEST(ContactSolverKeys, FullDelassusSolvesEveryColumnForTheSameForce) {
+  Eigen::Vector3d force[2];
+  long solves[2] = {0, 0};
+  for (int full = 0; full < 2; ++full) {
+    RuntimeScene scene = parseRuntimeScene(
+        sceneWithTool("") + "contact: {full_delassus: " + (full ? "true" : "false") + "}\n",
+        "keys.yaml");
+    scene.gravity.setZero();
+    TissueSimulation sim(scene);
+    Eigen::Isometry3d X_ST = Eigen::Isometry3d::Identity();  // pointing down onto the top face
+    X_ST.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    X_ST.translation() = Eigen::Vector3d(0.02, 0.02, 0.02 + 0.0025 - 0.001);
+    sim.setToolPose(0, X_ST);
+    for (int k = 0; k < 3; ++k) {
+      const SimulationStepStats s = sim.step();
+      ASSERT_EQ(s.report.status, StepStatus::Ok) << toString(s.report.status);
+      solves[full] += s.contact_timings.compliance_solves;
+    }
+    force[full] = sim.toolContact(0).f0_S;
+  }
+  EXPECT_GT(force[0].z(), 0.0);
+  EXPECT_LT((force[1] - force[0]).norm(), 1e-6 * force[0].norm());
+  EXPECT_GT(solves[1], solves[0]);  // every column and the correction
 }
 
 }  // namespace

@@ -1,9 +1,12 @@
 // GroupSchedule colours chunks so that no two of a colour share a node and covers every group
 // once; FeModel's energy, force, stiffness and stiffness product are bit-identical with 1 and 2
-// threads for every law on Tet4 and Tet10.
+// threads for every law on Tet4 and Tet10; models start their worker threads only with their first
+// parallel loop, so models whose loops never run in parallel hold none.
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <filesystem>
+#include <iterator>
 #include <memory>
 #include <mutex>
 #include <random>
@@ -12,6 +15,7 @@
 
 #include "surgical_sim/core/tissue/fe_model.h"
 #include "surgical_sim/core/tissue/group_schedule.h"
+#include "surgical_sim/core/tissue/mass_spring_model.h"
 #include "tissue_test_util.h"
 
 namespace surgical_sim::core {
@@ -107,6 +111,30 @@ TEST_P(ThreadCountInvarianceTest, OneAndTwoThreadsGiveBitIdenticalResults) {
   EXPECT_TRUE(sameBits(one.product, two.product));
   EXPECT_TRUE(sameBits(one.K[0], two.K[0]));
   EXPECT_TRUE(sameBits(one.K[1], two.K[1]));
+}
+
+TEST(GroupSchedule, ModelsStartWorkerThreadsOnlyWithTheirFirstParallelLoop) {
+  const auto processThreads = [] {  // Linux: entries of /proc/self/task
+    const std::filesystem::directory_iterator tasks("/proc/self/task");
+    return std::distance(std::filesystem::begin(tasks), std::filesystem::end(tasks));
+  };
+  std::mt19937 rng(5);
+  const TetMesh mesh = test::jitteredLattice(4, 0.01, 0.001, rng);
+  const Material material = test::testMaterial(0.45);
+  const long before = processThreads();
+  // Mass-spring loops run on the calling thread: two-thread models start nothing.
+  std::vector<MassSpringModel> springs(8, MassSpringModel(mesh, material));
+  for (MassSpringModel& model : springs) model.setThreads(2);
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(3 * mesh.numNodes());
+  springs.front().addInternalForce(springs.front().restPositions(), f);
+  FeModel fe(mesh, material, test::makeLaw("corotational", material));
+  fe.setThreads(2);
+  EXPECT_EQ(fe.threads(), 2);
+  EXPECT_EQ(processThreads(), before);
+  fe.addInternalForce(test::perturbed(fe.restPositions(), 0.002, rng), f);
+  EXPECT_EQ(processThreads(), before + 1);  // the first parallel loop starts one worker
+  fe.addInternalForce(fe.restPositions(), f);
+  EXPECT_EQ(processThreads(), before + 1);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllLaws, ThreadCountInvarianceTest, test::allLawCases(),

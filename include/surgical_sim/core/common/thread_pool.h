@@ -3,6 +3,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -56,6 +57,29 @@ class ThreadPool {
   int done_ = 0;  ///< tasks finished
   std::uint64_t generation_ = 0;
   bool stop_ = false;
+};
+
+/// A ThreadPool whose workers start at the first run() with more than one task: an owner whose
+/// loops never run in parallel holds no idle threads. Runs are those of ThreadPool (same
+/// thread-safety, same results). Not copyable.
+class LazyThreadPool {
+ public:
+  /// @param threads threads of a parallel run, the caller included, in [1, kMaxThreads]
+  /// @throws std::invalid_argument naming "threads" if out of range.
+  explicit LazyThreadPool(int threads);
+  LazyThreadPool(const LazyThreadPool&) = delete;
+  LazyThreadPool& operator=(const LazyThreadPool&) = delete;
+
+  /// Threads requested (a started pool may hold fewer: ThreadPool::threads()).
+  int threads() const { return threads_; }
+  /// ThreadPool::run; a run of one task (or with threads() == 1) runs on the caller and starts
+  /// nothing.
+  void run(int count, const std::function<void(int)>& task);
+
+ private:
+  int threads_;
+  std::once_flag started_;
+  std::unique_ptr<ThreadPool> pool_;  ///< set once, by the first parallel run
 };
 
 }  // namespace surgical_sim::core

@@ -59,7 +59,9 @@ void validateToolCoupling(const ToolCoupling& coupling);
 ///     vertices mapped to the model's DOFs: h = sum_k w_k (A_k^T n) with A_k the vertex's row of
 ///     the SurfaceMapping (for a tet model the identity on the surface nodes);
 ///     S = Integrator::applyStepCompliance (one call per contact column that step 3 needs: the
-///     columns of the contacts it makes active, or all with full_delassus); the gaps are measured
+///     columns of the contacts it makes active, or all with full_delassus; an iterative solver
+///     starts each column from the last solve's column of the same contact, same tool and
+///     triangle vertices, if it computed one, and S F_a from the last S F_a); the gaps are measured
 ///     with the tool at its commanded pose, and the massless tool body of tool t (ToolCoupling)
 ///     sits at the offset d_t from it where the spring-damper balances the contact force
 ///     (backward Euler): (k_t + b_t/dt) d_t = (b_t/dt) d_t,prev - sum_{j of t} lambda_j n_j.
@@ -145,6 +147,8 @@ class ContactSolver {
 
  private:
   void resize(Eigen::Index size);
+  /// Keeps the computed columns of the last solve as warm starts (previous_*), if it has any.
+  void keepColumnsAsStarts();
   /// Scales each tool's multipliers whose sum exceeds its max_force down to it (force_scale_);
   /// returns whether any tool was capped.
   bool capToolForces();
@@ -155,8 +159,9 @@ class ContactSolver {
     const std::vector<ContactPoint>* contacts;
   };
   /// If not done yet in this solve: column j of H S H^T into W_ (pairs of computed entries
-  /// symmetrized), the response S h_j kept for the correction and coupling_. False if the step
-  /// compliance fails (column_failed_ is then set).
+  /// symmetrized), the response S h_j kept for the correction and coupling_; the solve starts
+  /// from the previous column of the same key, else from zero. False if the step compliance
+  /// fails (column_failed_ is then set).
   bool computeColumn(const ColumnInputs& inputs, Eigen::Index j);
   /// Correction dx = S (H^T lambda - F_a) (step 4) applied to state; false if S fails.
   bool correct(Integrator& integrator, const Eigen::VectorXd& applied_force, double dt,
@@ -200,8 +205,14 @@ class ContactSolver {
   Eigen::VectorXd tissue_force_, column_, response_, carried_, correction_;  ///< 3n
   std::vector<Eigen::VectorXd> columns_;  ///< S h_j of the computed columns (3n each), by slot
   std::vector<int> column_slot_;          ///< per contact: its slot in columns_, -1 not computed
-  int columns_used_ = 0;                  ///< slots of columns_ filled in this solve
-  bool column_failed_ = false;            ///< a compliance column failed in this solve
+  std::vector<Eigen::Vector4i> column_keys_;  ///< max, per contact: tool and triangle vertices
+  /// The columns of the last solve that computed any (warm starts): slots, per-contact slots
+  /// (-1 none) and keys.
+  std::vector<Eigen::VectorXd> previous_columns_;
+  std::vector<int> previous_slot_;
+  std::vector<Eigen::Vector4i> previous_keys_;
+  int columns_used_ = 0;        ///< slots of columns_ filled in this solve
+  bool column_failed_ = false;  ///< a compliance column failed in this solve
   PgsReport report_;
   LcpActiveSetWorkspace active_set_;
 };

@@ -159,6 +159,8 @@ struct SceneBase {
   std::optional<int> pcg_max_iterations;
   double pcg_tolerance = 1e-6;    ///< relative residual [-]
   int pcg_refresh_interval = 10;  ///< steps between preconditioner refreshes
+  /// Key contact.full_delassus: ContactSolverSettings::full_delassus of the constraint tools.
+  bool contact_full_delassus = false;
   std::vector<FixedBc> fixed;
   std::vector<ToolSpec> tools;  ///< empty: no contact structures are built
   /// Pose of the tissue rest frame in the world frame (tf world -> tissue).

@@ -29,7 +29,10 @@ class Integrator {
   /// Dirichlet DOFs of the last step get 0. This is the operator S of the contact
   /// (free-motion / correction) loop: W = H S H^T.
   /// @param f extra nodal force [N], size 3n, in the tissue frame
-  /// @param dx position response [m], resized to 3n (allocation-free once it has that size)
+  /// @param dx position response [m], resized to 3n (allocation-free once it has that size). On
+  ///        entry, if of size 3n and finite, the start of an iterative linear solver (a warm
+  ///        start, e.g. the response to a nearby f); any other dx starts from zero. The answer
+  ///        meets the solver's tolerance from any start; direct solvers ignore it.
   /// @return false (dx then unspecified) if unavailable: no usable step since construction or
   ///         reset(), a failed last step, a size mismatch, or a failed solve. Never throws.
   virtual bool applyStepCompliance(const Eigen::VectorXd& f, Eigen::VectorXd& dx) = 0;
@@ -39,6 +42,7 @@ class Integrator {
   struct ComplianceUse {
     double seconds = 0.0;  ///< wall time inside applyStepCompliance [s]
     long calls = 0;        ///< number of calls
+    long iterations = 0;   ///< linear-solver iterations of their solves (1 per direct solve)
   };
   /// Zero for schemes whose compliance costs no solve (symplectic Euler: dt^2 M^-1 f).
   virtual ComplianceUse complianceUse() const { return {}; }

@@ -21,13 +21,16 @@ class StepCompliance {
   /// A successful step; the factorization at its end point is built by apply() when needed.
   void markStale(double scale) { mark(State::Stale, scale); }
 
-  /// dx = scale A^-1 f (f's Dirichlet entries zeroed, mask[i] != 0). `factorize()` assembles and
-  /// factorizes A in `solver` for a stale step and returns false on failure (the compliance is
-  /// then unavailable until the next step). False as well if unavailable, if f's size is not the
-  /// mask's, or if the solve fails or is not finite.
+  /// dx = scale A^-1 f (f's Dirichlet entries zeroed, mask[i] != 0). dx on entry, if it has f's
+  /// size and is finite, starts an iterative solver (its Dirichlet entries zeroed; otherwise the
+  /// start is zero); the solver's tolerance, relative to |scale f|, is the same from any start.
+  /// `factorize()` assembles and factorizes A in `solver` for a stale step and returns false on
+  /// failure (the compliance is then unavailable until the next step). False as well if
+  /// unavailable, if f's size is not the mask's, or if the solve fails or is not finite.
   template <class Factorize>
   bool apply(LinearSolver& solver, const std::vector<std::uint8_t>& mask, const Eigen::VectorXd& f,
              Eigen::VectorXd& dx, Factorize&& factorize) {
+    last_iterations_ = 0;
     if (state_ == State::Unavailable || static_cast<size_t>(f.size()) != mask.size()) return false;
     if (state_ == State::Stale) {
       if (!factorize()) {
@@ -37,12 +40,18 @@ class StepCompliance {
       state_ = State::Factorized;
     }
     rhs_ = scale_ * f;
+    if (dx.size() != f.size() || !dx.allFinite()) dx.setZero(f.size());
     for (Eigen::Index i = 0; i < f.size(); ++i) {
-      if (mask[static_cast<size_t>(i)] != 0) rhs_[i] = 0.0;
+      if (mask[static_cast<size_t>(i)] == 0) continue;
+      rhs_[i] = 0.0;
+      dx[i] = 0.0;
     }
-    dx.setZero(f.size());
-    return solver.solve(rhs_, dx).ok && dx.allFinite();
+    const LinearSolveReport report = solver.solve(rhs_, dx);
+    last_iterations_ = report.iterations;
+    return report.ok && dx.allFinite();
   }
+  /// Linear-solver iterations of the last apply() (0 if it did not reach the solve).
+  int lastIterations() const { return last_iterations_; }
 
  private:
   enum class State { Unavailable, Stale, Factorized };
@@ -54,6 +63,7 @@ class StepCompliance {
   State state_ = State::Unavailable;
   double scale_ = 0.0;
   Eigen::VectorXd rhs_;  ///< projected right-hand side (work vector)
+  int last_iterations_ = 0;
 };
 
 }  // namespace surgical_sim::core

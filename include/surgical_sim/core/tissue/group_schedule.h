@@ -26,7 +26,8 @@ class GroupSchedule {
   /// @param threads threads of the loops, in [1, kMaxThreads] (see setThreads)
   GroupSchedule(int num_nodes, const Eigen::MatrixXi& groups, int threads);
 
-  /// Threads the loops use (1: the calling thread alone, no pool).
+  /// Threads the loops use (1: the calling thread alone, no pool). The worker threads start with
+  /// the first loop that has a colour of more than one chunk (LazyThreadPool).
   /// @throws std::invalid_argument naming "threads" outside [1, kMaxThreads].
   void setThreads(int threads);
   int threads() const { return pool_ ? pool_->threads() : 1; }
@@ -74,10 +75,10 @@ class GroupSchedule {
   double sumInOrder(const double* partial) const;
 
   int num_groups_ = 0;
-  std::vector<int> colour_;           ///< per chunk
-  std::vector<int> chunks_;           ///< chunk indices sorted by colour (then index)
-  std::vector<int> colour_offsets_;   ///< chunks_ of colour c: [colour_offsets_[c], [c + 1])
-  std::shared_ptr<ThreadPool> pool_;  ///< null for one thread; shared by copies
+  std::vector<int> colour_;               ///< per chunk
+  std::vector<int> chunks_;               ///< chunk indices sorted by colour (then index)
+  std::vector<int> colour_offsets_;       ///< chunks_ of colour c: [colour_offsets_[c], [c + 1])
+  std::shared_ptr<LazyThreadPool> pool_;  ///< null for one thread; shared by copies
 };
 
 }  // namespace surgical_sim::core
