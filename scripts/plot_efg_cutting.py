@@ -1,0 +1,97 @@
+#!/usr/bin/python3
+"""Plots the meshless (EFG) cutting benchmark (cutting_bench --efg) CSVs of a report directory.
+
+usage: plot_efg_cutting.py DIR
+Reads DIR/efg_cut_update.csv and DIR/efg_cut_progressive.csv and writes DIR/efg_cut_update.png
+(time of each cut-update phase per blade sweep that cut, ~20k IPs) and
+DIR/efg_cut_progressive.png (cut update and implicit step time per sweep over the progressive
+cuts, raw and as a moving mean over 50 sweeps).
+"""
+import csv
+import os
+import sys
+
+# --help answers before matplotlib loads (it would write its font cache into $HOME).
+if __name__ == "__main__" and ("--help" in sys.argv[1:] or "-h" in sys.argv[1:]):
+    print(__doc__)
+    sys.exit(0)
+
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+PHASES = ("positions_ms", "volume_ms", "surface_ms", "remap_ms")
+
+
+def rows(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def moving_mean(values, width):
+    out, total = [], 0.0
+    for i, v in enumerate(values):
+        total += v
+        if i >= width:
+            total -= values[i - width]
+        out.append(total / min(i + 1, width))
+    return out
+
+
+def plot_update(d):
+    data = [r for r in rows(os.path.join(d, "efg_cut_update.csv"))
+            if int(r["severed_links"]) > 0 or int(r["crossed_edges"]) > 0]
+    fig, ax = plt.subplots(figsize=(7.5, 5))
+    bottom = [0.0] * len(data)
+    for phase in PHASES:
+        values = [float(r[phase]) for r in data]
+        ax.bar(range(len(data)), values, bottom=bottom, label=phase[:-3])
+        bottom = [b + v for b, v in zip(bottom, values)]
+    if data:
+        title = "EFG cut update per sweep: %s IPs, %s surface triangles" % (
+            data[0]["ips"], data[0]["surface_triangles"])
+    else:
+        title = "EFG cut update (no sweep cut)"
+    ax.set_xlabel("blade sweep that cut")
+    ax.set_ylabel("time [ms]")
+    ax.set_title(title)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(d, "efg_cut_update.png"), dpi=120)
+
+
+def plot_progressive(d):
+    data = rows(os.path.join(d, "efg_cut_progressive.csv"))
+    index = list(range(len(data)))
+    fig, ax = plt.subplots(figsize=(7.5, 5))
+    for key, label, color in (("update_ms", "cut update", "tab:blue"),
+                              ("step_ms", "implicit step", "tab:orange")):
+        values = [float(r[key]) for r in data]
+        ax.plot(index, values, ".", color=color, alpha=0.25, markersize=2)
+        ax.plot(index, moving_mean(values, 50), "-", color=color, label=label + " (mean of 50)")
+    if data:
+        title = "EFG progressive cuts: %s IPs, %s cuts, DOFs %s" % (
+            data[0]["ips"], int(data[-1]["cut"]) + 1, data[-1]["dofs"])
+    else:
+        title = "EFG progressive cuts (no sweep)"
+    ax.set_xlabel("blade sweep")
+    ax.set_ylabel("time [ms]")
+    ax.set_title(title)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(d, "efg_cut_progressive.png"), dpi=120)
+
+
+def main():
+    if len(sys.argv) != 2:
+        print(__doc__)
+        sys.exit(2)
+    plot_update(sys.argv[1])
+    plot_progressive(sys.argv[1])
+
+
+if __name__ == "__main__":
+    main()
