@@ -2,10 +2,12 @@
 """Plots the meshless (EFG) cutting benchmark (cutting_bench --efg) CSVs of a report directory.
 
 usage: plot_efg_cutting.py DIR
-Reads DIR/efg_cut_update.csv and DIR/efg_cut_progressive.csv and writes DIR/efg_cut_update.png
-(time of each cut-update phase per blade sweep that cut, ~20k IPs) and
-DIR/efg_cut_progressive.png (cut update and implicit step time per sweep over the progressive
-cuts, raw and as a moving mean over 50 sweeps).
+Reads those of DIR/efg_cut_update.csv, DIR/efg_cut_progressive.csv and DIR/cutting_t3c.csv that
+exist and writes DIR/efg_cut_update.png (time of each cut-update phase per blade sweep that cut,
+~20k IPs), DIR/efg_cut_progressive.png (cut update and implicit step time per sweep over the
+progressive cuts, raw and as a moving mean over 50 sweeps) and DIR/cutting_t3c.png (T3(c) tip
+error of the cut beams against the fine duplicated-node reference, against ms per step, per
+cutter and load).
 """
 import csv
 import os
@@ -85,12 +87,41 @@ def plot_progressive(d):
     fig.savefig(os.path.join(d, "efg_cut_progressive.png"), dpi=120)
 
 
+def plot_t3c(d):
+    series = {}
+    for r in rows(os.path.join(d, "cutting_t3c.csv")):
+        series.setdefault((r["cutter"], r["load"]), []).append(
+            (float(r["step_ms"]), 100.0 * abs(float(r["error_rel"]))))
+    fig, ax = plt.subplots(figsize=(7.5, 5))
+    for (cutter, load), pts in sorted(series.items()):
+        pts.sort()
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-" if cutter == "efg" else "s--",
+                label="%s, %s" % (cutter, load))
+    for target, load in ((0.8, "bend"), (3.7, "stretch")):
+        ax.axhline(target, color="grey", linestyle=":", linewidth=1)
+        ax.text(ax.get_xlim()[0], target, " Magnoux cut %s %.1f %%" % (load, target), fontsize=7,
+                va="bottom")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("implicit step [ms]")
+    ax.set_ylabel("|tip error| against the duplicated-node reference [%]")
+    ax.set_title("T3(c) hexagonal beam cut through half the width at mid-length")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(d, "cutting_t3c.png"), dpi=120)
+
+
 def main():
     if len(sys.argv) != 2:
         print(__doc__)
         sys.exit(2)
-    plot_update(sys.argv[1])
-    plot_progressive(sys.argv[1])
+    d = sys.argv[1]
+    for name, plot in (("efg_cut_update.csv", plot_update),
+                       ("efg_cut_progressive.csv", plot_progressive),
+                       ("cutting_t3c.csv", plot_t3c)):
+        if os.path.exists(os.path.join(d, name)):
+            plot(d)
 
 
 if __name__ == "__main__":

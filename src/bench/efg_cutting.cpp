@@ -36,18 +36,40 @@ void requirePositive(const char* name, double value) {
                                 " must be finite and > 0");
 }
 
+/// True when some IP lies strictly below every plane in `planes`.
+bool admitsAnIp(const EfgCutBody& body, const std::vector<CutPlane>& planes) {
+  for (int e = 0; e < body.numIntegrationPoints(); ++e) {
+    const Eigen::Vector3d X = body.ipRestPosition(e);
+    if (std::all_of(planes.begin(), planes.end(),
+                    [&](const CutPlane& p) { return (X - p.point).dot(p.normal) < 0.0; }))
+      return true;
+  }
+  return false;
+}
+
 /// "" when every used surface vertex's IP lies strictly below each of the vertex's stored cut
-/// planes, else the first offending vertex; adds the (vertex, plane) pairs checked to `checked`.
-std::string wrongSide(const EfgCutBody& body, int& checked) {
+/// planes, or no IP at all does (a sliver between cuts thinner than the IP spacing: the vertex
+/// keeps the nearest IP, counted in `slivers`); else the first offending vertex. Adds the
+/// (vertex, plane) pairs checked to `checked`.
+std::string wrongSide(const EfgCutBody& body, int& checked, int& slivers) {
   const EfgSurfaceCutter& surface = body.surface();
+  slivers = 0;
   for (int v = 0; v < surface.numVertices(); ++v) {
     if (!surface.vertexUsed(v)) continue;
     const Eigen::Vector3d ip = body.ipRestPosition(surface.vertexIp(v));
-    for (const CutPlane& plane : surface.vertexPlanes(v)) {
-      ++checked;
-      if (!((ip - plane.point).dot(plane.normal) < 0.0))
-        return "vertex " + std::to_string(v) + " mapped to IP " +
-               std::to_string(surface.vertexIp(v)) + " beyond one of its cut planes";
+    const std::vector<CutPlane>& planes = surface.vertexPlanes(v);
+    checked += static_cast<int>(planes.size());
+    for (const CutPlane& plane : planes) {
+      const double beyond = (ip - plane.point).dot(plane.normal);
+      if (beyond < 0.0) continue;
+      if (!admitsAnIp(body, planes)) {
+        ++slivers;
+        break;
+      }
+      return "vertex " + std::to_string(v) + " mapped to IP " +
+             std::to_string(surface.vertexIp(v)) + " " + std::to_string(beyond) +
+             " m beyond one of its " + std::to_string(planes.size()) +
+             " cut planes while another IP is on its side of all";
     }
   }
   return "";
@@ -397,7 +419,7 @@ EfgCutFuzzReport runEfgCutFuzz(const EfgCutFuzzSettings& settings) {
            std::to_string(closure.pinched_edges) + " pinched surface edges");
     if (!body.surfacePositions(x).allFinite()) fail("non-finite surface positions");
     if (report.failure.empty()) {
-      const std::string side = wrongSide(body, report.planes_checked);
+      const std::string side = wrongSide(body, report.planes_checked, report.sliver_vertices);
       if (!side.empty()) fail(side);
     }
   }
