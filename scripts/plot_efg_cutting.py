@@ -22,13 +22,9 @@ import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from plot_cutting import finish, rows  # noqa: E402  (same folder)
 
 PHASES = ("positions_ms", "volume_ms", "surface_ms", "remap_ms")
-
-
-def rows(path):
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
 
 
 def moving_mean(values, width):
@@ -55,13 +51,7 @@ def plot_update(d):
             data[0]["ips"], data[0]["surface_triangles"])
     else:
         title = "EFG cut update (no sweep cut)"
-    ax.set_xlabel("blade sweep that cut")
-    ax.set_ylabel("time [ms]")
-    ax.set_title(title)
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(os.path.join(d, "efg_cut_update.png"), dpi=120)
+    finish(fig, ax, d, "efg_cut_update.png", "blade sweep that cut", "time [ms]", title)
 
 
 def plot_progressive(d):
@@ -78,13 +68,7 @@ def plot_progressive(d):
             data[0]["ips"], int(data[-1]["cut"]) + 1, data[-1]["dofs"])
     else:
         title = "EFG progressive cuts (no sweep)"
-    ax.set_xlabel("blade sweep")
-    ax.set_ylabel("time [ms]")
-    ax.set_title(title)
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(os.path.join(d, "efg_cut_progressive.png"), dpi=120)
+    finish(fig, ax, d, "efg_cut_progressive.png", "blade sweep", "time [ms]", title)
 
 
 def plot_t3c(d):
@@ -97,19 +81,14 @@ def plot_t3c(d):
         pts.sort()
         ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-" if cutter == "efg" else "s--",
                 label="%s, %s" % (cutter, load))
-    for target, load in ((0.8, "bend"), (3.7, "stretch")):
-        ax.axhline(target, color="grey", linestyle=":", linewidth=1)
-        ax.text(ax.get_xlim()[0], target, " Magnoux cut %s %.1f %%" % (load, target), fontsize=7,
-                va="bottom")
+    for target, load, style in ((0.8, "bend", ":"), (3.7, "stretch", "-.")):
+        ax.axhline(target, color="grey", linestyle=style, linewidth=1,
+                   label="Magnoux cut %s %.1f %%" % (load, target))
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel("implicit step [ms]")
-    ax.set_ylabel("|tip error| against the duplicated-node reference [%]")
-    ax.set_title("T3(c) hexagonal beam cut through half the width at mid-length")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(os.path.join(d, "cutting_t3c.png"), dpi=120)
+    finish(fig, ax, d, "cutting_t3c.png", "implicit step [ms]",
+           "|tip error| against the duplicated-node reference [%]",
+           "T3(c) hexagonal beam cut through half the width at mid-length")
 
 
 def main():

@@ -9,6 +9,16 @@
 
 namespace surgical_sim::bench {
 
+DirichletBc clampNodes(const std::vector<int>& nodes, const Eigen::VectorXd& x) {
+  DirichletBc bc;
+  for (const int v : nodes)
+    for (int k = 0; k < 3; ++k) bc.dofs.push_back(3 * v + k);
+  bc.positions.resize(static_cast<Eigen::Index>(bc.dofs.size()));
+  for (std::size_t i = 0; i < bc.dofs.size(); ++i)
+    bc.positions[static_cast<Eigen::Index>(i)] = x[bc.dofs[i]];
+  return bc;
+}
+
 double beamTipDeflection(const TissueModel& model, const Eigen::Vector3d& load) {
   const Eigen::VectorXd& rest = model.restPositions();
   const int n = model.numNodes();
@@ -32,11 +42,7 @@ double beamTipDeflection(const TissueModel& model, const Eigen::Vector3d& load,
   DynamicsProblem problem;
   problem.model = &model;
   problem.external_force = model.bodyForce(load);
-  for (const int v : clamped)
-    for (int k = 0; k < 3; ++k) problem.dirichlet.dofs.push_back(3 * v + k);
-  problem.dirichlet.positions.resize(static_cast<Eigen::Index>(problem.dirichlet.dofs.size()));
-  for (std::size_t i = 0; i < problem.dirichlet.dofs.size(); ++i)
-    problem.dirichlet.positions[static_cast<Eigen::Index>(i)] = rest[problem.dirichlet.dofs[i]];
+  problem.dirichlet = clampNodes(clamped, rest);
   problem.damping.mass_coefficient = 1e3;  // [1/s]: heavily overdamped relaxation
   SimulationState state{rest, Eigen::VectorXd::Zero(rest.size()), 0.0};
   const auto integrator = makeIntegrator(IntegratorKind::ImplicitEulerLinearized, {},

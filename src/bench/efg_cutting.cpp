@@ -97,12 +97,7 @@ double stepMs(const TissueModel& model, const std::vector<int>& clamped,
   DynamicsProblem problem;
   problem.model = &model;
   problem.external_force = model.bodyForce(load);
-  for (const int v : clamped)
-    for (int k = 0; k < 3; ++k) problem.dirichlet.dofs.push_back(3 * v + k);
-  problem.dirichlet.positions.resize(static_cast<Eigen::Index>(problem.dirichlet.dofs.size()));
-  for (std::size_t i = 0; i < problem.dirichlet.dofs.size(); ++i)
-    problem.dirichlet.positions(static_cast<Eigen::Index>(i)) =
-        model.restPositions()(problem.dirichlet.dofs[i]);
+  problem.dirichlet = clampNodes(clamped, model.restPositions());
   SimulationState state{model.restPositions(), Eigen::VectorXd::Zero(3 * model.numNodes()), 0.0};
   const auto integrator = makeIntegrator(IntegratorKind::ImplicitEulerLinearized, {},
                                          makeLinearSolver(SolverKind::Cholmod, {}));
@@ -302,14 +297,10 @@ std::vector<EfgCutSweepRecord> runEfgProgressiveCuts(const EfgCutRunSettings& se
   for (int p = 0; p < model.numNodes(); ++p) fixed[static_cast<std::size_t>(p)] = X(2, p) < clamp_z;
   SimulationState state{model.restPositions(), Eigen::VectorXd::Zero(3 * model.numNodes()), 0.0};
   const auto setConstraints = [&] {
-    problem.dirichlet.dofs.clear();
+    std::vector<int> nodes;
     for (int p = 0; p < model.numNodes(); ++p)
-      if (fixed[static_cast<std::size_t>(p)])
-        for (int k = 0; k < 3; ++k) problem.dirichlet.dofs.push_back(3 * p + k);
-    problem.dirichlet.positions.resize(static_cast<Eigen::Index>(problem.dirichlet.dofs.size()));
-    for (std::size_t i = 0; i < problem.dirichlet.dofs.size(); ++i)
-      problem.dirichlet.positions(static_cast<Eigen::Index>(i)) =
-          state.x(problem.dirichlet.dofs[i]);
+      if (fixed[static_cast<std::size_t>(p)]) nodes.push_back(p);
+    problem.dirichlet = clampNodes(nodes, state.x);
     problem.external_force = model.bodyForce(g);
   };
   setConstraints();

@@ -4,11 +4,15 @@
 #include <Eigen/SparseCore>
 #include <vector>
 
+#include "surgical_sim/core/solve/dynamics_problem.h"
 #include "surgical_sim/core/tissue/tissue_model.h"
 
 namespace surgical_sim::bench {
 
 using namespace core;  // the bench builds on the core's types
+
+/// Dirichlet conditions holding `nodes` (each in [0, n)) at their positions in x (size 3n) [m].
+DirichletBc clampNodes(const std::vector<int>& nodes, const Eigen::VectorXd& x);
 
 /// Static tip deflection of a (possibly cut) cantilever along x (T3 in BENCHMARKS.md): nodes at
 /// rest x <= 1e-9 length are clamped, a uniform body acceleration `load` [m/s^2] acts on the
