@@ -1,6 +1,6 @@
 // P2 cutting benchmark (BENCHMARKS.md). Usage:
 //   cutting_bench [--out DIR] [--fuzz N] [--no-plot]
-//   cutting_bench --efg [--out DIR] [--fuzz N] [--cuts N] [--no-plot]
+//   cutting_bench --efg [--only PART] [--out DIR] [--fuzz N] [--cuts N] [--no-plot]
 // Writes into DIR (default "report"):
 //   cutting_update.csv  per blade sweep: update mode (incremental, or the full rebuild it is
 //                       tested against), mesh size, detection and topology-update time [ms]
@@ -405,11 +405,12 @@ bool efgFuzz(const std::string& dir, int sweeps) {
 }
 
 constexpr const char* kUsage =
-    "usage: cutting_bench [--efg] [--out DIR] [--fuzz N] [--cuts N] [--no-plot]\n"
+    "usage: cutting_bench [--efg [--only PART]] [--out DIR] [--fuzz N] [--cuts N] [--no-plot]\n"
     "P2 cutting benchmark: topology-update and step times, cut-surface error, T3(c) cut beams and\n"
     "a fuzz campaign of random blade sweeps; CSV files (and PNG plots) in DIR.\n"
     "  --efg       the meshless (EFG) cutters on the liver-like body: cut-update phase times,\n"
-    "              progressive cuts with implicit steps, fuzz\n"
+    "              progressive cuts with implicit steps, T3(c), fuzz\n"
+    "  --only PART with --efg: only update, progressive, t3c or fuzz\n"
     "  --out DIR   output folder (default ./report)\n"
     "  --fuzz N    random sweeps of the fuzz campaign, >= 1 (default 1000)\n"
     "  --cuts N    progressive cuts of --efg, >= 1 (default 1000)\n"
@@ -425,6 +426,7 @@ int main(int argc, char** argv) {
   std::string dir = "report";
   int sweeps = 1000, cuts = 1000;
   bool plot = true, efg = false;
+  std::string only;  // --efg part to run alone, "" for all
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--out" && i + 1 < argc) {
@@ -435,6 +437,8 @@ int main(int argc, char** argv) {
       cuts = std::atoi(argv[++i]);
     } else if (arg == "--efg") {
       efg = true;
+    } else if (arg == "--only" && i + 1 < argc) {
+      only = argv[++i];
     } else if (arg == "--no-plot") {
       plot = false;
     } else {
@@ -446,12 +450,19 @@ int main(int argc, char** argv) {
     std::cerr << "cutting_bench: --fuzz and --cuts must be >= 1\n";
     return 2;
   }
+  if (!only.empty() &&
+      (!efg || (only != "update" && only != "progressive" && only != "t3c" && only != "fuzz"))) {
+    std::cerr << "cutting_bench: --only " << only
+              << " needs --efg and one of update, progressive, t3c, fuzz\n";
+    return 2;
+  }
   try {
     if (efg) {
-      efgUpdateTimes(dir);
-      efgProgressive(dir, cuts);
-      t3c(dir);
-      const bool ok = efgFuzz(dir, sweeps);
+      const auto runs = [&](const char* part) { return only.empty() || only == part; };
+      if (runs("update")) efgUpdateTimes(dir);
+      if (runs("progressive")) efgProgressive(dir, cuts);
+      if (runs("t3c")) t3c(dir);
+      const bool ok = !runs("fuzz") || efgFuzz(dir, sweeps);
       if (plot) surgical_sim::tools::runPlotScript("cutting_bench", "plot_efg_cutting.py", {dir});
       return ok ? 0 : 1;
     }
