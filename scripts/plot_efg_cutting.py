@@ -64,6 +64,7 @@ def plot_progressive(d):
         ax.plot(index, values, ".", color=color, alpha=0.25, markersize=2)
         ax.plot(index, moving_mean(values, 50), "-", color=color, label=label + " (mean of 50)")
     if data:
+        ax.set_yscale("log")
         title = "EFG progressive cuts: %s IPs, %s cuts, DOFs %s" % (
             data[0]["ips"], int(data[-1]["cut"]) + 1, data[-1]["dofs"])
     else:
