@@ -1,5 +1,6 @@
 // P2 cutting benchmark (BENCHMARKS.md). Usage:
 //   cutting_bench [--out DIR] [--fuzz N] [--no-plot]
+//   cutting_bench --efg [--only PART] [--out DIR] [--fuzz N] [--cuts N] [--no-plot]
 // Writes into DIR (default "report"):
 //   cutting_update.csv  per blade sweep: update mode (incremental, or the full rebuild it is
 //                       tested against), mesh size, detection and topology-update time [ms]
@@ -10,10 +11,20 @@
 //                       integrate time [ms], linear iterations
 //   cutting_error.csv   cut-surface error (distance to the blade's swept plane) of the embedded
 //                       cut surface and of the element faces of the cut, against update time
-//   cutting_t3c.csv     T3(c) tip deflection of hexagonal beams cut at mid-length through half the
-//                       width, against a fine reference modelling the cut as duplicated nodes
+//   cutting_t3c.csv     T3(c) bend and stretch tip displacement of hexagonal beams cut at
+//                       mid-length through half the width, EFG and tet cutter, against a fine
+//                       Tet10 reference modelling the cut as duplicated nodes, with ms/step
 //   cutting_fuzz.csv    the fuzz campaign (N random sweeps over the organ, default 1000)
 //   cutting_*.png       plots (scripts/plot_cutting.py) unless --no-plot
+// With --efg, the meshless (EFG) cutters on the liver-like body (makeLiverSurface) instead:
+//   efg_cut_update.csv       per blade sweep at ~20k IPs with a 327,680-triangle surface (static
+//                            tissue): time of each phase of the cut update [ms]
+//   efg_cut_progressive.csv  per sweep of N progressive cuts (default 1000, 2 sweeps each) at
+//                            ~10k IPs with a 20,480-triangle surface, one implicit Euler step
+//                            (CHOLMOD) per sweep: phase times, step time [ms], DOFs, mass error
+//   cutting_t3c.csv          as above
+//   efg_cut_fuzz.csv         the EFG fuzz campaign (N random sweeps, both cutters)
+//   efg_cut_*.png            plots (scripts/plot_efg_cutting.py) unless --no-plot
 // Prints a summary. Exit code 1 if the fuzz campaign fails.
 #include <algorithm>
 #include <cmath>
@@ -25,14 +36,12 @@
 
 #include "bench_cli.h"
 #include "package_dirs.h"
-#include "surgical_sim/bench/beam_tip_deflection.h"
 #include "surgical_sim/bench/cut_fuzz.h"
-#include "surgical_sim/core/cutting/cut_tissue_model.h"
+#include "surgical_sim/bench/efg_cutting.h"
 #include "surgical_sim/core/cutting/tet_cutter.h"
 #include "surgical_sim/core/mesh/generators.h"
 #include "surgical_sim/core/scene/scene_config.h"
 #include "surgical_sim/core/scene/tissue_simulation.h"
-#include "surgical_sim/core/tissue/model_factory.h"
 
 namespace ss = surgical_sim::bench;
 
@@ -210,66 +219,43 @@ void surfaceError(const std::string& dir) {
   std::fclose(csv);
 }
 
-/// T3(c): hexagonal beam (side a, length 10 a) under a transverse body force, cut at mid-length
-/// from the top down to the axis. Reference: a fine mesh with a node layer at mid-length whose
-/// nodes above the axis are duplicated for the elements beyond it.
+/// T3(c): hexagonal beam (side a = 1 cm, length 10 a, E = 100 MPa) cut at mid-length from the top
+/// down to the axis, bent by a transverse and stretched by an axial body force: the EFG cutter
+/// (three cell sizes) and the tet cutter (three meshes) against a fine Tet10 mesh modelling the
+/// cut as duplicated nodes.
 void t3c(const std::string& dir) {
-  const double a = 0.01, L = 0.1;
-  const ss::Material material = ss::Material::create(1e6, 0.3, 1000.0);
-  const Eigen::Vector3d load(0, 0, -9.81);
-  ss::TetMesh ref = ss::makeHexagonalBeam(a, L, 40, 4, ss::ElementType::Tet4);
-  const double w_ref_uncut =
-      ss::beamTipDeflection(*ss::makeTissueModel(ss::ModelKind::Corotational, ref, material), load);
-  std::vector<int> duplicate(static_cast<std::size_t>(ref.numNodes()), -1);
-  for (int e = 0; e < ref.numElements(); ++e) {
-    double cx = 0;
-    for (int i = 0; i < 4; ++i) cx += ref.nodes(0, ref.elements(i, e)) / 4;
-    if (cx < 0.5 * L) continue;
-    for (int i = 0; i < 4; ++i) {
-      const int v = ref.elements(i, e);
-      if (std::abs(ref.nodes(0, v) - 0.5 * L) > 1e-9 * L || ref.nodes(2, v) < 1e-9 * a) continue;
-      int& d = duplicate[static_cast<std::size_t>(v)];
-      if (d < 0) {
-        d = ref.numNodes();
-        ref.nodes.conservativeResize(3, d + 1);
-        ref.nodes.col(d) = ref.nodes.col(v);
-      }
-      ref.elements(i, e) = d;
+  const ss::CutBeam beam;
+  FILE* csv = openCsv(dir, "cutting_t3c.csv",
+                      "cutter,resolution,dofs,size,load,tip_m,reference_tip_m,error_rel,step_ms,"
+                      "reference_dofs");
+  const std::pair<const char*, Eigen::Vector3d> loads[] = {{"bend", {0, 0, -9.81}},
+                                                           {"stretch", {9.81, 0, 0}}};
+  for (const auto& [load_name, load] : loads) {
+    surgical_sim::tools::progress("cutting_bench", std::string("T3(c) reference, ") + load_name);
+    const ss::CutBeamRun ref = ss::cutBeamReference(beam, 60, 3, load);
+    const auto row = [&](const char* cutter, const std::string& resolution,
+                         const ss::CutBeamRun& r) {
+      const double error = (r.tip - ref.tip) / ref.tip;
+      std::fprintf(csv, "%s,%s,%d,%d,%s,%.6e,%.6e,%.5f,%.3f,%d\n", cutter, resolution.c_str(),
+                   r.dofs, r.size, load_name, r.tip, ref.tip, error, r.step_ms, ref.dofs);
+      std::printf(
+          "T3(c)   %-7s %-10s %-12s %6d DOFs: tip %.4e m, reference %.4e m (%d DOFs), "
+          "error %+.2f %%, %.2f ms/step\n",
+          load_name, cutter, resolution.c_str(), r.dofs, r.tip, ref.tip, ref.dofs, 100 * error,
+          r.step_ms);
+    };
+    for (const int k : {5, 10, 20}) {
+      surgical_sim::tools::progress(
+          "cutting_bench", std::string("T3(c) efg, ") + load_name + ", k = " + std::to_string(k));
+      row("efg", "d=L/" + std::to_string(4 * k + 2), ss::efgCutBeam(beam, k, load));
+    }
+    for (auto [along, rings] : {std::pair{21, 2}, std::pair{31, 3}, std::pair{41, 4}}) {
+      surgical_sim::tools::progress("cutting_bench", std::string("T3(c) tet cutter, ") + load_name +
+                                                         ", " + std::to_string(along));
+      row("tet4", std::to_string(along) + "x" + std::to_string(rings),
+          ss::tetCutBeam(beam, along, rings, load));
     }
   }
-  const double w_ref =
-      ss::beamTipDeflection(*ss::makeTissueModel(ss::ModelKind::Corotational, ref, material), load);
-  const double A = 1.5 * std::sqrt(3.0) * a * a, I = 5.0 * std::sqrt(3.0) / 16.0 * a * a * a * a;
-  const double w_closed = 1000.0 * 9.81 * A * std::pow(L, 4) / (8.0 * material.young_modulus * I);
-  FILE* csv = openCsv(dir, "cutting_t3c.csv",
-                      "elements,cells_along,rings,w_uncut_m,w_cut_m,w_ref_cut_m,error_cut_rel,"
-                      "w_ref_uncut_m,w_closed_form_uncut_m,cut_update_ms");
-  for (auto [along, rings] : {std::pair{11, 1}, std::pair{21, 2}, std::pair{31, 3}}) {
-    surgical_sim::tools::progress("cutting_bench", "T3(c) cut beam, " + std::to_string(along) +
-                                                       " cells along, " + std::to_string(rings) +
-                                                       " rings");
-    const ss::TetMesh beam = ss::makeHexagonalBeam(a, L, along, rings, ss::ElementType::Tet4);
-    ss::TetCutter cutter(beam, material.density);
-    const double w_uncut = ss::beamTipDeflection(
-        *ss::makeCutTissueModel(ss::ModelKind::Corotational, cutter, material), load);
-    const Eigen::VectorXd x = restVector(beam);
-    ss::BladeSweep sweep;
-    sweep.start.resize(3, 2);
-    sweep.end.resize(3, 2);
-    sweep.start << 0.5 * L, 0.5 * L, -2 * a, 2 * a, 2 * a, 2 * a;
-    sweep.end << 0.5 * L, 0.5 * L, -2 * a, 2 * a, 1e-6 * a, 1e-6 * a;
-    const ss::CutUpdate u = cutter.cut(sweep, x, x);
-    const double w_cut = ss::beamTipDeflection(
-        *ss::makeCutTissueModel(ss::ModelKind::Corotational, cutter, material), load);
-    std::fprintf(csv, "%d,%d,%d,%.6e,%.6e,%.6e,%.4f,%.6e,%.6e,%.4f\n", beam.numElements(), along,
-                 rings, w_uncut, w_cut, w_ref, (w_cut - w_ref) / w_ref, w_ref_uncut, w_closed,
-                 1e3 * (u.detect_seconds + u.update_seconds));
-    std::printf(
-        "T3(c)   %6d elements: tip %.3e m uncut, %.3e m cut, reference %.3e m (error %+.1f %%)\n",
-        beam.numElements(), w_uncut, w_cut, w_ref, 100 * (w_cut - w_ref) / w_ref);
-  }
-  std::printf("T3(c)   reference %d elements: uncut %.3e m (closed form %.3e m), cut %.3e m\n",
-              ref.numElements(), w_ref_uncut, w_closed, w_ref);
   std::fclose(csv);
 }
 
@@ -297,12 +283,137 @@ bool fuzz(const std::string& dir, int sweeps) {
   return r.failure.empty() && r.finite;
 }
 
+/// Means of the update phases and of the step over records [from, to) [ms].
+struct EfgMeans {
+  double positions = 0, volume = 0, surface = 0, remap = 0, total = 0, step = 0;
+};
+
+EfgMeans efgMeans(const std::vector<ss::EfgCutSweepRecord>& r, std::size_t from, std::size_t to) {
+  EfgMeans m;
+  for (std::size_t i = from; i < to; ++i) {
+    m.positions += r[i].times.positions_ms;
+    m.volume += r[i].times.volume_ms;
+    m.surface += r[i].times.surface_ms;
+    m.remap += r[i].times.remap_ms;
+    m.total += r[i].times.total();
+    m.step += r[i].step_ms;
+  }
+  const double n = static_cast<double>(std::max<std::size_t>(to - from, 1));
+  for (double* v : {&m.positions, &m.volume, &m.surface, &m.remap, &m.total, &m.step}) *v /= n;
+  return m;
+}
+
+void writeEfgRecords(FILE* csv, const char* run, const std::vector<ss::EfgCutSweepRecord>& records,
+                     const ss::EfgCutRunInfo& info) {
+  for (const ss::EfgCutSweepRecord& r : records)
+    std::fprintf(csv, "%s,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%.3e,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f\n",
+                 run, info.ips, info.surface_triangles, r.cut, r.sweep, r.severed_links,
+                 r.changed_ips, r.crossed_edges, r.remapped, r.triangles, r.dofs, r.pieces,
+                 r.finite ? 1 : 0, r.mass_error, r.times.positions_ms, r.times.volume_ms,
+                 r.times.surface_ms, r.times.remap_ms, r.times.total(), r.step_ms);
+}
+
+constexpr const char* kEfgHeader =
+    "run,ips,surface_triangles,cut,sweep,severed_links,changed_ips,crossed_edges,remapped,"
+    "triangles,dofs,pieces,finite,mass_error,positions_ms,volume_ms,surface_ms,remap_ms,"
+    "update_ms,step_ms";
+
+/// (a) Cut update on ~20k IPs (d = 2.4 mm) with a 327,680-triangle surface, static tissue: 5 cuts
+/// of 10 sweeps through the top half.
+void efgUpdateTimes(const std::string& dir) {
+  surgical_sim::tools::progress("cutting_bench", "EFG update times, ~20k IPs, 327,680 triangles");
+  ss::EfgCutRunSettings s;
+  s.surface_subdivisions = 7;
+  s.spacing = 0.0024;
+  s.front_width = 0.003;
+  s.cuts = 5;
+  s.sweeps_per_cut = 10;
+  s.simulate = false;
+  ss::EfgCutRunInfo info;
+  const std::vector<ss::EfgCutSweepRecord> records = ss::runEfgProgressiveCuts(s, &info);
+  FILE* csv = openCsv(dir, "efg_cut_update.csv", kEfgHeader);
+  writeEfgRecords(csv, "update", records, info);
+  std::fclose(csv);
+  std::vector<ss::EfgCutSweepRecord> cutting;
+  for (const ss::EfgCutSweepRecord& r : records)
+    if (r.severed_links > 0 || r.crossed_edges > 0) cutting.push_back(r);
+  const EfgMeans m = efgMeans(cutting, 0, cutting.size());
+  double worst = 0;
+  for (const ss::EfgCutSweepRecord& r : cutting) worst = std::max(worst, r.times.total());
+  std::printf(
+      "efg update %d IPs, %d particles, %d triangles: %zu of %zu sweeps cut; mean update %.2f ms "
+      "(positions %.2f, volume %.2f, surface %.2f, remap %.2f), worst %.2f ms\n",
+      info.ips, info.particles, info.surface_triangles, cutting.size(), records.size(), m.total,
+      m.positions, m.volume, m.surface, m.remap, worst);
+}
+
+/// (b, c) `cuts` progressive cuts of 2 sweeps at ~10k IPs (d = 3 mm) with one implicit step per
+/// sweep.
+void efgProgressive(const std::string& dir, int cuts) {
+  surgical_sim::tools::progress(
+      "cutting_bench", "EFG progressive cuts, ~10k IPs, " + std::to_string(cuts) + " cuts");
+  ss::EfgCutRunSettings s;
+  s.spacing = 0.003;
+  s.front_width = 0.004;
+  s.cuts = cuts;
+  s.sweeps_per_cut = 2;
+  s.depth = 0.3;
+  ss::EfgCutRunInfo info;
+  const std::vector<ss::EfgCutSweepRecord> records = ss::runEfgProgressiveCuts(s, &info);
+  FILE* csv = openCsv(dir, "efg_cut_progressive.csv", kEfgHeader);
+  writeEfgRecords(csv, "progressive", records, info);
+  std::fclose(csv);
+  const std::size_t n = records.size(), tenth = std::max<std::size_t>(1, n / 10);
+  const EfgMeans first = efgMeans(records, 0, tenth), last = efgMeans(records, n - tenth, n);
+  double max_mass = 0;
+  bool finite = true, same_dofs = true;
+  for (const ss::EfgCutSweepRecord& r : records) {
+    max_mass = std::max(max_mass, r.mass_error);
+    finite = finite && r.finite;
+    same_dofs = same_dofs && r.dofs == 3 * info.particles;
+  }
+  std::printf(
+      "efg cuts   %d IPs, %d particles: %d cuts, %zu sweeps, %d pieces; first/last tenth: update "
+      "%.2f / %.2f ms, step %.2f / %.2f ms; DOFs %s, max mass error %.1e, finite %s\n",
+      info.ips, info.particles, cuts, n, records.empty() ? 0 : records.back().pieces, first.total,
+      last.total, first.step, last.step, same_dofs ? "unchanged" : "CHANGED", max_mass,
+      finite ? "yes" : "no");
+}
+
+bool efgFuzz(const std::string& dir, int sweeps) {
+  surgical_sim::tools::progress("cutting_bench", "EFG fuzz, " + std::to_string(sweeps) + " sweeps");
+  ss::EfgCutFuzzSettings settings;
+  settings.sweeps = sweeps;
+  settings.seed = 19;
+  const ss::EfgCutFuzzReport r = ss::runEfgCutFuzz(settings);
+  FILE* csv = openCsv(dir, "efg_cut_fuzz.csv",
+                      "sweeps,seed,failure,max_mass_error,severed_links,crossed_edges,pieces,"
+                      "triangles,planes_checked,sliver_vertices,mean_update_ms");
+  std::fprintf(csv, "%d,%u,%s,%.3e,%d,%d,%d,%d,%d,%d,%.4f\n", r.sweeps, settings.seed,
+               r.failure.empty() ? "none" : r.failure.c_str(), r.max_mass_error, r.severed_links,
+               r.crossed_edges, r.pieces, r.triangles, r.planes_checked, r.sliver_vertices,
+               r.mean_update_ms);
+  std::fclose(csv);
+  std::printf(
+      "efg fuzz   %d sweeps: %s, max mass error %.1e, %d links severed, %d surface edges cut, "
+      "%d pieces, %d vertex-plane sides checked (%d sliver vertices without an IP on their side), "
+      "mean update %.2f ms\n",
+      r.sweeps, r.failure.empty() ? "no failure" : r.failure.c_str(), r.max_mass_error,
+      r.severed_links, r.crossed_edges, r.pieces, r.planes_checked, r.sliver_vertices,
+      r.mean_update_ms);
+  return r.failure.empty();
+}
+
 constexpr const char* kUsage =
-    "usage: cutting_bench [--out DIR] [--fuzz N] [--no-plot]\n"
+    "usage: cutting_bench [--efg [--only PART]] [--out DIR] [--fuzz N] [--cuts N] [--no-plot]\n"
     "P2 cutting benchmark: topology-update and step times, cut-surface error, T3(c) cut beams and\n"
     "a fuzz campaign of random blade sweeps; CSV files (and PNG plots) in DIR.\n"
+    "  --efg       the meshless (EFG) cutters on the liver-like body: cut-update phase times,\n"
+    "              progressive cuts with implicit steps, T3(c), fuzz\n"
+    "  --only PART with --efg: only update, progressive, t3c or fuzz\n"
     "  --out DIR   output folder (default ./report)\n"
     "  --fuzz N    random sweeps of the fuzz campaign, >= 1 (default 1000)\n"
+    "  --cuts N    progressive cuts of --efg, >= 1 (default 1000)\n"
     "  --no-plot   CSV only\n";
 
 }  // namespace
@@ -313,14 +424,21 @@ int main(int argc, char** argv) {
     return 0;
   }
   std::string dir = "report";
-  int sweeps = 1000;
-  bool plot = true;
+  int sweeps = 1000, cuts = 1000;
+  bool plot = true, efg = false;
+  std::string only;  // --efg part to run alone, "" for all
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--out" && i + 1 < argc) {
       dir = argv[++i];
     } else if (arg == "--fuzz" && i + 1 < argc) {
       sweeps = std::atoi(argv[++i]);
+    } else if (arg == "--cuts" && i + 1 < argc) {
+      cuts = std::atoi(argv[++i]);
+    } else if (arg == "--efg") {
+      efg = true;
+    } else if (arg == "--only" && i + 1 < argc) {
+      only = argv[++i];
     } else if (arg == "--no-plot") {
       plot = false;
     } else {
@@ -328,11 +446,26 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  if (sweeps < 1) {
-    std::cerr << "cutting_bench: --fuzz must be >= 1\n";
+  if (sweeps < 1 || cuts < 1) {
+    std::cerr << "cutting_bench: --fuzz and --cuts must be >= 1\n";
+    return 2;
+  }
+  if (!only.empty() &&
+      (!efg || (only != "update" && only != "progressive" && only != "t3c" && only != "fuzz"))) {
+    std::cerr << "cutting_bench: --only " << only
+              << " needs --efg and one of update, progressive, t3c, fuzz\n";
     return 2;
   }
   try {
+    if (efg) {
+      const auto runs = [&](const char* part) { return only.empty() || only == part; };
+      if (runs("update")) efgUpdateTimes(dir);
+      if (runs("progressive")) efgProgressive(dir, cuts);
+      if (runs("t3c")) t3c(dir);
+      const bool ok = !runs("fuzz") || efgFuzz(dir, sweeps);
+      if (plot) surgical_sim::tools::runPlotScript("cutting_bench", "plot_efg_cutting.py", {dir});
+      return ok ? 0 : 1;
+    }
     updateTimes(dir);
     stepTimes(dir);
     surfaceError(dir);
@@ -340,6 +473,7 @@ int main(int argc, char** argv) {
     const bool ok = fuzz(dir, sweeps);
     if (plot) {
       surgical_sim::tools::runPlotScript("cutting_bench", "plot_cutting.py", {dir});
+      surgical_sim::tools::runPlotScript("cutting_bench", "plot_efg_cutting.py", {dir});
     }
     return ok ? 0 : 1;
   } catch (const std::exception& e) {

@@ -15,6 +15,13 @@ namespace {
 constexpr double kIpsPerCell = 4.0;
 constexpr double kSearchCells = 1.0;
 
+/// True when X lies strictly below every plane.
+bool belowPlanes(const Eigen::Vector3d& X, const std::vector<CutPlane>& planes) {
+  for (const CutPlane& p : planes)
+    if ((X - p.point).dot(p.normal) >= 0.0) return false;
+  return true;
+}
+
 bool shareParticle(const std::vector<int>& a, const std::vector<int>& b) {
   std::size_t i = 0, j = 0;
   while (i < a.size() && j < b.size()) {
@@ -103,8 +110,7 @@ bool SurfaceRemapper::valid(int ip, const Eigen::Vector3d& X, const Eigen::Vecto
                             const std::vector<CutPlane>& planes, const std::vector<int>& ring_ips,
                             int level) const {
   const Eigen::Vector3d& Xi = ip_rest_[static_cast<std::size_t>(ip)];
-  for (const CutPlane& p : planes)
-    if ((Xi - p.point).dot(p.normal) >= 0.0) return false;
+  if (!belowPlanes(Xi, planes)) return false;
   const bool tangent = level == 0 || level == 2;
   const bool shared = level <= 1;
   if (tangent && (Xi - X).dot(normal) >= 0.0 && normal.squaredNorm() > 0.0) return false;
@@ -124,6 +130,20 @@ RemapResult SurfaceRemapper::find(const Eigen::Vector3d& X, const Eigen::Vector3
     for (int ip : near)
       if (valid(ip, X, normal, planes, ring_ips, level))
         return {ip, static_cast<RemapRelaxation>(level)};
+  // Every level needs the cut planes: when no IP at all is below them (a sliver between cuts),
+  // the answer is the nearest IP, found in one pass without sorting every IP.
+  int nearest = 0;
+  double nearest_d2 = INFINITY;
+  bool below_planes = false;
+  for (std::size_t i = 0; i < ip_rest_.size(); ++i) {
+    const double d2 = (ip_rest_[i] - X).squaredNorm();
+    if (d2 < nearest_d2) {
+      nearest_d2 = d2;
+      nearest = static_cast<int>(i);
+    }
+    below_planes = below_planes || belowPlanes(ip_rest_[i], planes);
+  }
+  if (!below_planes) return {nearest, RemapRelaxation::kNearest};
   const std::vector<int> all = candidates(X, -1.0);
   for (int level = 0; level <= 3; ++level)
     for (int ip : all)

@@ -1,0 +1,108 @@
+#!/usr/bin/python3
+"""Plots the meshless (EFG) cutting benchmark (cutting_bench --efg) CSVs of a report directory.
+
+usage: plot_efg_cutting.py DIR
+Reads those of DIR/efg_cut_update.csv, DIR/efg_cut_progressive.csv and DIR/cutting_t3c.csv that
+exist and writes DIR/efg_cut_update.png (time of each cut-update phase per blade sweep that cut,
+~20k IPs), DIR/efg_cut_progressive.png (cut update and implicit step time per sweep over the
+progressive cuts, raw and as a moving mean over 50 sweeps) and DIR/cutting_t3c.png (T3(c) tip
+error of the cut beams against the fine duplicated-node reference, against ms per step, per
+cutter and load).
+"""
+import csv
+import os
+import sys
+
+# --help answers before matplotlib loads (it would write its font cache into $HOME).
+if __name__ == "__main__" and ("--help" in sys.argv[1:] or "-h" in sys.argv[1:]):
+    print(__doc__)
+    sys.exit(0)
+
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from plot_cutting import finish, rows  # noqa: E402  (same folder)
+
+PHASES = ("positions_ms", "volume_ms", "surface_ms", "remap_ms")
+
+
+def moving_mean(values, width):
+    out, total = [], 0.0
+    for i, v in enumerate(values):
+        total += v
+        if i >= width:
+            total -= values[i - width]
+        out.append(total / min(i + 1, width))
+    return out
+
+
+def plot_update(d):
+    data = [r for r in rows(os.path.join(d, "efg_cut_update.csv"))
+            if int(r["severed_links"]) > 0 or int(r["crossed_edges"]) > 0]
+    fig, ax = plt.subplots(figsize=(7.5, 5))
+    bottom = [0.0] * len(data)
+    for phase in PHASES:
+        values = [float(r[phase]) for r in data]
+        ax.bar(range(len(data)), values, bottom=bottom, label=phase[:-3])
+        bottom = [b + v for b, v in zip(bottom, values)]
+    if data:
+        title = "EFG cut update per sweep: %s IPs, %s surface triangles" % (
+            data[0]["ips"], data[0]["surface_triangles"])
+    else:
+        title = "EFG cut update (no sweep cut)"
+    finish(fig, ax, d, "efg_cut_update.png", "blade sweep that cut", "time [ms]", title)
+
+
+def plot_progressive(d):
+    data = rows(os.path.join(d, "efg_cut_progressive.csv"))
+    index = list(range(len(data)))
+    fig, ax = plt.subplots(figsize=(7.5, 5))
+    for key, label, color in (("update_ms", "cut update", "tab:blue"),
+                              ("step_ms", "implicit step", "tab:orange")):
+        values = [float(r[key]) for r in data]
+        ax.plot(index, values, ".", color=color, alpha=0.25, markersize=2)
+        ax.plot(index, moving_mean(values, 50), "-", color=color, label=label + " (mean of 50)")
+    if data:
+        ax.set_yscale("log")
+        title = "EFG progressive cuts: %s IPs, %s cuts, DOFs %s" % (
+            data[0]["ips"], int(data[-1]["cut"]) + 1, data[-1]["dofs"])
+    else:
+        title = "EFG progressive cuts (no sweep)"
+    finish(fig, ax, d, "efg_cut_progressive.png", "blade sweep", "time [ms]", title)
+
+
+def plot_t3c(d):
+    series = {}
+    for r in rows(os.path.join(d, "cutting_t3c.csv")):
+        series.setdefault((r["cutter"], r["load"]), []).append(
+            (float(r["step_ms"]), 100.0 * abs(float(r["error_rel"]))))
+    fig, ax = plt.subplots(figsize=(7.5, 5))
+    for (cutter, load), pts in sorted(series.items()):
+        pts.sort()
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-" if cutter == "efg" else "s--",
+                label="%s, %s" % (cutter, load))
+    for target, load, style in ((0.8, "bend", ":"), (3.7, "stretch", "-.")):
+        ax.axhline(target, color="grey", linestyle=style, linewidth=1,
+                   label="Magnoux cut %s %.1f %%" % (load, target))
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    finish(fig, ax, d, "cutting_t3c.png", "implicit step [ms]",
+           "|tip error| against the duplicated-node reference [%]",
+           "T3(c) hexagonal beam cut through half the width at mid-length")
+
+
+def main():
+    if len(sys.argv) != 2:
+        print(__doc__)
+        sys.exit(2)
+    d = sys.argv[1]
+    for name, plot in (("efg_cut_update.csv", plot_update),
+                       ("efg_cut_progressive.csv", plot_progressive),
+                       ("cutting_t3c.csv", plot_t3c)):
+        if os.path.exists(os.path.join(d, name)):
+            plot(d)
+
+
+if __name__ == "__main__":
+    main()

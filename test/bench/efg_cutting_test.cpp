@@ -1,0 +1,68 @@
+// Meshless (EFG) cutting of the liver-like body with both cutters: random-sweep fuzz and
+// progressive cuts under dynamics.
+#include "surgical_sim/bench/efg_cutting.h"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+
+namespace surgical_sim::bench {
+namespace {
+
+TEST(EfgCutFuzz, RandomSweepsOverTheLiverKeepMassClosureAndSides) {
+  EfgCutFuzzSettings settings;
+  settings.sweeps = 100;
+  settings.seed = 20261126;
+  const EfgCutFuzzReport r = runEfgCutFuzz(settings);
+  EXPECT_EQ(r.failure, "");
+  EXPECT_EQ(r.sweeps, 100);
+  EXPECT_LE(r.max_mass_error, 1e-12);
+  EXPECT_GT(r.severed_links, 0);
+  EXPECT_GT(r.crossed_edges, 0);
+  EXPECT_GT(r.planes_checked, 0);  // the side test had cut planes to check
+  EXPECT_GE(r.pieces, 1);
+}
+
+TEST(EfgCutFuzz, RejectsSettingsWithoutSweeps) {
+  EXPECT_THROW(runEfgCutFuzz(EfgCutFuzzSettings{}), std::invalid_argument);
+}
+
+TEST(EfgProgressiveCuts, DofsAndMassStayWhileTheSurfaceOpens) {
+  EfgCutRunSettings settings;
+  settings.surface_subdivisions = 4;
+  settings.spacing = 0.008;
+  settings.front_width = 0.01;
+  settings.cuts = 4;
+  settings.sweeps_per_cut = 6;
+  EfgCutRunInfo info;
+  const std::vector<EfgCutSweepRecord> records = runEfgProgressiveCuts(settings, &info);
+  ASSERT_EQ(records.size(), 24u);
+  int severed = 0, crossed = 0;
+  for (const EfgCutSweepRecord& r : records) {
+    EXPECT_TRUE(r.finite) << "cut " << r.cut << " sweep " << r.sweep;
+    EXPECT_EQ(r.dofs, 3 * info.particles);  // no DOF added
+    EXPECT_LE(r.mass_error, 1e-12);
+    severed += r.severed_links;
+    crossed += r.crossed_edges;
+  }
+  EXPECT_GT(severed, 0);
+  EXPECT_GT(crossed, 0);
+  EXPECT_GT(records.back().triangles, info.surface_triangles);  // the cut faces were added
+}
+
+TEST(EfgProgressiveCuts, RejectsBadSettingsByName) {
+  EfgCutRunSettings settings;
+  settings.depth = 3.0;
+  try {
+    runEfgProgressiveCuts(settings);
+    FAIL() << "no throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("depth"), std::string::npos);
+  }
+  settings.depth = 0.5;
+  settings.spacing = -1.0;
+  EXPECT_THROW(runEfgProgressiveCuts(settings), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace surgical_sim::bench
