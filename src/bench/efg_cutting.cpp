@@ -38,8 +38,8 @@ void requirePositive(const char* name, double value) {
 
 /// True when some IP lies strictly below every plane in `planes`.
 bool admitsAnIp(const EfgCutBody& body, const std::vector<CutPlane>& planes) {
-  for (int e = 0; e < body.numIntegrationPoints(); ++e) {
-    const Eigen::Vector3d X = body.ipRestPosition(e);
+  for (int e = 0; e < body.source().numIntegrationPoints(); ++e) {
+    const Eigen::Vector3d X = body.source().ipRestPosition(e);
     if (std::all_of(planes.begin(), planes.end(),
                     [&](const CutPlane& p) { return (X - p.point).dot(p.normal) < 0.0; }))
       return true;
@@ -63,7 +63,7 @@ std::string wrongSide(const EfgCutBody& body, SliverCache& cache, int& checked, 
   for (int v = 0; v < surface.numVertices(); ++v) {
     if (!surface.vertexUsed(v)) continue;
     const int ip_index = surface.vertexIp(v);
-    const Eigen::Vector3d ip = body.ipRestPosition(ip_index);
+    const Eigen::Vector3d ip = body.source().ipRestPosition(ip_index);
     const std::vector<CutPlane>& planes = surface.vertexPlanes(v);
     checked += static_cast<int>(planes.size());
     std::pair<std::size_t, int>& known = cache[static_cast<std::size_t>(v)];
@@ -212,23 +212,10 @@ EfgCutBody::EfgCutBody(const TriMesh& surface, const Material& material, const E
                        double front_width)
     : model_(surface, material, options), volume_(model_), x_(model_.restPositions()) {
   surface_ =
-      std::make_unique<EfgSurfaceCutter>(surface, *this, EfgSurfaceCutOptions{front_width, 1e-9});
+      std::make_unique<EfgSurfaceCutter>(surface, source_, EfgSurfaceCutOptions{front_width, 1e-9});
   std::vector<int> all(static_cast<std::size_t>(surface_->numVertices()));
   for (std::size_t v = 0; v < all.size(); ++v) all[v] = static_cast<int>(v);
   refreshRows(all);
-}
-
-Eigen::Vector3d EfgCutBody::ipRestPosition(int ip) const {
-  return model_.grid().integration_points.col(ip);
-}
-
-Eigen::Vector3d EfgCutBody::ipPosition(int ip) const {
-  const std::vector<int>& p = model_.ipParticles(ip);
-  const Eigen::Map<const Eigen::VectorXd> phi = model_.shapeValues(ip);
-  Eigen::Vector3d x = Eigen::Vector3d::Zero();
-  for (std::size_t a = 0; a < p.size(); ++a)
-    x += phi(static_cast<Eigen::Index>(a)) * x_.segment<3>(3 * p[a]);
-  return x;
 }
 
 void EfgCutBody::refreshRows(const std::vector<int>& vertices) {

@@ -15,10 +15,10 @@ using namespace core;  // the bench builds on the core's types
 
 /// A meshless (EFG) body cut by both cutters: the model, its EfgVolumeCutter and an
 /// EfgSurfaceCutter on its explicit surface, the model serving as the surface cutter's
-/// EfgMappingSource (IP current positions sum_a phi_a x_a of the positions last passed to cut()).
+/// EfgModelSource (IP current positions sum_a phi_a x_a of the positions last passed to cut()).
 /// The surface vertices follow the particles through cached mapping rows, refreshed for the
 /// vertices each cut reports remapped. Not copyable (the cutters hold references).
-class EfgCutBody final : public core::EfgMappingSource {
+class EfgCutBody final {
  public:
   /// Wall time of the phases of one cut() [ms].
   struct Times {
@@ -44,15 +44,6 @@ class EfgCutBody final : public core::EfgMappingSource {
   EfgCutBody(const EfgCutBody&) = delete;
   EfgCutBody& operator=(const EfgCutBody&) = delete;
 
-  int numIntegrationPoints() const override { return model_.numIntegrationPoints(); }
-  Eigen::Vector3d ipRestPosition(int ip) const override;
-  Eigen::Vector3d ipPosition(int ip) const override;
-  const std::vector<int>& ipParticles(int ip) const override { return model_.ipParticles(ip); }
-  void pointWeights(int ip, const Eigen::Vector3d& X, std::vector<int>& particles,
-                    std::vector<double>& weights) const override {
-    model_.pointWeights(ip, X, particles, weights);
-  }
-
   /// One sweep in the frame order tool -> CCD -> topology, surface and mapping: the surface
   /// vertex positions at x_start and x_end, the volume cut, the surface cut, then the vertices of
   /// the IPs the volume cut changed are remapped.
@@ -64,6 +55,8 @@ class EfgCutBody final : public core::EfgMappingSource {
   Eigen::Matrix3Xd surfacePositions(const Eigen::VectorXd& x) const;
 
   const core::EfgModel& model() const { return model_; }
+  /// The surface cutter's mapping source (the model at the positions last passed to cut()).
+  const core::EfgMappingSource& source() const { return source_; }
   const core::EfgVolumeCutter& volume() const { return volume_; }
   const core::EfgSurfaceCutter& surface() const { return *surface_; }
 
@@ -75,6 +68,7 @@ class EfgCutBody final : public core::EfgMappingSource {
   core::EfgVolumeCutter volume_;
   std::unique_ptr<core::EfgSurfaceCutter> surface_;
   Eigen::VectorXd x_;  ///< particle positions the IPs follow [m]
+  core::EfgModelSource source_{model_, x_};
   std::vector<std::vector<int>> row_particles_;
   std::vector<std::vector<double>> row_weights_;
 };

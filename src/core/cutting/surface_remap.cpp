@@ -7,6 +7,8 @@
 #include <string>
 #include <utility>
 
+#include "surgical_sim/core/tissue/efg_model.h"
+
 namespace surgical_sim::core {
 
 namespace {
@@ -35,6 +37,28 @@ bool shareParticle(const std::vector<int>& a, const std::vector<int>& b) {
 }
 
 }  // namespace
+
+int EfgModelSource::numIntegrationPoints() const { return model_.numIntegrationPoints(); }
+
+Eigen::Vector3d EfgModelSource::ipRestPosition(int ip) const {
+  return model_.grid().integration_points.col(ip);
+}
+
+Eigen::Vector3d EfgModelSource::ipPosition(int ip) const {
+  const std::vector<int>& particles = model_.ipParticles(ip);
+  const auto phi = model_.shapeValues(ip);
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  for (std::size_t a = 0; a < particles.size(); ++a)
+    p += phi[static_cast<Eigen::Index>(a)] * x_.segment<3>(3 * particles[a]);
+  return p;
+}
+
+const std::vector<int>& EfgModelSource::ipParticles(int ip) const { return model_.ipParticles(ip); }
+
+void EfgModelSource::pointWeights(int ip, const Eigen::Vector3d& X, std::vector<int>& particles,
+                                  std::vector<double>& weights) const {
+  model_.pointWeights(ip, X, particles, weights);
+}
 
 SurfaceRemapper::SurfaceRemapper(const EfgMappingSource& source) : source_(source) {
   const int n = source.numIntegrationPoints();

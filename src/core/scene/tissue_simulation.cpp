@@ -34,34 +34,6 @@ StepStatus combined(StepStatus integrator, StepStatus contact) {
   return StepStatus::Ok;
 }
 
-/// An EfgModel and the simulation's positions as the surface cutter's source: IP positions
-/// follow the current particle positions x (a reference to the simulation state).
-class EfgStateSource final : public EfgMappingSource {
- public:
-  EfgStateSource(const EfgModel& model, const Eigen::VectorXd& x) : model_(model), x_(x) {}
-  int numIntegrationPoints() const override { return model_.numIntegrationPoints(); }
-  Eigen::Vector3d ipRestPosition(int ip) const override {
-    return model_.grid().integration_points.col(ip);
-  }
-  Eigen::Vector3d ipPosition(int ip) const override {
-    const std::vector<int>& particles = model_.ipParticles(ip);
-    const auto phi = model_.shapeValues(ip);
-    Eigen::Vector3d p = Eigen::Vector3d::Zero();
-    for (std::size_t a = 0; a < particles.size(); ++a)
-      p += phi[static_cast<Eigen::Index>(a)] * x_.segment<3>(3 * particles[a]);
-    return p;
-  }
-  const std::vector<int>& ipParticles(int ip) const override { return model_.ipParticles(ip); }
-  void pointWeights(int ip, const Eigen::Vector3d& X, std::vector<int>& particles,
-                    std::vector<double>& weights) const override {
-    model_.pointWeights(ip, X, particles, weights);
-  }
-
- private:
-  const EfgModel& model_;
-  const Eigen::VectorXd& x_;
-};
-
 /// Vertex positions of `mapping` at model positions x [m], 3 x slots.
 Eigen::Matrix3Xd vertexPositions(const SurfaceMapping& mapping, const Eigen::VectorXd& x) {
   Eigen::VectorXd flat;
@@ -75,7 +47,7 @@ struct TissueSimulation::EfgCutting {
   EfgCutting(EfgModel& model, const Eigen::VectorXd& x, const TriMesh& surface,
              const EfgSurfaceCutOptions& options)
       : source(model, x), volume(model), surface(surface, source, options) {}
-  EfgStateSource source;
+  EfgModelSource source;
   EfgVolumeCutter volume;
   EfgSurfaceCutter surface;
 };

@@ -26,6 +26,25 @@ class EfgMappingSource {
                             std::vector<double>& weights) const = 0;
 };
 
+class EfgModel;
+
+/// An EfgModel and particle positions x [m] (a reference, read at each call) as a mapping source:
+/// IP ip is at sum_a phi_a x_a over its current particles. Both must outlive the source.
+class EfgModelSource final : public EfgMappingSource {
+ public:
+  EfgModelSource(const EfgModel& model, const Eigen::VectorXd& x) : model_(model), x_(x) {}
+  int numIntegrationPoints() const override;
+  Eigen::Vector3d ipRestPosition(int ip) const override;
+  Eigen::Vector3d ipPosition(int ip) const override;
+  const std::vector<int>& ipParticles(int ip) const override;
+  void pointWeights(int ip, const Eigen::Vector3d& X, std::vector<int>& particles,
+                    std::vector<double>& weights) const override;
+
+ private:
+  const EfgModel& model_;
+  const Eigen::VectorXd& x_;
+};
+
 /// A half-space stored on a surface vertex when a cut passes nearby (rest configuration): a
 /// valid IP lies strictly below it, (X_ip - point) . normal < 0.
 struct CutPlane {
