@@ -9,7 +9,10 @@ import xml.etree.ElementTree as ET
 
 
 def main():
-    if len(sys.argv) != 2:
+    if len(sys.argv) == 2 and sys.argv[1] in ("-h", "--help"):
+        print(__doc__)
+        return
+    if len(sys.argv) != 2 or not pathlib.Path(sys.argv[1]).is_dir():
         sys.exit(__doc__)
     for xml in sorted(pathlib.Path(sys.argv[1]).rglob("*.xml")):
         try:
