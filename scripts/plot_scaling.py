@@ -4,8 +4,10 @@
 usage: plot_scaling.py OUT_DIR PROBE.csv BENCH.csv [BENCH.csv ...]
 PROBE.csv is machine_probe's output; each BENCH.csv a tissue_bench or contact_bench CSV. Writes
   OUT_DIR/<stem>_scaling.png   log-log ms per step (mean) against nodes, one series per
-                               (variant, solver), with an n^1.2 line through the 1k-node point
-                               of the series that reaches the most nodes
+                               (variant, solver) (a variant <v>_<n>k continues variant <v>), a
+                               dotted twin for the steps after the first where they differ by
+                               more than 20 %, and an n^1.2 line through the 1k-node point of
+                               the series that reaches the most nodes
   OUT_DIR/<stem>_phases.png    the mean step split into its phases, stacked bars per case
   OUT_DIR/phase_limits.csv     tissue_bench rows: per phase the achieved GFLOP/s and GB/s and the
                                fraction of the roofline limit min(peak, intensity x bandwidth),
@@ -16,6 +18,7 @@ blocked_dgemm.
 import csv
 import math
 import os
+import re
 import sys
 
 # --help answers before matplotlib loads (it would write its font cache into $HOME).
@@ -74,16 +77,30 @@ def series_key(row):
     return "%s: %s" % (row["variant"], key) if row.get("variant") else key
 
 
+def scaling_key(row):
+    """series_key, with a variant named <base>_<n>k (a bigger mesh run on its own, e.g.
+    after_64k) continuing the series of variant <base>."""
+    variant = re.sub(r"_\d+k$", "", row.get("variant") or "")
+    return "%s: %s" % (variant, row["solver"]) if variant else row["solver"]
+
+
 def plot_scaling(rows, title, out_path):
-    series = {}
+    series, steady = {}, {}
     for row in rows:
         ms, nodes = number(row, "ms_per_step"), number(row, "nodes")
         if ms > 0 and nodes > 0:
-            series.setdefault(series_key(row), []).append((nodes, ms))
+            series.setdefault(scaling_key(row), []).append((nodes, ms))
+            after_first = number(row, "ms_after_first")
+            if after_first > 0:
+                steady.setdefault(scaling_key(row), []).append((nodes, after_first))
     fig, ax = plt.subplots(figsize=(7.5, 5.5))
     for key, pts in sorted(series.items()):
         pts.sort()
-        ax.plot([p[0] for p in pts], [p[1] for p in pts], "-o", label=key)
+        line = ax.plot([p[0] for p in pts], [p[1] for p in pts], "-o", label=key)[0]
+        later = sorted(steady.get(key, []))
+        if any(abs(a[1] - b[1]) > 0.2 * b[1] for a, b in zip(later, pts)):
+            ax.plot([p[0] for p in later], [p[1] for p in later], ":", marker="o",
+                    fillstyle="none", color=line.get_color(), label=key + " (after the first step)")
     if series:
         longest = max(series.values(), key=lambda pts: (len(pts), -min(p[0] for p in pts)))
         n0, ms0 = min(longest)
