@@ -37,6 +37,8 @@ PhaseWork preconditionerWork(const WorkShape& s) {
     case SolverKind::PcgCholeskyReuse:
     case SolverKind::PcgCholeskyBackground:
       return {4.0 * s.factor_nonzeros, 16.0 * s.factor_nonzeros};
+    case SolverKind::PcgCholeskyWarped:  // the factor's solves between W^T and W (3x3 per node)
+      return {4.0 * s.factor_nonzeros + 12.0 * s.dofs, 16.0 * s.factor_nonzeros + 48.0 * s.dofs};
     case SolverKind::Cholmod:
       break;
   }

@@ -278,7 +278,8 @@ PhaseRates phaseRates(const CaseSetup& c, const CaseSpec& spec, const RunOutcome
   shape.dofs = static_cast<double>(pattern.rows());
   shape.matrix_nonzeros = static_cast<double>(pattern.nonZeros());
   if (spec.solver == SolverKind::Cholmod || spec.solver == SolverKind::PcgCholeskyReuse ||
-      spec.solver == SolverKind::PcgCholeskyBackground)
+      spec.solver == SolverKind::PcgCholeskyBackground ||
+      spec.solver == SolverKind::PcgCholeskyWarped)
     std::tie(shape.factor_nonzeros, shape.factor_flops) = choleskyFactorSize(pattern);
   const StepWork work = estimateStepWork(shape);
   const auto rate = [](double amount, double count, double seconds) {

@@ -59,6 +59,11 @@ TEST(PhaseWork, IterativeSolversCountTheProductVectorsAndPreconditioner) {
                    product + vectors + 4.0 * s.factor_nonzeros);
   EXPECT_DOUBLE_EQ(estimateStepWork(s).solve_iteration.bytes,
                    12.0 * s.matrix_nonzeros + 64.0 * 24.0 + 16.0 * s.factor_nonzeros);
+  s.solver = SolverKind::PcgCholeskyWarped;  // plus W^T and W: 2 x (9 flops, 72 bytes) a node
+  EXPECT_DOUBLE_EQ(estimateStepWork(s).solve_iteration.flops,
+                   product + vectors + 4.0 * s.factor_nonzeros + 12.0 * 24.0);
+  EXPECT_DOUBLE_EQ(estimateStepWork(s).solve_iteration.bytes,
+                   12.0 * s.matrix_nonzeros + 64.0 * 24.0 + 16.0 * s.factor_nonzeros + 48.0 * 24.0);
   // Their factorization happens on some steps only, or on another thread: no estimate.
   EXPECT_TRUE(std::isnan(estimateStepWork(s).factorization.flops));
 }

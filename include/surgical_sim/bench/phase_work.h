@@ -62,7 +62,8 @@ struct StepWork {
   ///    products (10 flops, 64 bytes per DOF) and the preconditioner: jacobi 1 flop, 24 bytes per
   ///    DOF; block_jacobi 6 flops, 48 bytes per DOF; ichol as the product with A;
   ///    cholesky_reuse / cholesky_background two single-precision triangular solves, 4 flops and
-  ///    16 bytes per factor entry.
+  ///    16 bytes per factor entry; cholesky_warped these plus the node rotations W^T and W
+  ///    (3 x 3 per node, twice), 12 flops and 48 bytes per DOF.
   PhaseWork solve_iteration;
 };
 
