@@ -361,6 +361,19 @@ void TissueSimulatorNode::publishTool(int tool, const ros::Time& stamp) {
   io.contact_pub.publish(model);
 }
 
+visualization_msgs::Marker& TissueSimulatorNode::surfaceMarker(const ros::Time& stamp) {
+  visualization_msgs::Marker& m = surface_marker_;
+  m.header.stamp = stamp;
+  m.header.frame_id = tissue_frame_;
+  m.ns = "tissue";
+  m.type = visualization_msgs::Marker::TRIANGLE_LIST;
+  m.action = visualization_msgs::Marker::ADD;
+  m.pose.orientation.w = 1.0;
+  m.scale.x = m.scale.y = m.scale.z = 1.0;
+  m.color.a = 1.0;
+  return m;
+}
+
 void TissueSimulatorNode::publishSurface(const ros::Time& stamp) {
   if (surface_pub_.getNumSubscribers() == 0 && step_count_ > 1) return;
   if (multi_) {
@@ -374,15 +387,7 @@ void TissueSimulatorNode::publishSurface(const ros::Time& stamp) {
   in_contact.assign(static_cast<std::size_t>(sim_->mesh().numNodes()), 0);
   for (int n : sim_->contactNodes()) in_contact[static_cast<std::size_t>(n)] = 1;
 
-  visualization_msgs::Marker& m = surface_marker_;
-  m.header.stamp = stamp;
-  m.header.frame_id = tissue_frame_;
-  m.ns = "tissue";
-  m.type = visualization_msgs::Marker::TRIANGLE_LIST;
-  m.action = visualization_msgs::Marker::ADD;
-  m.pose.orientation.w = 1.0;
-  m.scale.x = m.scale.y = m.scale.z = 1.0;
-  m.color.a = 1.0;
+  visualization_msgs::Marker& m = surfaceMarker(stamp);
   const auto n_tri = static_cast<std::size_t>(surface.triangles.cols());
   m.points.resize(3 * n_tri);
   m.colors.resize(3 * n_tri);
@@ -457,15 +462,7 @@ void TissueSimulatorNode::publishToolMarkers(const ros::Time& stamp) {
 }
 
 void TissueSimulatorNode::publishBodies(const ros::Time& stamp) {
-  visualization_msgs::Marker& m = surface_marker_;
-  m.header.stamp = stamp;
-  m.header.frame_id = tissue_frame_;
-  m.ns = "tissue";
-  m.type = visualization_msgs::Marker::TRIANGLE_LIST;
-  m.action = visualization_msgs::Marker::ADD;
-  m.pose.orientation.w = 1.0;
-  m.scale.x = m.scale.y = m.scale.z = 1.0;
-  m.color.a = 1.0;
+  visualization_msgs::Marker& m = surfaceMarker(stamp);
   m.points.clear();
   m.colors.clear();
   const auto add = [&m](const Eigen::Vector3d& p, const Eigen::Vector3f& rgb) {

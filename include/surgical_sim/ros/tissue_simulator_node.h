@@ -101,6 +101,8 @@ class TissueSimulatorNode {
   bool stepAndPublish(const ros::Time& stamp, bool publish_surface,
                       const ros::Time& set_stamp = ros::Time(), int burst_step = 0);
   void publishSurface(const ros::Time& stamp);
+  /// surface_marker_ with its header (stamp, tissue frame) and TRIANGLE_LIST settings.
+  visualization_msgs::Marker& surfaceMarker(const ros::Time& stamp);
   /// Each posed tool as a capsule (shaft cylinder + tip sphere) on tissue/tools (namespace: the
   /// tool's name), with the tissue's force on it as an arrow from the tip while in contact.
   void publishToolMarkers(const ros::Time& stamp);
