@@ -32,11 +32,14 @@ std::string replacedAll(std::string text, const std::string& from, const std::st
   return text;
 }
 
-/// Scene (b) (config/scenes/connective_two_organs.yaml) on coarser organ meshes (6 x 4 x 4
-/// cells, nodes every 10 mm across the grasped face) and jaws of 12 mm: 5 nodes grasped.
+/// Scene (b) (config/scenes/connective_two_organs.yaml) coarser, for speed: organ meshes of
+/// 4 x 4 x 4 cells (nodes every 10 mm across the grasped face), a layer with rigid nodes every
+/// 8 mm and samples every 5 mm, jaws of 12 mm (5 nodes grasped).
 RuntimeScene twoOrgans() {
   std::string text = sceneText("connective_two_organs.yaml");
-  text = replacedAll(text, "resolution: [9, 6, 6]", "resolution: [6, 4, 4]");
+  text = replacedAll(text, "resolution: [9, 6, 6]", "resolution: [4, 4, 4]");
+  text = replacedAll(text, "node_spacing: 0.0057", "node_spacing: 0.008");
+  text = replacedAll(text, "sample_spacing: 0.0034", "sample_spacing: 0.005");
   text = replacedAll(text, "grasp: {radius: 0.008", "grasp: {radius: 0.012");
   return parseRuntimeScene(text, "connective_two_organs.yaml");
 }
@@ -111,13 +114,13 @@ TEST(MultiBodySimulation, GraspAndPullDragsTheOtherOrganAndReleaseReturnsBothToR
   sim.setToolPose(0, tipAt(-0.05));
   double largest = 0.0;
   int step = 0;
-  for (; step < 400; ++step) {
+  for (; step < 200; ++step) {
     ASSERT_EQ(sim.step().report.status, StepStatus::Ok) << "release step " << step;
     largest = largestDisplacement(sim);
-    if (largest < 1e-6) break;
+    if (largest < 1e-5) break;
   }
   std::printf("released: largest displacement %.3e m after %d steps\n", largest, step + 1);
-  EXPECT_LT(largest, 1e-6);
+  EXPECT_LT(largest, 1e-5);  // 1e-3 of the pull
   EXPECT_FALSE(sim.toolContact(0).in_contact);
   EXPECT_EQ(sim.toolContact(0).f0_S, Eigen::Vector3d::Zero());
 }
@@ -219,10 +222,13 @@ TEST(MultiBodySimulation, GraspAboveMaxForceSlipsAndContactForceIsCapped) {
 }
 
 TEST(MultiBodySimulation, StackedPlatesSagOneBelowTheOtherUnderGravity) {
+  // Coarser than the shipped scene (4 x 4 cells per plate and layer), for speed.
   MultiBodySimulation sim(
-      parseRuntimeScene(sceneText("connective_plates.yaml"), "connective_plates.yaml"));
+      parseRuntimeScene(replacedAll(sceneText("connective_plates.yaml"), "resolution: [6, 6, 1]",
+                                    "resolution: [4, 4, 1]"),
+                        "connective_plates.yaml"));
   ASSERT_EQ(sim.numBodies(), 3);
-  for (int i = 0; i < 40; ++i) ASSERT_EQ(sim.step().report.status, StepStatus::Ok) << i;
+  for (int i = 0; i < 30; ++i) ASSERT_EQ(sim.step().report.status, StepStatus::Ok) << i;
   std::vector<double> sag;
   for (int b = 0; b < 3; ++b) {
     double sum = 0.0;
