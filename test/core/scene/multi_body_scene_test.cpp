@@ -166,6 +166,15 @@ TEST(MultiBodySceneKeys, BadLayerKeysAreRejectedNamingTheKey) {
                  {"key 'connective[0].sampling'", "'voxels' is not one of"});
   expectRejected(replaced("sampling: tet_mesh", "sampling: tet_mesh\n    seed: 3"),
                  {"key 'connective[0].seed'", "does not apply to sampling tet_mesh"});
+  expectRejected(replaced("    mesh: {generator: box, origin: [0.0, 0.0, 0.01]",
+                          "    bogus: {generator: box, origin: [0.0, 0.0, 0.01]"),
+                 {"key 'connective[0].bogus'", "unknown key"});
+  expectRejected(
+      replaced("sampling: poisson_disk", "sampling: poisson_disk\n    mesh: {generator: box}"),
+      {"key 'connective[1].mesh'", "does not apply to sampling poisson_disk"});
+  expectRejected(replaced("resolution: [2, 2, 1]}\n    material: {young_modulus: 5.0e3",
+                          "resolution: [2, 2, 1]}\n    material: {young_modulus: 5.0e3, shear: 1"),
+                 {"key 'connective[0].material.shear'", "unknown key"});
   expectRejected(replaced(", [0.024, 0.02, 0.01]]", "]"),
                  {"key 'connective[1].hexahedron'", "8 [x, y, z] corners"});
   expectRejected(replaced("node_spacing: 0.004", "node_spacing: 0.0"),
