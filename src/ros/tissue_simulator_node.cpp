@@ -30,10 +30,15 @@ TissueSimulatorNode::TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& p
   surface_period_ = 1.0 / numberParam(pnh, "surface_rate", 30.0, {0.0, 1000.0, true}, "Hz");
   force_arrow_scale_ = numberParam(pnh, "force_arrow_scale", 0.03, {0.0, 10.0, true}, "m/N");
 
-  sim_ = std::make_unique<core::TissueSimulation>(core::loadRuntimeScene(scene_path));
-  for (const std::string& warning : sim_->warnings())
-    ROS_WARN_NAMED("tissue_simulator", "scene %s: %s", scene_path.c_str(), warning.c_str());
-  X_WS_ = sim_->scene().tissue_pose;
+  const core::RuntimeScene loaded = core::loadRuntimeScene(scene_path);
+  if (!loaded.bodies.empty()) {
+    multi_ = std::make_unique<core::MultiBodySimulation>(loaded);
+  } else {
+    sim_ = std::make_unique<core::TissueSimulation>(loaded);
+    for (const std::string& warning : sim_->warnings())
+      ROS_WARN_NAMED("tissue_simulator", "scene %s: %s", scene_path.c_str(), warning.c_str());
+  }
+  X_WS_ = scene().tissue_pose;
 
   geometry_msgs::TransformStamped t = tf2::eigenToTransform(X_WS_);
   t.header.stamp = ros::Time::now();
@@ -44,9 +49,11 @@ TissueSimulatorNode::TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& p
   surface_pub_ = nh.advertise<visualization_msgs::Marker>("tissue/surface", 2, true);
   tool_marker_pub_ = nh.advertise<visualization_msgs::Marker>("tissue/tools", 10);
   stats_pub_ = nh.advertise<surgical_sim::TissueStats>("tissue/stats", 100);
-  tools_.resize(static_cast<std::size_t>(sim_->numTools()));
-  for (int i = 0; i < sim_->numTools(); ++i) {
-    const core::ToolSpec& spec = sim_->scene().tools[static_cast<std::size_t>(i)];
+  if (multi_)
+    rigid_node_pub_ = nh.advertise<visualization_msgs::Marker>("tissue/rigid_nodes", 2, true);
+  tools_.resize(static_cast<std::size_t>(numTools()));
+  for (int i = 0; i < numTools(); ++i) {
+    const core::ToolSpec& spec = scene().tools[static_cast<std::size_t>(i)];
     ToolIo& io = tools_[static_cast<std::size_t>(i)];
     io.pose_sub = nh.subscribe<geometry_msgs::PoseStamped>(
         spec.pose_topic, 1000, [this, i](const auto& msg) { onPose(msg, i); });
@@ -71,17 +78,26 @@ TissueSimulatorNode::TissueSimulatorNode(ros::NodeHandle& nh, ros::NodeHandle& p
 
   // Realtime: wall-clock paced at dt. Lockstep with tools: driven by pose sets. Lockstep without
   // tools: free-running as fast as possible.
-  if (!realtime_ && sim_->numTools() > 0) sync_ = std::make_unique<PoseSetSync>(sim_->numTools());
-  if (realtime_ || sim_->numTools() == 0) {
-    const double period = realtime_ ? sim_->timeStep() : 1e-6;
+  if (!realtime_ && numTools() > 0) sync_ = std::make_unique<PoseSetSync>(numTools());
+  if (realtime_ || numTools() == 0) {
+    const double period = realtime_ ? scene().time_step : 1e-6;
     timer_ = nh.createWallTimer(ros::WallDuration(period), [this](const auto&) { onTimer(); });
   }
-  ROS_INFO_NAMED("tissue_simulator",
-                 "scene '%s': %d nodes, %d elements, model %s, %s mode, %d tool(s), components:",
-                 sim_->scene().name.c_str(), sim_->mesh().numNodes(), sim_->mesh().numElements(),
-                 sim_->model().name().c_str(), realtime_ ? "realtime" : "lockstep",
-                 sim_->numTools());
-  for (const auto& c : sim_->components()) ROS_INFO_NAMED("tissue_simulator", "  %s", c.c_str());
+  if (multi_) {
+    ROS_INFO_NAMED("tissue_simulator",
+                   "scene '%s': %d bodies, %d connective layer(s), %d unknowns, %s mode, %d "
+                   "tool(s), components:",
+                   scene().name.c_str(), multi_->numBodies(), multi_->numLayers(),
+                   multi_->coupling().numUnknowns(), realtime_ ? "realtime" : "lockstep",
+                   numTools());
+  } else {
+    ROS_INFO_NAMED("tissue_simulator",
+                   "scene '%s': %d nodes, %d elements, model %s, %s mode, %d tool(s), components:",
+                   scene().name.c_str(), sim_->mesh().numNodes(), sim_->mesh().numElements(),
+                   sim_->model().name().c_str(), realtime_ ? "realtime" : "lockstep", numTools());
+  }
+  for (const auto& c : multi_ ? multi_->components() : sim_->components())
+    ROS_INFO_NAMED("tissue_simulator", "  %s", c.c_str());
   control_spinner_.start();
 }
 
@@ -127,7 +143,7 @@ void TissueSimulatorNode::onPose(const geometry_msgs::PoseStamped::ConstPtr& msg
   if (!toTissueFrame(*msg, X_ST)) return;
   if (!sync_) {
     std::lock_guard<std::mutex> lock(sim_mutex_);
-    sim_->setToolPose(tool, X_ST);
+    setToolPose(tool, X_ST);
     tools_[static_cast<std::size_t>(tool)].has_pose = true;
     tools_[static_cast<std::size_t>(tool)].X_ST = X_ST;
     return;
@@ -141,7 +157,7 @@ void TissueSimulatorNode::onPose(const geometry_msgs::PoseStamped::ConstPtr& msg
 
 void TissueSimulatorNode::offerPose(int tool, const ros::Time& stamp,
                                     const Eigen::Isometry3d& X_ST) {
-  const auto name = [this](int i) { return sim_->scene().tools[static_cast<std::size_t>(i)].name; };
+  const auto name = [this](int i) { return scene().tools[static_cast<std::size_t>(i)].name; };
   const PoseSetSync::Offer offer = sync_->offer(tool, stamp, X_ST);
   if (offer == PoseSetSync::Offer::Stale)
     ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator",
@@ -170,11 +186,11 @@ void TissueSimulatorNode::runLockstep() {
     if (!burst_open_) {
       if (!sync_->complete()) return;
       burst_stamp_ = sync_->take(set_poses_);
-      for (int i = 0; i < sim_->numTools(); ++i) {
+      for (int i = 0; i < numTools(); ++i) {
         ToolIo& io = tools_[static_cast<std::size_t>(i)];
         io.X_ST = set_poses_[static_cast<std::size_t>(i)];
         io.has_pose = true;
-        sim_->setToolPose(i, io.X_ST);
+        setToolPose(i, io.X_ST);
       }
       burst_steps_done_ = 0;
       burst_open_ = true;
@@ -187,11 +203,11 @@ void TissueSimulatorNode::runLockstep() {
 
 void TissueSimulatorNode::onGrasp(const std_msgs::Bool::ConstPtr& msg, int tool) {
   std::lock_guard<std::mutex> lock(sim_mutex_);
-  sim_->setGrasp(tool, msg->data);
+  setGrasp(tool, msg->data);
 }
 
 void TissueSimulatorNode::onGrip(const sensor_msgs::JointState::ConstPtr& msg, int tool) {
-  const core::ToolSpec& spec = sim_->scene().tools[static_cast<std::size_t>(tool)];
+  const core::ToolSpec& spec = scene().tools[static_cast<std::size_t>(tool)];
   const core::GraspSpec& grasp = *spec.grasp;
   const auto it = std::find(msg->name.begin(), msg->name.end(), grasp.joint);
   if (it == msg->name.end()) return;  // a JointState of other joints
@@ -203,10 +219,35 @@ void TissueSimulatorNode::onGrip(const sensor_msgs::JointState::ConstPtr& msg, i
     return;
   }
   std::lock_guard<std::mutex> lock(sim_mutex_);
-  sim_->setGrasp(tool, msg->position[k] <= grasp.closed_angle);
+  setGrasp(tool, msg->position[k] <= grasp.closed_angle);
+}
+
+void TissueSimulatorNode::setToolPose(int tool, const Eigen::Isometry3d& X_ST) {
+  if (!multi_) {
+    sim_->setToolPose(tool, X_ST);
+    return;
+  }
+  try {
+    multi_->setToolPose(tool, X_ST);
+  } catch (const std::invalid_argument& e) {
+    ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator", "rejected tool pose: %s", e.what());
+  }
+}
+
+void TissueSimulatorNode::setGrasp(int tool, bool closed) {
+  if (multi_) {
+    multi_->setGrasp(tool, closed);
+  } else {
+    sim_->setGrasp(tool, closed);
+  }
 }
 
 void TissueSimulatorNode::onBladeSweep(const surgical_sim::BladeSweep::ConstPtr& msg) {
+  if (multi_) {
+    ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator",
+                            "rejected cutting/blade_sweep: a multi-body scene cannot be cut");
+    return;
+  }
   Eigen::Isometry3d X_SF;
   if (!frameInTissue(msg->header.frame_id, "cutting/blade_sweep", X_SF)) return;
   core::BladeSweep sweep;
@@ -235,10 +276,10 @@ void TissueSimulatorNode::onTimer() {
 
 bool TissueSimulatorNode::stepAndPublish(const ros::Time& stamp, bool publish_surface,
                                          const ros::Time& set_stamp, int burst_step) {
-  const core::SimulationStepStats s = sim_->step();
+  const core::SimulationStepStats s = stepSimulation();
   ++step_count_;
   core::Stopwatch publish_watch;
-  for (int i = 0; i < sim_->numTools(); ++i) publishTool(i, stamp);
+  for (int i = 0; i < numTools(); ++i) publishTool(i, stamp);
   if (publish_surface) {
     publishSurface(stamp);
     publishToolMarkers(stamp);
@@ -248,7 +289,7 @@ bool TissueSimulatorNode::stepAndPublish(const ros::Time& stamp, bool publish_su
   stats.header.stamp = stamp;
   stats.header.frame_id = tissue_frame_;
   stats.step = step_count_;
-  stats.sim_time = sim_->state().time;
+  stats.sim_time = simulationTime();
   stats.step_time = s.step_seconds;
   stats.collision_time = s.collision_seconds;
   stats.integrate_time = s.integrate_seconds;
@@ -260,9 +301,9 @@ bool TissueSimulatorNode::stepAndPublish(const ros::Time& stamp, bool publish_su
   stats.residual = s.report.residual;
   stats.energy = s.report.energy;
   stats.contacts = static_cast<unsigned>(s.contacts);
-  stats.pieces = static_cast<unsigned>(sim_->numComponents());
+  stats.pieces = static_cast<unsigned>(multi_ ? multi_->numBodies() : sim_->numComponents());
   stats.status = core::toString(s.report.status);
-  stats.components = sim_->components();
+  stats.components = multi_ ? multi_->components() : sim_->components();
   if (restart_real_time_factor_.exchange(false)) real_time_factor_.clear();
   stats.real_time_factor = real_time_factor_.add(ros::WallTime::now().toSec(), stats.sim_time);
   // Realtime mode paces steps at dt: a factor below 0.9 (over a full window) means the machine
@@ -273,8 +314,8 @@ bool TissueSimulatorNode::stepAndPublish(const ros::Time& stamp, bool publish_su
                             "falling behind real time: real-time factor %.2f (%.0f steps/s "
                             "against the scene's %.0f Hz); a coarser mesh, a larger time step or "
                             "a faster solver would keep up",
-                            stats.real_time_factor, stats.real_time_factor / sim_->timeStep(),
-                            1.0 / sim_->timeStep());
+                            stats.real_time_factor, stats.real_time_factor / scene().time_step,
+                            1.0 / scene().time_step);
   const bool failed = s.report.status == core::StepStatus::SolverFailed ||
                       s.report.status == core::StepStatus::NonFinite ||
                       s.report.status == core::StepStatus::BlowUp;
@@ -287,16 +328,16 @@ bool TissueSimulatorNode::stepAndPublish(const ros::Time& stamp, bool publish_su
   if (failed)
     ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator", "step %u failed: %s (state kept finite)",
                             step_count_, stats.status.c_str());
-  if (!sim_->cutError().empty())
+  if (sim_ && !sim_->cutError().empty())
     ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator", "step %u: %s", step_count_,
                             sim_->cutError().c_str());
   return !failed;
 }
 
 void TissueSimulatorNode::publishTool(int tool, const ros::Time& stamp) {
-  const core::ToolSpec& spec = sim_->scene().tools[static_cast<std::size_t>(tool)];
+  const core::ToolSpec& spec = scene().tools[static_cast<std::size_t>(tool)];
   if (!spec.contact) return;
-  const core::ContactLinearization c = sim_->toolContact(tool);
+  const core::ContactLinearization c = toolContact(tool);
   const Eigen::Matrix3d R_WS = X_WS_.linear();
   const Eigen::Vector3d f_W = R_WS * c.f0_S;
   const Eigen::Matrix3d K_W = R_WS * c.K_S * R_WS.transpose();
@@ -320,15 +361,7 @@ void TissueSimulatorNode::publishTool(int tool, const ros::Time& stamp) {
   io.contact_pub.publish(model);
 }
 
-void TissueSimulatorNode::publishSurface(const ros::Time& stamp) {
-  if (surface_pub_.getNumSubscribers() == 0 && step_count_ > 1) return;
-  const core::SurfaceMesh& surface = sim_->surface();
-  const Eigen::VectorXd& x = sim_->surfacePositions();
-  // Reused members: no allocation per publish once the surface size is known.
-  std::vector<char>& in_contact = contact_flags_;
-  in_contact.assign(static_cast<std::size_t>(sim_->mesh().numNodes()), 0);
-  for (int n : sim_->contactNodes()) in_contact[static_cast<std::size_t>(n)] = 1;
-
+visualization_msgs::Marker& TissueSimulatorNode::surfaceMarker(const ros::Time& stamp) {
   visualization_msgs::Marker& m = surface_marker_;
   m.header.stamp = stamp;
   m.header.frame_id = tissue_frame_;
@@ -338,6 +371,23 @@ void TissueSimulatorNode::publishSurface(const ros::Time& stamp) {
   m.pose.orientation.w = 1.0;
   m.scale.x = m.scale.y = m.scale.z = 1.0;
   m.color.a = 1.0;
+  return m;
+}
+
+void TissueSimulatorNode::publishSurface(const ros::Time& stamp) {
+  if (surface_pub_.getNumSubscribers() == 0 && step_count_ > 1) return;
+  if (multi_) {
+    publishBodies(stamp);
+    return;
+  }
+  const core::SurfaceMesh& surface = sim_->surface();
+  const Eigen::VectorXd& x = sim_->surfacePositions();
+  // Reused members: no allocation per publish once the surface size is known.
+  std::vector<char>& in_contact = contact_flags_;
+  in_contact.assign(static_cast<std::size_t>(sim_->mesh().numNodes()), 0);
+  for (int n : sim_->contactNodes()) in_contact[static_cast<std::size_t>(n)] = 1;
+
+  visualization_msgs::Marker& m = surfaceMarker(stamp);
   const auto n_tri = static_cast<std::size_t>(surface.triangles.cols());
   m.points.resize(3 * n_tri);
   m.colors.resize(3 * n_tri);
@@ -371,9 +421,9 @@ void TissueSimulatorNode::publishSurface(const ros::Time& stamp) {
 
 void TissueSimulatorNode::publishToolMarkers(const ros::Time& stamp) {
   if (tool_marker_pub_.getNumSubscribers() == 0) return;
-  for (int i = 0; i < sim_->numTools(); ++i) {
+  for (int i = 0; i < numTools(); ++i) {
     const ToolIo& io = tools_[static_cast<std::size_t>(i)];
-    const core::ToolSpec& spec = sim_->scene().tools[static_cast<std::size_t>(i)];
+    const core::ToolSpec& spec = scene().tools[static_cast<std::size_t>(i)];
     if (!io.has_pose || !spec.contact) continue;
     visualization_msgs::Marker m;
     m.header.stamp = stamp;
@@ -395,7 +445,7 @@ void TissueSimulatorNode::publishToolMarkers(const ros::Time& stamp) {
     m.scale.z = spec.shaft_length;
     tool_marker_pub_.publish(m);
     // Force of the tissue on the tool: an arrow from the tip, deleted out of contact.
-    const core::ContactLinearization c = sim_->toolContact(i);
+    const core::ContactLinearization c = toolContact(i);
     m.id = 2;
     m.type = visualization_msgs::Marker::ARROW;
     m.action = c.in_contact ? visualization_msgs::Marker::ADD : visualization_msgs::Marker::DELETE;
@@ -411,10 +461,80 @@ void TissueSimulatorNode::publishToolMarkers(const ros::Time& stamp) {
   }
 }
 
+void TissueSimulatorNode::publishBodies(const ros::Time& stamp) {
+  visualization_msgs::Marker& m = surfaceMarker(stamp);
+  m.points.clear();
+  m.colors.clear();
+  const auto add = [&m](const Eigen::Vector3d& p, const Eigen::Vector3f& rgb) {
+    m.points.push_back(toPointMsg(p));
+    std_msgs::ColorRGBA c;
+    c.r = rgb.x();
+    c.g = rgb.y();
+    c.b = rgb.z();
+    c.a = 1.0f;
+    m.colors.push_back(c);
+  };
+  // Organs in their colours, nodes a tool touches red; then the layer surfaces.
+  const Eigen::Vector3f red(1.0f, 0.1f, 0.1f);
+  for (int b = 0; b < multi_->numBodies(); ++b) {
+    std::vector<char>& in_contact = contact_flags_;
+    in_contact.assign(static_cast<std::size_t>(multi_->bodyMesh(b).numNodes()), 0);
+    for (int n : multi_->contactNodes()[static_cast<std::size_t>(b)])
+      in_contact[static_cast<std::size_t>(n)] = 1;
+    const Eigen::Vector3f& colour = scene().bodies[static_cast<std::size_t>(b)].colour;
+    const Eigen::Matrix3Xi& triangles = multi_->bodySurface(b).triangles;
+    const Eigen::VectorXd& x = multi_->bodyPositions(b);
+    for (Eigen::Index t = 0; t < triangles.cols(); ++t)
+      for (int c = 0; c < 3; ++c) {
+        const int node = triangles(c, t);
+        add(x.segment<3>(3 * node), in_contact[static_cast<std::size_t>(node)] ? red : colour);
+      }
+  }
+  for (int l = 0; l < multi_->numLayers(); ++l) {
+    const Eigen::Matrix3Xd x = multi_->layerSurfacePositions(l);
+    const Eigen::Matrix3Xi& triangles = multi_->layerSurface(l).triangles;
+    for (Eigen::Index t = 0; t < triangles.cols(); ++t)
+      for (int c = 0; c < 3; ++c)
+        add(x.col(triangles(c, t)), scene().connective[static_cast<std::size_t>(l)].colour);
+  }
+  surface_pub_.publish(m);
+
+  if (rigid_node_pub_.getNumSubscribers() == 0 && step_count_ > 1) return;
+  visualization_msgs::Marker axes;
+  axes.header = m.header;
+  axes.ns = "rigid_nodes";
+  axes.type = visualization_msgs::Marker::LINE_LIST;
+  axes.action = visualization_msgs::Marker::ADD;
+  axes.pose.orientation.w = 1.0;
+  axes.scale.x = 0.0005;                 // line width [m]
+  constexpr double kAxisLength = 0.004;  // [m]
+  for (const core::RigidNodeConfiguration& q : multi_->state().layer_configurations)
+    for (int j = 0; j < q.numNodes(); ++j) {
+      const Eigen::Matrix3d R = q.q_TN[static_cast<std::size_t>(j)].toRotationMatrix();
+      const Eigen::Vector3d& p = q.p_TN[static_cast<std::size_t>(j)];
+      for (int k = 0; k < 3; ++k) {
+        std_msgs::ColorRGBA c;
+        c.r = k == 0 ? 1.0f : 0.0f;
+        c.g = k == 1 ? 1.0f : 0.0f;
+        c.b = k == 2 ? 1.0f : 0.0f;
+        c.a = 1.0f;
+        axes.points.push_back(toPointMsg(p));
+        axes.points.push_back(toPointMsg(p + kAxisLength * R.col(k)));
+        axes.colors.push_back(c);
+        axes.colors.push_back(c);
+      }
+    }
+  rigid_node_pub_.publish(axes);
+}
+
 bool TissueSimulatorNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
   interrupt("reset");
   std::lock_guard<std::mutex> lock(sim_mutex_);  // waits for at most the step in progress
-  sim_->reset();
+  if (multi_) {
+    multi_->reset();
+  } else {
+    sim_->reset();
+  }
   restart_real_time_factor_ = true;
   step_count_ = 0;
   if (sync_) sync_->reset();

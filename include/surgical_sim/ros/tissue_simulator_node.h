@@ -21,6 +21,7 @@
 
 #include "surgical_sim/BladeSweep.h"
 #include "surgical_sim/StepTissue.h"
+#include "surgical_sim/core/scene/multi_body_simulation.h"
 #include "surgical_sim/core/scene/tissue_simulation.h"
 #include "surgical_sim/ros/pose_set_sync.h"
 #include "surgical_sim/ros/real_time_factor.h"
@@ -61,6 +62,10 @@ namespace surgical_sim::ros_layer {
 /// tissue/step (or lockstep burst) and interrupt it between two steps; tissue/step then answers
 /// success = false, "interrupted by <pause|reset> after N steps" with steps_done = N. On
 /// shutdown (SIGINT) a running request stops the same way.
+/// A multi-body scene (key bodies) runs core::MultiBodySimulation with the same topics and
+/// services: tissue/surface draws every organ and connective layer surface in its own colour
+/// (contact nodes red), tissue/rigid_nodes the layers' rigid nodes as axes (LINE_LIST, x red,
+/// y green, z blue, 4 mm), tissue/stats reports the bodies as pieces; blade sweeps are rejected.
 /// Scene errors throw std::invalid_argument from the constructor (main exits naming the key); a
 /// benchmark file (sweep lists, measure) is rejected naming its first benchmark key.
 class TissueSimulatorNode {
@@ -96,6 +101,8 @@ class TissueSimulatorNode {
   bool stepAndPublish(const ros::Time& stamp, bool publish_surface,
                       const ros::Time& set_stamp = ros::Time(), int burst_step = 0);
   void publishSurface(const ros::Time& stamp);
+  /// surface_marker_ with its header (stamp, tissue frame) and TRIANGLE_LIST settings.
+  visualization_msgs::Marker& surfaceMarker(const ros::Time& stamp);
   /// Each posed tool as a capsule (shaft cylinder + tip sphere) on tissue/tools (namespace: the
   /// tool's name), with the tissue's force on it as an arrow from the tip while in contact.
   void publishToolMarkers(const ros::Time& stamp);
@@ -113,11 +120,25 @@ class TissueSimulatorNode {
   bool onReset(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
   bool onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res);
   bool onStep(surgical_sim::StepTissue::Request& req, surgical_sim::StepTissue::Response& res);
+  /// The running simulation (single- or multi-body): its scene, step, time, tools and reset.
+  const core::RuntimeScene& scene() const { return multi_ ? multi_->scene() : sim_->scene(); }
+  int numTools() const { return static_cast<int>(scene().tools.size()); }
+  core::SimulationStepStats stepSimulation() { return multi_ ? multi_->step() : sim_->step(); }
+  double simulationTime() const { return multi_ ? multi_->time() : sim_->state().time; }
+  void setToolPose(int tool, const Eigen::Isometry3d& X_ST);
+  void setGrasp(int tool, bool closed);
+  core::ContactLinearization toolContact(int tool) const {
+    return multi_ ? multi_->toolContact(tool) : sim_->toolContact(tool);
+  }
+  /// Multi-body scene: every organ and layer surface into tissue/surface, the rigid nodes into
+  /// tissue/rigid_nodes.
+  void publishBodies(const ros::Time& stamp);
 
   /// Guards sim_, step_count_, the tools' poses, sync_ and the burst state: held for one step at
   /// a time, so tissue/reset (control thread) waits for at most the step in progress.
   std::mutex sim_mutex_;
-  std::unique_ptr<core::TissueSimulation> sim_;
+  std::unique_ptr<core::TissueSimulation> sim_;       ///< single-body scene, else null
+  std::unique_ptr<core::MultiBodySimulation> multi_;  ///< multi-body scene, else null
   Eigen::Isometry3d X_WS_ = Eigen::Isometry3d::Identity();
   std::string world_frame_, tissue_frame_;
   bool realtime_ = true;
@@ -143,7 +164,7 @@ class TissueSimulatorNode {
   bool burst_open_ = false;                   ///< a set was taken and its burst is unfinished
   ros::NodeHandle nh_;
   ros::WallTimer resume_timer_;  ///< one-shot: resumes lockstep on the main thread after un-pause
-  ros::Publisher surface_pub_, tool_marker_pub_, stats_pub_;
+  ros::Publisher surface_pub_, tool_marker_pub_, stats_pub_, rigid_node_pub_;
   visualization_msgs::Marker surface_marker_;  ///< tissue/surface, reused between publishes
   std::vector<char> contact_flags_;            ///< per node: touched by a tool (work vector)
   ros::Subscriber blade_sub_;

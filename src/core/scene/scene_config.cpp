@@ -16,6 +16,7 @@
 #include <stdexcept>
 
 #include "surgical_sim/core/common/thread_pool.h"
+#include "surgical_sim/core/connective/rigid_node_model.h"
 #include "surgical_sim/core/cutting/blade_sweep.h"
 #include "surgical_sim/core/mesh/length_unit.h"
 #include "surgical_sim/core/mesh/surface_generators.h"
@@ -586,7 +587,7 @@ void forEachItem(const KeyReader& r, const std::string& key, Read read) {
   const YAML::Node list = r.list(key, "a list", true);
   for (std::size_t i = 0; i < list.size(); ++i) {
     if (!list[i].IsMap()) r.fail(key, "item " + std::to_string(i) + " is not a map");
-    read(KeyReader(list[i], key + "[" + std::to_string(i) + "]", r.path()));
+    read(KeyReader(list[i], r.dotted(key) + "[" + std::to_string(i) + "]", r.path()));
   }
 }
 
@@ -615,18 +616,15 @@ void readEfg(const KeyReader& scene, SceneBase& s) {
     s.efg.ip_at_centroid = r.choice("integration_point", {"centroid", "centre"}) == "centroid";
 }
 
-/// The keys both scene kinds share (mesh geometry without its resolution keys `mesh_keys`).
-void readBase(const KeyReader& r, const std::set<std::string>& mesh_keys, SceneBase& s) {
-  s.name = r.text("name");
-  s.mesh = readMesh(r, mesh_keys);
-
-  const KeyReader mat = r.child("material");
+/// The map `material` under `parent`.
+Material readMaterial(const KeyReader& parent) {
+  const KeyReader mat = parent.child("material");
   mat.onlyKeys({"young_modulus", "poisson_ratio", "density"});
   const double young_modulus = mat.number("young_modulus");
   const double poisson_ratio = mat.number("poisson_ratio");
   const double density = mat.number("density");
   try {
-    s.material = Material::create(young_modulus, poisson_ratio, density);
+    return Material::create(young_modulus, poisson_ratio, density);
   } catch (const std::invalid_argument& e) {
     // Material names the parameter "material.<key> = ...".
     const std::string what = e.what();
@@ -636,7 +634,11 @@ void readBase(const KeyReader& r, const std::set<std::string>& mesh_keys, SceneB
       mat.fail(what.substr(prefix.size(), end - prefix.size()), what);
     mat.fail("young_modulus", what);
   }
+}
 
+/// The keys of every scene kind but the body's (mesh, material): time step, gravity, damping,
+/// solver settings, fixed regions, tools, tissue pose, efg settings (each optional but the first).
+void readShared(const KeyReader& r, SceneBase& s) {
   s.time_step = r.number("time_step");
   checkRange(r, "time_step", s.time_step, 1e-7, 1.0, "s");
   if (r.has("gravity")) s.gravity = r.vector3("gravity");
@@ -682,6 +684,14 @@ void readBase(const KeyReader& r, const std::set<std::string>& mesh_keys, SceneB
   if (s.tools.size() > 4) r.fail("tools", "at most 4 tools are supported");
   if (r.has("tissue_pose")) s.tissue_pose = readPose(r, "tissue_pose");
   readEfg(r, s);
+}
+
+/// The keys both scene kinds share (mesh geometry without its resolution keys `mesh_keys`).
+void readBase(const KeyReader& r, const std::set<std::string>& mesh_keys, SceneBase& s) {
+  s.name = r.text("name");
+  s.mesh = readMesh(r, mesh_keys);
+  s.material = readMaterial(r);
+  readShared(r, s);
 }
 
 /// Fills the topics a scene left out (docs/scenes.md): a tool held by trocar T talks on T's
@@ -753,9 +763,157 @@ BladeSpec readBlade(const KeyReader& r, const std::vector<ToolSpec>& tools) {
   return b;
 }
 
+/// The tet4 mesh under `r`.mesh of a body or tet-sampled layer, with its resolution (generated
+/// meshes) into `resolution`.
+MeshSpec readTetMesh(const KeyReader& r, Eigen::Vector3i& resolution) {
+  MeshSpec m = readMesh(r, {"resolution"});
+  const KeyReader mesh = r.child("mesh");
+  if (isSurfaceGenerator(m.generator))
+    mesh.fail("generator", "'" + m.generator + "' makes a closed surface; a body needs a tet mesh");
+  if (m.generator != "file") {
+    resolution = readResolution(mesh, "resolution", mesh.required("resolution"), m.generator);
+    checkBudget(mesh, "resolution", m, resolution, ElementType::Tet4);
+  } else if (mesh.has("resolution")) {
+    mesh.fail("resolution", "a mesh file has its own resolution");
+  }
+  return m;
+}
+
+/// The optional list of regions `fixed` (items {region: {min, max}}).
+std::vector<Region> readFixedRegions(const KeyReader& r) {
+  std::vector<Region> regions;
+  forEachItem(r, "fixed", [&](const KeyReader& item) {
+    item.onlyKeys({"region"});
+    regions.push_back(readRegion(item, "region"));
+  });
+  return regions;
+}
+
+/// The optional rgb `colour` (each in [0, 1]), else `fallback`.
+Eigen::Vector3f readColour(const KeyReader& r, const Eigen::Vector3f& fallback) {
+  if (!r.has("colour")) return fallback;
+  const Eigen::Vector3d c = r.vector3("colour");
+  for (int i = 0; i < 3; ++i) checkRange(r, "colour", c[i], 0.0, 1.0, "");
+  return c.cast<float>();
+}
+
+BodySpec readBody(const KeyReader& r) {
+  r.onlyKeys({"name", "mesh", "model", "material", "pose", "fixed", "colour"});
+  BodySpec b;
+  b.name = readIdentifier(r, "name");
+  b.mesh = readTetMesh(r, b.resolution);
+  b.model = readEnum(r, "model", kModelNames);
+  if (b.model == ModelKind::Efg)
+    r.fail("model", "a body of a multi-body scene needs a tet model (not efg)");
+  b.material = readMaterial(r);
+  if (r.has("pose")) b.pose = readPose(r, "pose");
+  b.fixed = readFixedRegions(r);
+  b.colour = readColour(r, b.colour);
+  return b;
+}
+
+ConnectiveSpec readConnective(const KeyReader& r, const std::vector<BodySpec>& bodies) {
+  ConnectiveSpec c;
+  c.sampling = r.choice("sampling", {"tet_mesh", "poisson_disk"});
+  const std::set<std::string> common = {"name",  "sampling",    "material",
+                                        "fixed", "attachments", "colour"};
+  std::set<std::string> known = common;
+  if (c.sampling == "tet_mesh") {
+    known.insert("mesh");
+  } else {
+    known.insert({"hexahedron", "node_spacing", "sample_spacing", "neighbours", "seed"});
+  }
+  for (const auto& kv : r.node()) {
+    const std::string key = kv.first.as<std::string>();
+    if (!known.count(key) && (key == "mesh" || key == "hexahedron" || key == "node_spacing" ||
+                              key == "sample_spacing" || key == "neighbours" || key == "seed"))
+      r.fail(key, "does not apply to sampling " + c.sampling);
+  }
+  r.onlyKeys(known);
+  c.name = readIdentifier(r, "name");
+  if (c.sampling == "tet_mesh") {
+    c.mesh = readTetMesh(r, c.resolution);
+  } else {
+    const YAML::Node corners = r.list("hexahedron", "a list of 8 [x, y, z] corners");
+    if (corners.size() != 8) r.fail("hexahedron", "expected a list of 8 [x, y, z] corners");
+    for (const auto& corner : corners) {
+      if (!corner.IsSequence() || corner.size() != 3)
+        r.fail("hexahedron", "each corner is [x, y, z]");
+      Eigen::Vector3d p;
+      for (int k = 0; k < 3; ++k) p[k] = r.toNumber(corner[k], "hexahedron");
+      c.hexahedron.push_back(p);
+    }
+    c.node_spacing = r.number("node_spacing");
+    checkRange(r, "node_spacing", c.node_spacing, 1e-4, 1.0, "m");
+    c.sample_spacing = r.number("sample_spacing");
+    checkRange(r, "sample_spacing", c.sample_spacing, 5e-5, c.node_spacing, "m");
+    if (c.sample_spacing == c.node_spacing)
+      r.fail("sample_spacing", "must be smaller than node_spacing");
+    c.neighbours = r.integer("neighbours", 1, kMaxSampleNeighbours, c.neighbours);
+    c.seed = r.integer("seed", 0, std::numeric_limits<int>::max(), c.seed);
+  }
+  c.material = readMaterial(r);
+  c.fixed = readFixedRegions(r);
+  std::vector<bool> used(bodies.size(), false);
+  forEachItem(r, "attachments", [&](const KeyReader& item) {
+    item.onlyKeys({"body", "distance", "neighbours"});
+    AttachmentSpec a;
+    const std::string body = item.text("body");
+    a.body = -1;
+    for (std::size_t i = 0; i < bodies.size(); ++i)
+      if (bodies[i].name == body) a.body = static_cast<int>(i);
+    if (a.body < 0) item.fail("body", "no body is named '" + body + "'");
+    if (used[static_cast<std::size_t>(a.body)])
+      item.fail("body", "body '" + body + "' is already attached to this layer");
+    used[static_cast<std::size_t>(a.body)] = true;
+    a.distance = item.number("distance", a.distance);
+    checkRange(item, "distance", a.distance, 1e-9, 0.01, "m");
+    a.neighbours = item.integer("neighbours", 1, kMaxSampleNeighbours, a.neighbours);
+    c.attachments.push_back(a);
+  });
+  if (c.attachments.empty()) r.fail("attachments", "missing required key: a layer joins bodies");
+  c.colour = readColour(r, c.colour);
+  return c;
+}
+
+/// A multi-body scene (key 'bodies'): the single-body keys are rejected.
+RuntimeScene parseMultiBody(const KeyReader& r) {
+  for (const char* key : {"mesh", "material", "model", "integrator", "solver", "fixed", "newton",
+                          "pcg", "efg", "contact", "trocars", "blades", "robot"})
+    if (r.has(key))
+      r.fail(key, "a multi-body scene (key 'bodies') has no top-level '" + std::string(key) +
+                      "': each body and connective layer has its own mesh, material and fixed "
+                      "regions");
+  r.onlyKeys({"name", "description", "time_step", "gravity", "damping", "tools", "tissue_pose",
+              "bodies", "connective"});
+  RuntimeScene s;
+  s.path = r.path();
+  s.name = r.text("name");
+  readShared(r, s);
+  std::set<std::string> names;
+  const auto unique = [&](const KeyReader& item, const std::string& name) {
+    if (!names.insert(name).second)
+      item.fail("name", "duplicate name '" + name + "' (bodies and layers share one namespace)");
+  };
+  r.list("bodies", "a non-empty list of bodies");
+  forEachItem(r, "bodies", [&](const KeyReader& item) {
+    s.bodies.push_back(readBody(item));
+    unique(item, s.bodies.back().name);
+  });
+  if (s.bodies.size() > 16) r.fail("bodies", "at most 16 bodies are supported");
+  forEachItem(r, "connective", [&](const KeyReader& item) {
+    s.connective.push_back(readConnective(item, s.bodies));
+    unique(item, s.connective.back().name);
+  });
+  if (s.connective.size() > 16) r.fail("connective", "at most 16 layers are supported");
+  assignToolTopics(r, s.tools, s.trocars);
+  return s;
+}
+
 RuntimeScene parseRuntime(const YAML::Node& root, const std::string& path) {
   const KeyReader r(root, "", path);
   rejectForeignKeys(r, kBenchmarkKeys, kBenchmarkMeshKeys);
+  if (r.has("bodies")) return parseMultiBody(r);
   r.onlyKeys({"name",      "description", "mesh",    "material",    "model", "integrator", "solver",
               "time_step", "gravity",     "damping", "newton",      "pcg",   "fixed",      "tools",
               "trocars",   "blades",      "robot",   "tissue_pose", "efg",   "contact"});

@@ -141,6 +141,48 @@ struct RobotSpec {
   Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();  ///< robot_base in world
 };
 
+/// An FE organ of a multi-body scene (key bodies[i]).
+struct BodySpec {
+  std::string name;  ///< unique among bodies and connective layers, [A-Za-z][A-Za-z0-9_]*
+  MeshSpec mesh;     ///< a tet-mesh generator or file (tet4)
+  Eigen::Vector3i resolution = Eigen::Vector3i::Zero();  ///< generated meshes only
+  ModelKind model = ModelKind::Corotational;             ///< any tet model but efg
+  Material material;
+  /// Rest pose of the mesh in the scene (tissue) frame: the generated or read mesh is moved by it.
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  /// Nodes held at rest: those whose position in the mesh frame (before `pose`) lies in a region.
+  std::vector<Region> fixed;
+  Eigen::Vector3f colour = Eigen::Vector3f(0.95f, 0.65f, 0.65f);  ///< rgb, each in [0, 1]
+};
+
+/// Organ nodes skinned to a connective layer (key connective[i].attachments[j]).
+struct AttachmentSpec {
+  int body = 0;            ///< index into RuntimeScene::bodies (key: the body's name)
+  double distance = 1e-4;  ///< surface nodes within this of the layer's boundary [m], (0, 0.01]
+  int neighbours = 4;      ///< rigid nodes per attached node (Shepard weights), [1, 16]
+};
+
+/// A rigid-node connective layer of a multi-body scene (key connective[i]).
+struct ConnectiveSpec {
+  std::string name;  ///< unique among bodies and connective layers
+  /// "tet_mesh": a rigid node per node of `mesh`, 4 samples per tet, barycentric weights;
+  /// "poisson_disk": rigid nodes and samples by Poisson-disk sampling inside `hexahedron`,
+  /// Shepard weights on `neighbours` rigid nodes.
+  std::string sampling;
+  MeshSpec mesh;                                         ///< tet_mesh: the layer's tet4 mesh
+  Eigen::Vector3i resolution = Eigen::Vector3i::Zero();  ///< tet_mesh: generated meshes only
+  /// poisson_disk: the 8 corners of the layer's hexahedron [m], corner c at bits (x, y, z) of c.
+  std::vector<Eigen::Vector3d> hexahedron;
+  double node_spacing = 0.0;    ///< poisson_disk: rigid-node spacing [m], [1e-4, 1]
+  double sample_spacing = 0.0;  ///< poisson_disk: sample spacing [m], [5e-5, node_spacing)
+  int neighbours = 6;           ///< poisson_disk: rigid nodes per sample, [1, 16]
+  int seed = 0;                 ///< poisson_disk: random seed, [0, 2^31 - 1]
+  Material material;
+  std::vector<Region> fixed;  ///< rigid nodes held (all 6 DOFs): rest positions in a region
+  std::vector<AttachmentSpec> attachments;
+  Eigen::Vector3f colour = Eigen::Vector3f(0.95f, 0.85f, 0.45f);  ///< rgb, each in [0, 1]
+};
+
 /// What runtime and benchmark scenes share: the tissue, its material, loads and boundary
 /// conditions, the time step and solver settings, the tools. Every physical key has a unit and
 /// no silent default.
@@ -182,6 +224,11 @@ struct RuntimeScene : SceneBase {
   std::vector<TrocarSpec> trocars;  ///< at most 4, each holding a different tool
   std::vector<BladeSpec> blades;    ///< at most 4
   std::optional<RobotSpec> robot;
+  /// Multi-body scene (key 'bodies'): FE organs coupled by connective layers; empty for a
+  /// single-body scene. A multi-body scene has none of mesh, material, model, integrator, solver,
+  /// fixed, newton, pcg, efg, contact, trocars, blades and robot (SceneBase::mesh stays empty).
+  std::vector<BodySpec> bodies;
+  std::vector<ConnectiveSpec> connective;  ///< the layers of a multi-body scene
 };
 
 struct BenchmarkVariant;
