@@ -12,6 +12,14 @@
 #include "surgical_sim/core/solve/newton_constants.h"
 
 namespace surgical_sim::core {
+namespace {
+
+/// Bounds of the linear solve's relative tolerance (the forcing term) and its CG iteration cap.
+constexpr double kMinForcing = 1e-12;
+constexpr double kMaxForcing = 1e-2;
+constexpr int kMaxRefinementIterations = 100;
+
+}  // namespace
 
 RigidNodeQuasiStatic::RigidNodeQuasiStatic(const RigidNodeNewtonSettings& settings)
     : settings_(settings) {
@@ -35,6 +43,16 @@ double RigidNodeQuasiStatic::merit(const RigidNodeProblem& problem, const RigidN
   return elastic + body + external;
 }
 
+double RigidNodeQuasiStatic::residualNorm(const RigidNodeProblem& problem,
+                                          const RigidNodeConfiguration& q) {
+  work_.setZero(problem.model->numDofs());
+  problem.model->addInternalForce(q, work_);
+  problem.model->addBodyForce(q, problem.body_acceleration, work_);
+  if (problem.external_force.size() != 0) work_ += problem.external_force;
+  zeroDirichletEntries(problem.fixed_dofs, work_);
+  return work_.norm();
+}
+
 StepReport RigidNodeQuasiStatic::solve(const RigidNodeProblem& problem, RigidNodeConfiguration& q) {
   checkRigidNodeProblem(problem);
   const RigidNodeModel& model = *problem.model;
@@ -46,6 +64,7 @@ StepReport RigidNodeQuasiStatic::solve(const RigidNodeProblem& problem, RigidNod
   }
   StepReport report;
   start_ = q;
+  history_.clear();
   travelled_.setZero(model.numDofs());
   load_.setZero(model.numDofs());
   model.addBodyForce(q, problem.body_acceleration, load_);
@@ -77,12 +96,17 @@ StepReport RigidNodeQuasiStatic::solve(const RigidNodeProblem& problem, RigidNod
         kNewtonResidualRoundOff * absoluteProductNorm(system_.stiffness(), magnitude_, work_);
     const double denominator = std::max(scale, floor / settings_.relative_tolerance);
     report.residual = denominator > 0.0 ? norm / denominator : 0.0;
+    history_.push_back(report.residual);
     if (report.residual <= settings_.relative_tolerance) break;
     if (iteration == settings_.max_iterations) {
       report.status = StepStatus::NotConverged;
       break;
     }
-    if (!system_.solve(residual_, increment_).ok) {
+    // Inexact Newton with forcing term ~ the relative residual: quadratic near the solution.
+    const double forcing = std::clamp(report.residual, kMinForcing, kMaxForcing);
+    const LinearSolveReport linear =
+        system_.solveUnshifted(residual_, increment_, forcing, kMaxRefinementIterations);
+    if (!linear.ok) {
       q = start_;
       report.status = StepStatus::SolverFailed;
       return report;
@@ -90,17 +114,33 @@ StepReport RigidNodeQuasiStatic::solve(const RigidNodeProblem& problem, RigidNod
     double merit_scale = 0.0;
     const double merit0 = merit(problem, q, travelled_, &merit_scale);
     base_ = q;
-    const LineSearchResult line = armijoLineSearch(
-        merit0, -residual_.dot(increment_), merit_scale, settings_.max_halvings, [&](double s) {
-          trial_ = base_;
-          applyRigidNodeIncrement(increment_, s, trial_);
-          trial_travelled_ = travelled_ + s * increment_;
-          double unused = 0.0;
-          return merit(problem, trial_, trial_travelled_, &unused);
-        });
+    auto trial = [&](double s) {
+      trial_ = base_;
+      applyRigidNodeIncrement(increment_, s, trial_);
+      trial_travelled_ = travelled_ + s * increment_;
+    };
+    // Armijo on the energy along a descent direction; else (the Newton step heads for a saddle
+    // along drilling modes that load made unstable, or the energy cannot decrease measurably)
+    // backtracking on the residual norm, which the Newton step decreases.
+    bool accepted = false;
+    if (residual_.dot(increment_) > 0.0) {
+      accepted =
+          armijoLineSearch(merit0, -residual_.dot(increment_), merit_scale, settings_.max_halvings,
+                           [&](double s) {
+                             trial(s);
+                             double unused = 0.0;
+                             return merit(problem, trial_, trial_travelled_, &unused);
+                           })
+              .accepted;
+    }
+    for (int halving = 0; !accepted && halving <= settings_.max_halvings; ++halving) {
+      const double s = std::ldexp(1.0, -halving);
+      trial(s);
+      accepted = residualNorm(problem, trial_) <= (1.0 - 1e-4 * s) * norm;
+    }
     ++report.newton_iterations;
-    ++report.linear_iterations;
-    if (!line.accepted) {
+    report.linear_iterations += linear.iterations;
+    if (!accepted) {
       report.status = StepStatus::NotConverged;
       break;
     }

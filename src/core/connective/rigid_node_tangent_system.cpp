@@ -86,4 +86,78 @@ LinearSolveReport RigidNodeTangentSystem::solve(const Eigen::VectorXd& b, Eigen:
   return report;
 }
 
+LinearSolveReport RigidNodeTangentSystem::solveUnshifted(const Eigen::VectorXd& b,
+                                                         Eigen::VectorXd& x,
+                                                         double relative_tolerance,
+                                                         int max_iterations) {
+  LinearSolveReport report = solve(b, x);
+  if (!report.ok) return report;
+  const double b_norm = b.norm();
+  if (b_norm == 0.0) return report;
+  Eigen::VectorXd& r1 = minres_[0];
+  Eigen::VectorXd& r2 = minres_[1];
+  Eigen::VectorXd& y = minres_[2];
+  Eigen::VectorXd& v = minres_[3];
+  Eigen::VectorXd& w = minres_[4];
+  Eigen::VectorXd& w1 = minres_[5];
+  Eigen::VectorXd& w2 = minres_[6];
+  r1 = b;
+  r1.noalias() -= system_ * x;
+  report.relative_residual = r1.norm() / b_norm;
+  if (report.relative_residual <= relative_tolerance || max_iterations <= 0) return report;
+  // Preconditioned MINRES (Paige and Saunders) on A0 dx = r1 from dx = 0, with the SPD shifted
+  // factor as preconditioner: A0 may be indefinite (drilling modes under load).
+  refined_.setZero(b.size());
+  y.resize(b.size());
+  if (!solver_.solveWithFactor(r1, y)) return report;
+  const double beta1 = std::sqrt(std::max(r1.dot(y), 0.0));
+  if (!(beta1 > 0.0)) return report;
+  double beta = beta1, old_beta = 0.0, dbar = 0.0, epsilon = 0.0, phibar = beta1;
+  double cs = -1.0, sn = 0.0;
+  r2 = r1;
+  w.setZero(b.size());
+  w2.setZero(b.size());
+  int iterations = 0;
+  for (; iterations < max_iterations; ++iterations) {
+    v = y / beta;
+    y.noalias() = system_ * v;
+    if (iterations > 0) y -= (beta / old_beta) * r1;
+    const double alpha = v.dot(y);
+    y -= (alpha / beta) * r2;
+    r1.swap(r2);
+    r2 = y;
+    if (!solver_.solveWithFactor(r2, y)) break;
+    old_beta = beta;
+    beta = std::sqrt(std::max(r2.dot(y), 0.0));
+    const double old_epsilon = epsilon;
+    const double delta = cs * dbar + sn * alpha;
+    const double gbar = sn * dbar - cs * alpha;
+    epsilon = sn * beta;
+    dbar = -cs * beta;
+    const double gamma = std::max(std::hypot(gbar, beta), 1e-300);
+    cs = gbar / gamma;
+    sn = beta / gamma;
+    const double phi = cs * phibar;
+    phibar *= sn;
+    w1.swap(w2);
+    w2.swap(w);
+    w = (v - old_epsilon * w1 - delta * w2) / gamma;
+    refined_ += phi * w;
+    if (phibar <= relative_tolerance * beta1 || !(beta > 0.0)) {
+      ++iterations;
+      break;
+    }
+  }
+  refined_ += x;
+  r1 = b;
+  r1.noalias() -= system_ * refined_;
+  const double refined_residual = r1.norm() / b_norm;
+  report.iterations += iterations;
+  if (refined_.allFinite() && refined_residual < report.relative_residual) {
+    x = refined_;
+    report.relative_residual = refined_residual;
+  }
+  return report;
+}
+
 }  // namespace surgical_sim::core

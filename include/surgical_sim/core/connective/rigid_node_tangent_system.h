@@ -39,6 +39,15 @@ class RigidNodeTangentSystem {
   /// x = A^-1 b (b zero on fixed DOFs gives x zero there). ok is false if the solve fails or
   /// x is not finite.
   LinearSolveReport solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
+  /// x ~= A0^-1 b with A0 the projected system WITHOUT the rotational shift (the consistent
+  /// Newton matrix; the shift would damp soft modes and make Newton linear): solve() gives the
+  /// start, then preconditioned MINRES on A0 (which may be indefinite: drilling modes under
+  /// load) with the shifted factor as preconditioner refines it until the preconditioned
+  /// residual falls below relative_tolerance or after max_iterations. The refined x is kept if
+  /// it lowers |b - A0 x|, else solve()'s. ok as solve(); iterations counts the MINRES
+  /// iterations + 1; relative_residual is |b - A0 x| / |b|. Allocation-free after the first call.
+  LinearSolveReport solveUnshifted(const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                                   double relative_tolerance, int max_iterations);
 
   const Eigen::VectorXd& totalForce() const { return force_; }
   /// Internal force alone (part of totalForce()).
@@ -70,7 +79,8 @@ class RigidNodeTangentSystem {
   std::vector<int> rotation_diagonal_;  ///< value indices of free rotational diagonal entries
   double rotation_scale_ = 0.0;         ///< mean |entry| there [N m/rad]
   double shift_ = 0.0;
-  Eigen::VectorXd force_, internal_;
+  Eigen::VectorXd force_, internal_, refined_;
+  Eigen::VectorXd minres_[7];  ///< work vectors of solveUnshifted
   std::vector<std::uint8_t> mask_;
   bool material_only_ = false;
   StepPhaseTimes phases_;
