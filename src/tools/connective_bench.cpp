@@ -91,6 +91,7 @@ struct T5bRow {
   std::string model, element;
   Eigen::Vector3i cells;
   int nodes = 0, samples = 0, dofs = 0;
+  int newton_iterations = -1;  ///< summed over the load increments; -1: not a Newton row
   double tip = std::nan(""), residual = std::nan(""), ms_per_step = std::nan("");
   std::string status;
 };
@@ -146,6 +147,7 @@ T5bRow rigidNodeRow(const BenchmarkScene& scene, const Eigen::Vector3i& cells,
   row.dofs = r.dofs;
   row.tip = r.tip;
   row.residual = r.residual;
+  row.newton_iterations = r.newton_iterations;
   row.ms_per_step = r.ms_per_step;
   row.status = toString(r.status);
   return row;
@@ -184,7 +186,7 @@ int runT5b(const std::string& scene_path, std::ofstream& csv) {
     }
   emit(csv,
        "case,model,element,cells_x,cells_y,cells_z,nodes,samples,dofs,tip_m,reference_m,"
-       "error_rel,residual,ms_per_step,status");
+       "error_rel,residual,newton_iterations,ms_per_step,status");
   int failures = 0;
   for (const T5bRow& row : rows) {
     if (row.status != "ok") ++failures;
@@ -197,8 +199,9 @@ int runT5b(const std::string& scene_path, std::ofstream& csv) {
                   "," + std::to_string(row.dofs) + "," + number(row.tip, "%.6f") + "," +
                   number(reference, "%.6f") + "," +
                   number(std::abs(row.tip - reference) / std::abs(reference), "%.5f") + "," +
-                  number(row.residual, "%.2g") + "," + number(row.ms_per_step, "%.3f") + "," +
-                  row.status);
+                  number(row.residual, "%.2g") + "," +
+                  (row.newton_iterations < 0 ? "" : std::to_string(row.newton_iterations)) + "," +
+                  number(row.ms_per_step, "%.3f") + "," + row.status);
   }
   return failures;
 }

@@ -22,14 +22,15 @@ std::vector<int> clampedDofs(const RigidNodeConfiguration& rest, double x_max) {
   return dofs;
 }
 
-/// Mean displacement along y of the rigid nodes with rest x >= x_min [m].
+/// Mean displacement along axis `component` (y by default) of the rigid nodes with rest
+/// x >= x_min [m].
 double meanDeflection(const RigidNodeConfiguration& rest, const RigidNodeConfiguration& q,
-                      double x_min) {
+                      double x_min, int component = 1) {
   double sum = 0.0;
   int count = 0;
   for (int i = 0; i < rest.numNodes(); ++i) {
     if (rest.p_TN[i].x() < x_min) continue;
-    sum += q.p_TN[i].y() - rest.p_TN[i].y();
+    sum += q.p_TN[i][component] - rest.p_TN[i][component];
     ++count;
   }
   return sum / count;
@@ -144,14 +145,7 @@ double solveSaggingBeam(int increments) {
     EXPECT_LE(history.back(), 1e-3 * history[history.size() - 2]) << "increment " << k;
   }
   expectUnitQuaternions(q);
-  double tip = 0.0;
-  int count = 0;
-  for (int i = 0; i < model.numNodes(); ++i) {
-    if (layout.rest.p_TN[i].x() < 16.0) continue;
-    tip += q.p_TN[i].z() - layout.rest.p_TN[i].z();
-    ++count;
-  }
-  return tip / count;
+  return meanDeflection(layout.rest, q, 16.0, 2);
 }
 
 TEST(RigidNodeQuasiStatic, NewtonConvergesQuadraticallyAtLargeRotations) {
