@@ -14,7 +14,8 @@
 namespace surgical_sim::core {
 namespace {
 
-/// Bounds of the linear solve's relative tolerance (the forcing term) and its CG iteration cap.
+/// Bounds of the linear solve's relative tolerance (the forcing term) and its MINRES iteration
+/// cap.
 constexpr double kMinForcing = 1e-12;
 constexpr double kMaxForcing = 1e-2;
 constexpr int kMaxRefinementIterations = 100;
