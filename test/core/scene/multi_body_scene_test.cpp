@@ -164,6 +164,15 @@ TEST(MultiBodySceneKeys, BadBodyKeysAreRejectedNamingTheKey) {
 TEST(MultiBodySceneKeys, BadLayerKeysAreRejectedNamingTheKey) {
   expectRejected(replaced("sampling: tet_mesh", "sampling: voxels"),
                  {"key 'connective[0].sampling'", "'voxels' is not one of"});
+  expectRejected(replaced("    mesh: {generator: box, origin: [0.0, 0.0, 0.01], size: [0.02, 0.02, "
+                          "0.005], resolution: [2, 2, 1]}\n",
+                          ""),
+                 {"key 'connective[0].mesh'"});
+  expectRejected(replaced("material: {young_modulus: 5.0e3, poisson_ratio: 0.3",
+                          "material: {young_modulus: 5.0e3, poisson_ratio: 0.5"),
+                 {"key 'connective[0].material.poisson_ratio'"});
+  expectRejected(replaced("{max: [.inf, .inf, 0.001]}", "{min: [0, 0, 1], max: [1, 1, 0]}"),
+                 {"key 'connective[1].fixed[0].region.min'", "min exceeds max"});
   expectRejected(replaced("sampling: tet_mesh", "sampling: tet_mesh\n    seed: 3"),
                  {"key 'connective[0].seed'", "does not apply to sampling tet_mesh"});
   expectRejected(replaced("    mesh: {generator: box, origin: [0.0, 0.0, 0.01]",
