@@ -136,13 +136,14 @@ RigidNodeBeamResult runRigidNodeBeam(const RigidNodeBeamSpec& spec) {
     const Stopwatch watch;
     const double cpu = threadCpuSeconds();
     const int untimed_factorizations = integrator.factorizations();
-    int steps = 0;
+    int steps = 0, linear_iterations = 0;
     for (; steps < spec.timed_steps && status == StepStatus::Ok; ++steps) {
       const StepReport report = integrator.step(problem, spec.time_step, state);
       status = report.status;
       sum.forces += report.phases.forces;
       sum.factorization += report.phases.factorization;
       sum.linear_solve += report.phases.linear_solve;
+      linear_iterations += report.linear_iterations;
     }
     result.factorizations = integrator.factorizations() - untimed_factorizations;
     keep(status);
@@ -152,6 +153,7 @@ RigidNodeBeamResult runRigidNodeBeam(const RigidNodeBeamSpec& spec) {
       result.forces_ms = 1e3 * sum.forces / steps;
       result.factor_ms = 1e3 * sum.factorization / steps;
       result.linear_solve_ms = 1e3 * sum.linear_solve / steps;
+      result.linear_iterations = static_cast<double>(linear_iterations) / steps;
     }
   }
   return result;

@@ -212,7 +212,7 @@ int runT5b(const std::string& scene_path, std::ofstream& csv) {
 int runSpeed(std::ofstream& csv) {
   emit(csv,
        "nodes_x,nodes_y,nodes_z,nodes,samples,dofs,refresh_interval,factorizations,ms_per_step,"
-       "cpu_ms_per_step,forces_ms,factor_ms,linear_solve_ms,bosman_ms,status");
+       "cpu_ms_per_step,forces_ms,factor_ms,linear_solve_ms,linear_iterations,bosman_ms,status");
   // Bosman's Table 4.4 (Core i7, LDL^T) by rigid-node count [ms].
   auto bosman = [](int nodes) {
     return nodes == 48 ? 27.0 : nodes == 216 ? 177.0 : nodes == 512 ? 753.0 : std::nan("");
@@ -244,8 +244,8 @@ int runSpeed(std::ofstream& csv) {
                     std::to_string(refresh_interval) + "," + std::to_string(r.factorizations) +
                     "," + number(r.ms_per_step, "%.3f") + "," + number(r.cpu_ms_per_step, "%.3f") +
                     "," + number(r.forces_ms, "%.3f") + "," + number(r.factor_ms, "%.3f") + "," +
-                    number(r.linear_solve_ms, "%.3f") + "," + number(bosman(r.nodes), "%.0f") +
-                    "," + toString(r.status));
+                    number(r.linear_solve_ms, "%.3f") + "," + number(r.linear_iterations, "%.1f") +
+                    "," + number(bosman(r.nodes), "%.0f") + "," + toString(r.status));
     }
   }
   return failures;

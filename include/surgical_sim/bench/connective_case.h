@@ -64,8 +64,10 @@ struct RigidNodeBeamResult {
   double forces_ms = std::numeric_limits<double>::quiet_NaN();
   double factor_ms = std::numeric_limits<double>::quiet_NaN();
   /// Mean wall time per timed step of the linear solve (triangular solves or conjugate
-  /// gradients) [ms], and factorizations over the timed steps.
+  /// gradients) [ms], mean linear iterations per timed step (1: direct), and factorizations over
+  /// the timed steps.
   double linear_solve_ms = std::numeric_limits<double>::quiet_NaN();
+  double linear_iterations = std::numeric_limits<double>::quiet_NaN();
   int factorizations = 0;
   /// First non-Ok status of the quasi-static solve and of the timed steps, or Ok.
   StepStatus status = StepStatus::Ok;
