@@ -4,8 +4,8 @@
 usage: plot_connective.py CASE CSV OUT.png
 CASE t1: |tip error| against DOFs, one series per sweep (cross-section, length).
 CASE t5b: tip error against DOFs and against ms per step, one series per model and element.
-CASE speed: CPU and wall ms per step against rigid nodes, beside Bosman's Table 4.4 and a tenth
-of it.
+CASE speed: CPU and wall ms per step against rigid nodes, one series per refresh_interval,
+beside Bosman's Table 4.4 and a tenth of it.
 """
 import csv
 import math
@@ -79,8 +79,10 @@ def main(argv):
         fig.suptitle("T5(b) large deformation 16 x 1 x 1 m, E 40 kPa, 5 kg")
     else:
         fig, ax = plt.subplots(figsize=(7, 5))
-        n = series_plot(ax, rows, lambda r: "thread CPU time", "nodes", "cpu_ms_per_step")
-        n += series_plot(ax, rows, lambda r: "wall time (shared machine)", "nodes", "ms_per_step")
+        every = lambda r: "factorize every %s step(s)" % r["refresh_interval"]  # noqa: E731
+        n = series_plot(ax, rows, lambda r: "thread CPU, " + every(r), "nodes", "cpu_ms_per_step")
+        n += series_plot(ax, rows, lambda r: "wall (shared machine), " + every(r), "nodes",
+                         "ms_per_step")
         bosman = [(finite(r["nodes"]), finite(r["bosman_ms"])) for r in rows]
         bosman = [p for p in bosman if p[0] and p[1]]
         if bosman:

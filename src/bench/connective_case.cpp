@@ -39,6 +39,7 @@ void checkSpec(const RigidNodeBeamSpec& spec) {
     fail("time_step", spec.time_step, "finite and > 0");
   if (!(std::isfinite(spec.mass_damping) && spec.mass_damping >= 0.0))
     fail("mass_damping", spec.mass_damping, "finite and >= 0");
+  core::validateRigidNodeImplicitEulerSettings(spec.integrator);
 }
 
 RigidNodeLayout beamLayout(const RigidNodeBeamSpec& spec) {
@@ -129,24 +130,30 @@ RigidNodeBeamResult runRigidNodeBeam(const RigidNodeBeamSpec& spec) {
     RigidNodeState state;
     state.configuration = layout.rest;
     state.velocity.setZero(model.numDofs());
-    RigidNodeImplicitEuler integrator;
+    RigidNodeImplicitEuler integrator(spec.integrator);
     StepStatus status = integrator.step(problem, spec.time_step, state).status;
     StepPhaseTimes sum;
     const Stopwatch watch;
     const double cpu = threadCpuSeconds();
-    int steps = 0;
+    const int untimed_factorizations = integrator.factorizations();
+    int steps = 0, linear_iterations = 0;
     for (; steps < spec.timed_steps && status == StepStatus::Ok; ++steps) {
       const StepReport report = integrator.step(problem, spec.time_step, state);
       status = report.status;
       sum.forces += report.phases.forces;
       sum.factorization += report.phases.factorization;
+      sum.linear_solve += report.phases.linear_solve;
+      linear_iterations += report.linear_iterations;
     }
+    result.factorizations = integrator.factorizations() - untimed_factorizations;
     keep(status);
     if (steps > 0) {
       result.ms_per_step = watch.milliseconds() / steps;
       result.cpu_ms_per_step = 1e3 * (threadCpuSeconds() - cpu) / steps;
       result.forces_ms = 1e3 * sum.forces / steps;
       result.factor_ms = 1e3 * sum.factorization / steps;
+      result.linear_solve_ms = 1e3 * sum.linear_solve / steps;
+      result.linear_iterations = static_cast<double>(linear_iterations) / steps;
     }
   }
   return result;

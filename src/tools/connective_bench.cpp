@@ -31,7 +31,8 @@ constexpr const char* kUsage =
     "         beside the scene's corotational tet4 / tet10 at its resolutions, tip error\n"
     "         against the finest tet10, DOFs and ms per linearized implicit Euler step\n"
     "  speed  ms per linearized implicit Euler step of a soft grid block clamped at one end\n"
-    "         against rigid-node and sample counts (Bosman's Table 4.4 sizes included)\n"
+    "         against rigid-node and sample counts (Bosman's Table 4.4 sizes included), with a\n"
+    "         factorization every step and with the default factor reuse\n"
     "  --scene FILE  t5b's benchmark scene\n"
     "  --csv FILE    also write the rows to FILE\n"
     "  --plot FILE   PNG of the rows (needs --csv)\n";
@@ -210,8 +211,8 @@ int runT5b(const std::string& scene_path, std::ofstream& csv) {
 
 int runSpeed(std::ofstream& csv) {
   emit(csv,
-       "nodes_x,nodes_y,nodes_z,nodes,samples,dofs,ms_per_step,cpu_ms_per_step,forces_ms,"
-       "factor_ms,bosman_ms,status");
+       "nodes_x,nodes_y,nodes_z,nodes,samples,dofs,refresh_interval,factorizations,ms_per_step,"
+       "cpu_ms_per_step,forces_ms,factor_ms,linear_solve_ms,linear_iterations,bosman_ms,status");
   // Bosman's Table 4.4 (Core i7, LDL^T) by rigid-node count [ms].
   auto bosman = [](int nodes) {
     return nodes == 48 ? 27.0 : nodes == 216 ? 177.0 : nodes == 512 ? 753.0 : std::nan("");
@@ -219,26 +220,33 @@ int runSpeed(std::ofstream& csv) {
   const std::vector<Eigen::Vector3i> grids = {Eigen::Vector3i(3, 3, 3), Eigen::Vector3i(4, 4, 3),
                                               Eigen::Vector3i(5, 5, 4), Eigen::Vector3i(6, 6, 6),
                                               Eigen::Vector3i(8, 8, 8)};
+  // Each size twice: a direct solve every step, and the default factor reuse.
+  const int refresh_intervals[] = {1, RigidNodeImplicitEulerSettings{}.refresh_interval};
   int failures = 0;
   for (std::size_t i = 0; i < grids.size(); ++i) {
     const Eigen::Vector3i& nodes = grids[i];
     surgical_sim::tools::progress(kTool, surgical_sim::tools::caseCounter(i, grids.size()) +
                                              "speed, " + std::to_string(nodes.prod()) +
                                              " rigid nodes");
-    RigidNodeBeamSpec spec;
-    spec.size = 0.01 * (nodes - Eigen::Vector3i::Ones()).cast<double>();
-    spec.material = Material::create(20e3, 0.4, 1000.0);
-    spec.cells = nodes - Eigen::Vector3i::Ones();
-    spec.load_steps = 0;
-    spec.timed_steps = 10;
-    const RigidNodeBeamResult r = runRigidNodeBeam(spec);
-    if (r.status != StepStatus::Ok) ++failures;
-    emit(csv, std::to_string(nodes.x()) + "," + std::to_string(nodes.y()) + "," +
-                  std::to_string(nodes.z()) + "," + std::to_string(r.nodes) + "," +
-                  std::to_string(r.samples) + "," + std::to_string(r.dofs) + "," +
-                  number(r.ms_per_step, "%.3f") + "," + number(r.cpu_ms_per_step, "%.3f") + "," +
-                  number(r.forces_ms, "%.3f") + "," + number(r.factor_ms, "%.3f") + "," +
-                  number(bosman(r.nodes), "%.0f") + "," + toString(r.status));
+    for (const int refresh_interval : refresh_intervals) {
+      RigidNodeBeamSpec spec;
+      spec.size = 0.01 * (nodes - Eigen::Vector3i::Ones()).cast<double>();
+      spec.material = Material::create(20e3, 0.4, 1000.0);
+      spec.cells = nodes - Eigen::Vector3i::Ones();
+      spec.load_steps = 0;
+      spec.timed_steps = 20;
+      spec.integrator.refresh_interval = refresh_interval;
+      const RigidNodeBeamResult r = runRigidNodeBeam(spec);
+      if (r.status != StepStatus::Ok) ++failures;
+      emit(csv, std::to_string(nodes.x()) + "," + std::to_string(nodes.y()) + "," +
+                    std::to_string(nodes.z()) + "," + std::to_string(r.nodes) + "," +
+                    std::to_string(r.samples) + "," + std::to_string(r.dofs) + "," +
+                    std::to_string(refresh_interval) + "," + std::to_string(r.factorizations) +
+                    "," + number(r.ms_per_step, "%.3f") + "," + number(r.cpu_ms_per_step, "%.3f") +
+                    "," + number(r.forces_ms, "%.3f") + "," + number(r.factor_ms, "%.3f") + "," +
+                    number(r.linear_solve_ms, "%.3f") + "," + number(r.linear_iterations, "%.1f") +
+                    "," + number(bosman(r.nodes), "%.0f") + "," + toString(r.status));
+    }
   }
   return failures;
 }

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "surgical_sim/core/common/status.h"
+#include "surgical_sim/core/connective/rigid_node_implicit_euler.h"
 #include "surgical_sim/core/tissue/material.h"
 
 namespace surgical_sim::bench {
@@ -39,6 +40,8 @@ struct RigidNodeBeamSpec {
   int timed_steps = 0;
   double time_step = 0.01;    ///< [s], > 0
   double mass_damping = 1.0;  ///< Rayleigh alpha of the timed steps [1/s], >= 0
+  /// Factor reuse of the timed steps (refresh_interval 1: a direct solve every step).
+  core::RigidNodeImplicitEulerSettings integrator;
 };
 
 /// Measured outcome of runRigidNodeBeam.
@@ -60,6 +63,12 @@ struct RigidNodeBeamResult {
   /// factorization [ms].
   double forces_ms = std::numeric_limits<double>::quiet_NaN();
   double factor_ms = std::numeric_limits<double>::quiet_NaN();
+  /// Mean wall time per timed step of the linear solve (triangular solves or conjugate
+  /// gradients) [ms], mean linear iterations per timed step (1: direct), and factorizations over
+  /// the timed steps.
+  double linear_solve_ms = std::numeric_limits<double>::quiet_NaN();
+  double linear_iterations = std::numeric_limits<double>::quiet_NaN();
+  int factorizations = 0;
   /// First non-Ok status of the quasi-static solve and of the timed steps, or Ok.
   StepStatus status = StepStatus::Ok;
 };

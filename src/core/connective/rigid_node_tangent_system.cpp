@@ -30,17 +30,19 @@ void RigidNodeTangentSystem::buildSystem(const RigidNodeProblem& problem,
   phases_.assembly += watch.seconds();
 }
 
-bool RigidNodeTangentSystem::factorizeShifted(double relative_shift) {
+void RigidNodeTangentSystem::shiftSystem(double relative_shift) {
   shifted_.coeffs() = system_.coeffs();
   const double shift = relative_shift * rotation_scale_;
   for (const int k : rotation_diagonal_) shifted_.valuePtr()[k] += shift;
   shift_ = relative_shift;
+}
+
+bool RigidNodeTangentSystem::factorizeShifted(double relative_shift) {
+  shiftSystem(relative_shift);
   return timed(phases_.factorization, [&]() { return solver_.factorize(shifted_); });
 }
 
-bool RigidNodeTangentSystem::assemble(const RigidNodeProblem& problem,
-                                      const RigidNodeConfiguration& q, double mass_coefficient,
-                                      double stiffness_coefficient) {
+void RigidNodeTangentSystem::prepare(const RigidNodeProblem& problem) {
   const RigidNodeModel& model = *problem.model;
   phases_ = StepPhaseTimes{};
   if (analysed_ != &model || system_.rows() != model.numDofs() ||
@@ -50,7 +52,9 @@ bool RigidNodeTangentSystem::assemble(const RigidNodeProblem& problem,
     system_ = stiffness_;
     shifted_ = stiffness_;
     solver_.analyzePattern(system_);
+    cg_.resize(model.numDofs());
     analysed_ = &model;
+    factorized_ = false;
   }
   mask_.assign(model.numDofs(), 0);
   markDirichletDofs(problem.fixed_dofs, mask_);
@@ -62,6 +66,20 @@ bool RigidNodeTangentSystem::assemble(const RigidNodeProblem& problem,
     rotation_diagonal_.push_back(
         static_cast<int>(std::lower_bound(inner + outer[d], inner + outer[d + 1], d) - inner));
   }
+}
+
+void RigidNodeTangentSystem::addLoads(const RigidNodeProblem& problem,
+                                      const RigidNodeConfiguration& q) {
+  force_ = internal_;
+  problem.model->addBodyForce(q, problem.body_acceleration, force_);
+  if (problem.external_force.size() != 0) force_ += problem.external_force;
+}
+
+bool RigidNodeTangentSystem::assemble(const RigidNodeProblem& problem,
+                                      const RigidNodeConfiguration& q, double mass_coefficient,
+                                      double stiffness_coefficient) {
+  const RigidNodeModel& model = *problem.model;
+  prepare(problem);
   if (mass_coefficient != 0.0) timed(phases_.assembly, [&]() { model.assembleNodeMass(q, mass_); });
   bool ok = false;
   for (const bool geometric : {true, false}) {
@@ -73,10 +91,35 @@ bool RigidNodeTangentSystem::assemble(const RigidNodeProblem& problem,
     }
     if (ok) break;
   }
-  force_ = internal_;
-  model.addBodyForce(q, problem.body_acceleration, force_);
-  if (problem.external_force.size() != 0) force_ += problem.external_force;
+  addLoads(problem, q);
+  factorized_ = ok;
   return ok;
+}
+
+bool RigidNodeTangentSystem::assembleKeepingFactor(const RigidNodeProblem& problem,
+                                                   const RigidNodeConfiguration& q,
+                                                   double mass_coefficient,
+                                                   double stiffness_coefficient) {
+  if (!factorized_ || analysed_ != problem.model) return false;
+  prepare(problem);
+  if (!factorized_) return false;
+  if (mass_coefficient != 0.0)
+    timed(phases_.assembly, [&]() { problem.model->assembleNodeMass(q, mass_); });
+  buildSystem(problem, q, !material_only_, mass_coefficient, stiffness_coefficient);
+  timed(phases_.assembly, [&]() { shiftSystem(shift_); });
+  addLoads(problem, q);
+  return true;
+}
+
+LinearSolveReport RigidNodeTangentSystem::solveWithKeptFactor(const Eigen::VectorXd& b,
+                                                              Eigen::VectorXd& x,
+                                                              double relative_tolerance,
+                                                              int max_iterations) {
+  x.setZero(b.size());
+  return preconditionedConjugateGradient(
+      shifted_, b, x, max_iterations, relative_tolerance,
+      [this](const Eigen::VectorXd& r, Eigen::VectorXd& z) { return solver_.precondition(r, z); },
+      cg_);
 }
 
 LinearSolveReport RigidNodeTangentSystem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {

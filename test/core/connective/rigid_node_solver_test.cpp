@@ -2,6 +2,9 @@
 
 #include <cmath>
 #include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "rigid_node_test_util.h"
 #include "surgical_sim/core/connective/rigid_node_implicit_euler.h"
@@ -183,6 +186,101 @@ TEST(RigidNodeImplicitEuler, SettlesToTheQuasiStaticEquilibriumWithUnitQuaternio
   EXPECT_NEAR(meanDeflection(block.layout.rest, state.configuration, 2.0), static_deflection,
               1e-3 * std::abs(static_deflection));
   for (int d : block.problem.fixed_dofs) EXPECT_EQ(state.velocity[d], 0.0);
+}
+
+/// Steps the Block beam, released from rest under gravity (bending), with settings and returns
+/// the rigid-node positions after each step; every step must be Ok.
+std::vector<std::vector<Eigen::Vector3d>> bendBlock(const RigidNodeImplicitEulerSettings& settings,
+                                                    int steps, int* factorizations = nullptr) {
+  Block block;
+  block.problem.mass_damping = 1.0;
+  RigidNodeState state;
+  state.configuration = block.layout.rest;
+  state.velocity = Eigen::VectorXd::Zero(block.model.numDofs());
+  RigidNodeImplicitEuler integrator(settings);
+  std::vector<std::vector<Eigen::Vector3d>> positions;
+  for (int step = 0; step < steps; ++step) {
+    const StepReport report = integrator.step(block.problem, 0.02, state);
+    EXPECT_EQ(report.status, StepStatus::Ok) << "step " << step;
+    if (report.linear_iterations > 1) EXPECT_LE(report.residual, settings.relative_tolerance);
+    positions.push_back(state.configuration.p_TN);
+  }
+  if (factorizations != nullptr) *factorizations = integrator.factorizations();
+  return positions;
+}
+
+TEST(RigidNodeImplicitEuler, ReusedFactorFollowsTheDirectTrajectory) {
+  RigidNodeImplicitEulerSettings direct;
+  direct.refresh_interval = 1;
+  RigidNodeImplicitEulerSettings reuse;
+  reuse.refresh_interval = 8;
+  const int steps = 24;
+  int direct_factorizations = 0, reuse_factorizations = 0;
+  const auto expected = bendBlock(direct, steps, &direct_factorizations);
+  const auto actual = bendBlock(reuse, steps, &reuse_factorizations);
+  EXPECT_EQ(direct_factorizations, steps);
+  EXPECT_EQ(reuse_factorizations, 3);  // steps 0, 8, 16: the others reused a factor
+  const Block block;
+  double largest_motion = 0.0, largest_difference = 0.0;
+  for (int step = 0; step < steps; ++step) {
+    for (int i = 0; i < block.model.numNodes(); ++i) {
+      largest_motion =
+          std::max(largest_motion, (expected[step][i] - block.layout.rest.p_TN[i]).norm());
+      largest_difference =
+          std::max(largest_difference, (actual[step][i] - expected[step][i]).norm());
+    }
+  }
+  EXPECT_GT(largest_motion, 1e-3);  // the beam bends [m]
+  EXPECT_LE(largest_difference, 1e-8 * largest_motion);
+}
+
+TEST(RigidNodeImplicitEuler, RefactorizesEveryRefreshInterval) {
+  for (const int interval : {1, 3, 5, 20}) {
+    RigidNodeImplicitEulerSettings settings;
+    settings.refresh_interval = interval;
+    int factorizations = 0;
+    bendBlock(settings, 20, &factorizations);
+    EXPECT_EQ(factorizations, (20 + interval - 1) / interval) << "refresh_interval " << interval;
+  }
+}
+
+TEST(RigidNodeImplicitEuler, RefactorizesWhenTheIterationCapIsTooSmall) {
+  // One iteration cannot reach 1e-10 with a stale factor: every step falls back to a direct
+  // solve, and the trajectory stays the direct one.
+  RigidNodeImplicitEulerSettings direct;
+  direct.refresh_interval = 1;
+  RigidNodeImplicitEulerSettings capped;
+  capped.max_pcg_iterations = 1;
+  int factorizations = 0;
+  const auto expected = bendBlock(direct, 6);
+  const auto actual = bendBlock(capped, 6, &factorizations);
+  EXPECT_EQ(factorizations, 6);
+  for (int i = 0; i < static_cast<int>(expected.back().size()); ++i)
+    EXPECT_LE((actual.back()[i] - expected.back()[i]).norm(), 1e-12);
+}
+
+TEST(RigidNodeImplicitEuler, RejectsBadSettingsNamingThem) {
+  auto expectThrowNaming = [](const RigidNodeImplicitEulerSettings& settings,
+                              const std::string& name) {
+    try {
+      RigidNodeImplicitEuler integrator(settings);
+      ADD_FAILURE() << name << " accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+  };
+  RigidNodeImplicitEulerSettings settings;
+  settings.refresh_interval = 0;
+  expectThrowNaming(settings, "refresh_interval");
+  settings = {};
+  settings.relative_tolerance = 0.0;
+  expectThrowNaming(settings, "relative_tolerance");
+  settings = {};
+  settings.relative_tolerance = 1.0;
+  expectThrowNaming(settings, "relative_tolerance");
+  settings = {};
+  settings.max_pcg_iterations = 0;
+  expectThrowNaming(settings, "max_pcg_iterations");
 }
 
 TEST(RigidNodeImplicitEuler, FreeRigidSpinStaysRigid) {

@@ -8,6 +8,7 @@
 #include "surgical_sim/core/common/status.h"
 #include "surgical_sim/core/connective/rigid_node_problem.h"
 #include "surgical_sim/core/solve/cholmod_solver.h"
+#include "surgical_sim/core/solve/conjugate_gradient.h"
 
 namespace surgical_sim::core {
 
@@ -36,6 +37,17 @@ class RigidNodeTangentSystem {
   /// factor of the projected A. Returns false if neither A could be factorized.
   bool assemble(const RigidNodeProblem& problem, const RigidNodeConfiguration& q,
                 double mass_coefficient, double stiffness_coefficient);
+  /// As assemble(), but keeps the factor of the last factorizing assemble() instead of
+  /// refactorizing: A is built with that factorization's choice of geometric part and relative
+  /// rotational shift (solve it with solveWithKeptFactor()). Returns false, with nothing
+  /// assembled, if there is no factor of this model.
+  bool assembleKeepingFactor(const RigidNodeProblem& problem, const RigidNodeConfiguration& q,
+                             double mass_coefficient, double stiffness_coefficient);
+  /// x ~= A^-1 b for the A of the last assemble*() by conjugate gradients from x = 0,
+  /// preconditioned with the kept factor: ok when |b - A x| <= relative_tolerance |b| within
+  /// max_iterations (iterations counts them, relative_residual reports the last iterate).
+  LinearSolveReport solveWithKeptFactor(const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                                        double relative_tolerance, int max_iterations);
   /// x = A^-1 b (b zero on fixed DOFs gives x zero there). ok is false if the solve fails or
   /// x is not finite.
   LinearSolveReport solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
@@ -70,6 +82,12 @@ class RigidNodeTangentSystem {
   /// internal_, stiffness_ and the projected, unshifted system_; rotation_scale_.
   void buildSystem(const RigidNodeProblem& problem, const RigidNodeConfiguration& q, bool geometric,
                    double mass_coefficient, double stiffness_coefficient);
+  /// Analyses model's pattern if new; the fixed-DOF mask and rotation_diagonal_.
+  void prepare(const RigidNodeProblem& problem);
+  /// force_ = internal_ + body force + external force at q.
+  void addLoads(const RigidNodeProblem& problem, const RigidNodeConfiguration& q);
+  /// shifted_ = system_ with the rotational shift.
+  void shiftSystem(double relative_shift);
   /// Factorizes system_ with the rotational shift into shifted_.
   bool factorizeShifted(double relative_shift);
 
@@ -83,6 +101,8 @@ class RigidNodeTangentSystem {
   Eigen::VectorXd minres_[7];  ///< work vectors of solveUnshifted
   std::vector<std::uint8_t> mask_;
   bool material_only_ = false;
+  bool factorized_ = false;  ///< the last factorizing assemble() succeeded
+  CgWorkspace cg_;           ///< work vectors of solveWithKeptFactor
   StepPhaseTimes phases_;
 };
 
