@@ -60,20 +60,19 @@ void PcgSolver::analyzePattern(const Eigen::SparseMatrix<double>& A) {
   const bool cholesky = preconditioner_ == PcgPreconditioner::CholeskyReuse ||
                         preconditioner_ == PcgPreconditioner::CholeskyWarped;
   if (cholesky && cholesky_valid_ && A.rows() == matrix_.rows() && A.cols() == matrix_.cols()) {
-    // Same unknowns: keep the factor, correct it locally where the pattern changed.
-    matrix_ = A;
-    matrix_.makeCompressed();
+    // Same unknowns, changed pattern: keep the factor, correct it locally where it changed.
+    Eigen::SparseMatrix<double> pattern = A;
+    pattern.makeCompressed();
     std::vector<int> unknowns =
-        changedPatternUnknowns(matrix_, cholesky_.analysedMatrix(), kLocalRings);
-    stale_pattern_ = !unknowns.empty();
-    if (static_cast<Eigen::Index>(unknowns.size()) > matrix_.rows() / 2) {
-      unknowns.clear();
-      cholesky_valid_ = false;  // too large a change: refactorize at the next factorize()
+        changedPatternUnknowns(pattern, cholesky_.analysedMatrix(), kLocalRings);
+    if (!unknowns.empty() && static_cast<Eigen::Index>(unknowns.size()) <= pattern.rows() / 2) {
+      matrix_ = std::move(pattern);
+      local_.setUnknowns(matrix_, std::move(unknowns));
+      stale_pattern_ = true;
+      warped_ = false;
+      factorized_ = false;
+      return;
     }
-    local_.setUnknowns(matrix_, std::move(unknowns));
-    warped_ = false;
-    factorized_ = false;
-    return;
   }
   matrix_ = A;
   matrix_.makeCompressed();

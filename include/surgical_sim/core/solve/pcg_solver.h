@@ -79,12 +79,12 @@ class PcgSolver final : public LinearSolver {
   /// ignored.
   void setLinearizationState(const TissueModel& model, const Eigen::VectorXd& x) override;
   /// Stores A's pattern, sizes all work vectors, analyses the preconditioner's pattern.
-  /// CholeskyReuse, CholeskyWarped with a factor of the same size (a cut of a model whose DOFs
-  /// stay, e.g. EfgVolumeCutter): the factor is kept, not re-analysed. Until its refresh is due
-  /// (refresh_interval factorize() calls after it was made) it preconditions the new pattern
-  /// through a LocalSchwarzCorrection on the unknowns whose pattern changed
-  /// (changedPatternUnknowns() with kLocalRings rings; more than half the unknowns: refactorized
-  /// at the next factorize()); the refresh re-analyses the new pattern.
+  /// CholeskyReuse, CholeskyWarped with a factor of the same size and another pattern (a cut of a
+  /// model whose DOFs stay, e.g. EfgVolumeCutter): the factor is kept, not re-analysed. Until its
+  /// refresh is due (refresh_interval factorize() calls after it was made) it preconditions the
+  /// new pattern through a LocalSchwarzCorrection on the unknowns whose pattern changed
+  /// (changedPatternUnknowns() with kLocalRings rings); the refresh re-analyses the new pattern.
+  /// The same pattern, or a change on more than half the unknowns, is analysed afresh.
   void analyzePattern(const Eigen::SparseMatrix<double>& A) override;
   /// Copies A's values and builds the preconditioner. Returns false if the pattern differs, a
   /// (block) diagonal is not positive definite or the preconditioner factorization failed.
