@@ -50,6 +50,25 @@ TEST(EfgProgressiveCuts, DofsAndMassStayWhileTheSurfaceOpens) {
   EXPECT_GT(records.back().triangles, info.surface_triangles);  // the cut faces were added
 }
 
+TEST(EfgProgressiveCuts, FactorReusingSolverConvergesThroughTheCuts) {
+  EfgCutRunSettings settings;
+  settings.surface_subdivisions = 4;
+  settings.spacing = 0.008;
+  settings.front_width = 0.01;
+  settings.cuts = 3;
+  settings.sweeps_per_cut = 4;
+  settings.solver = SolverKind::PcgCholeskyWarped;
+  const std::vector<EfgCutSweepRecord> records = runEfgProgressiveCuts(settings);
+  ASSERT_EQ(records.size(), 12u);
+  int changed = 0;
+  for (const EfgCutSweepRecord& r : records) {
+    EXPECT_TRUE(r.finite) << "cut " << r.cut << " sweep " << r.sweep;  // converged to tolerance
+    EXPECT_GE(r.linear_iterations, 1);
+    changed += r.changed_ips;
+  }
+  EXPECT_GT(changed, 0);
+}
+
 TEST(EfgProgressiveCuts, RejectsBadSettingsByName) {
   EfgCutRunSettings settings;
   settings.depth = 3.0;
