@@ -27,13 +27,19 @@ TEST(EfgCutFuzz, RejectsSettingsWithoutSweeps) {
   EXPECT_THROW(runEfgCutFuzz(EfgCutFuzzSettings{}), std::invalid_argument);
 }
 
-TEST(EfgProgressiveCuts, DofsAndMassStayWhileTheSurfaceOpens) {
+// Progressive cuts of the coarse liver (d = 8 mm, 5,120-triangle surface).
+EfgCutRunSettings coarseRun(int cuts, int sweeps_per_cut) {
   EfgCutRunSettings settings;
   settings.surface_subdivisions = 4;
   settings.spacing = 0.008;
   settings.front_width = 0.01;
-  settings.cuts = 4;
-  settings.sweeps_per_cut = 6;
+  settings.cuts = cuts;
+  settings.sweeps_per_cut = sweeps_per_cut;
+  return settings;
+}
+
+TEST(EfgProgressiveCuts, DofsAndMassStayWhileTheSurfaceOpens) {
+  const EfgCutRunSettings settings = coarseRun(4, 6);
   EfgCutRunInfo info;
   const std::vector<EfgCutSweepRecord> records = runEfgProgressiveCuts(settings, &info);
   ASSERT_EQ(records.size(), 24u);
@@ -51,12 +57,7 @@ TEST(EfgProgressiveCuts, DofsAndMassStayWhileTheSurfaceOpens) {
 }
 
 TEST(EfgProgressiveCuts, FactorReusingSolverConvergesThroughTheCuts) {
-  EfgCutRunSettings settings;
-  settings.surface_subdivisions = 4;
-  settings.spacing = 0.008;
-  settings.front_width = 0.01;
-  settings.cuts = 3;
-  settings.sweeps_per_cut = 4;
+  EfgCutRunSettings settings = coarseRun(3, 4);
   settings.solver = SolverKind::PcgCholeskyWarped;
   const std::vector<EfgCutSweepRecord> records = runEfgProgressiveCuts(settings);
   ASSERT_EQ(records.size(), 12u);
