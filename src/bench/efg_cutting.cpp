@@ -304,7 +304,7 @@ std::vector<EfgCutSweepRecord> runEfgProgressiveCuts(const EfgCutRunSettings& se
   };
   setConstraints();
   const auto integrator = makeIntegrator(IntegratorKind::ImplicitEulerLinearized, {},
-                                         makeLinearSolver(SolverKind::Cholmod, {}));
+                                         makeLinearSolver(settings.solver, {}));
 
   std::vector<EfgCutSweepRecord> records;
   const double golden = 0.5 * (std::sqrt(5.0) - 1.0);
@@ -335,6 +335,7 @@ std::vector<EfgCutSweepRecord> runEfgProgressiveCuts(const EfgCutRunSettings& se
         const Clock::time_point t0 = Clock::now();
         const StepReport report = integrator->step(problem, settings.dt, state);
         r.step_ms = msSince(t0);
+        r.linear_iterations = report.linear_iterations;
         r.finite = report.status == StepStatus::Ok && state.x.allFinite();
       }
       const EfgCutBody::Update u = body.cut(sweep, x_start, state.x);

@@ -304,19 +304,20 @@ EfgMeans efgMeans(const std::vector<ss::EfgCutSweepRecord>& r, std::size_t from,
 }
 
 void writeEfgRecords(FILE* csv, const char* run, const std::vector<ss::EfgCutSweepRecord>& records,
-                     const ss::EfgCutRunInfo& info) {
+                     const ss::EfgCutRunInfo& info, const std::string& solver) {
   for (const ss::EfgCutSweepRecord& r : records)
-    std::fprintf(csv, "%s,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%.3e,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f\n",
-                 run, info.ips, info.surface_triangles, r.cut, r.sweep, r.severed_links,
-                 r.changed_ips, r.crossed_edges, r.remapped, r.triangles, r.dofs, r.pieces,
-                 r.finite ? 1 : 0, r.mass_error, r.times.positions_ms, r.times.volume_ms,
-                 r.times.surface_ms, r.times.remap_ms, r.times.total(), r.step_ms);
+    std::fprintf(
+        csv, "%s,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%.3e,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%s,%d\n",
+        run, info.ips, info.surface_triangles, r.cut, r.sweep, r.severed_links, r.changed_ips,
+        r.crossed_edges, r.remapped, r.triangles, r.dofs, r.pieces, r.finite ? 1 : 0, r.mass_error,
+        r.times.positions_ms, r.times.volume_ms, r.times.surface_ms, r.times.remap_ms,
+        r.times.total(), r.step_ms, solver.c_str(), r.linear_iterations);
 }
 
 constexpr const char* kEfgHeader =
     "run,ips,surface_triangles,cut,sweep,severed_links,changed_ips,crossed_edges,remapped,"
     "triangles,dofs,pieces,finite,mass_error,positions_ms,volume_ms,surface_ms,remap_ms,"
-    "update_ms,step_ms";
+    "update_ms,step_ms,solver,linear_iterations";
 
 /// (a) Cut update on ~20k IPs (d = 2.4 mm) with a 327,680-triangle surface, static tissue: 5 cuts
 /// of 10 sweeps through the top half.
@@ -332,7 +333,7 @@ void efgUpdateTimes(const std::string& dir) {
   ss::EfgCutRunInfo info;
   const std::vector<ss::EfgCutSweepRecord> records = ss::runEfgProgressiveCuts(s, &info);
   FILE* csv = openCsv(dir, "efg_cut_update.csv", kEfgHeader);
-  writeEfgRecords(csv, "update", records, info);
+  writeEfgRecords(csv, "update", records, info, "none");
   std::fclose(csv);
   std::vector<ss::EfgCutSweepRecord> cutting;
   for (const ss::EfgCutSweepRecord& r : records)
@@ -349,7 +350,7 @@ void efgUpdateTimes(const std::string& dir) {
 
 /// (b, c) `cuts` progressive cuts of 2 sweeps at ~10k IPs (d = 3 mm) with one implicit step per
 /// sweep.
-void efgProgressive(const std::string& dir, int cuts) {
+void efgProgressive(const std::string& dir, int cuts, ss::SolverKind solver) {
   surgical_sim::tools::progress(
       "cutting_bench", "EFG progressive cuts, ~10k IPs, " + std::to_string(cuts) + " cuts");
   ss::EfgCutRunSettings s;
@@ -358,10 +359,11 @@ void efgProgressive(const std::string& dir, int cuts) {
   s.cuts = cuts;
   s.sweeps_per_cut = 2;
   s.depth = 0.3;
+  s.solver = solver;
   ss::EfgCutRunInfo info;
   const std::vector<ss::EfgCutSweepRecord> records = ss::runEfgProgressiveCuts(s, &info);
   FILE* csv = openCsv(dir, "efg_cut_progressive.csv", kEfgHeader);
-  writeEfgRecords(csv, "progressive", records, info);
+  writeEfgRecords(csv, "progressive", records, info, enumName(ss::kSolverNames, solver));
   std::fclose(csv);
   const std::size_t n = records.size(), tenth = std::max<std::size_t>(1, n / 10);
   const EfgMeans first = efgMeans(records, 0, tenth), last = efgMeans(records, n - tenth, n);
@@ -414,6 +416,7 @@ constexpr const char* kUsage =
     "  --out DIR   output folder (default ./report)\n"
     "  --fuzz N    random sweeps of the fuzz campaign, >= 1 (default 1000)\n"
     "  --cuts N    progressive cuts of --efg, >= 1 (default 1000)\n"
+    "  --solver S  linear solver of the progressive cuts' steps (default cholmod)\n"
     "  --no-plot   CSV only\n";
 
 }  // namespace
@@ -426,6 +429,7 @@ int main(int argc, char** argv) {
   std::string dir = "report";
   int sweeps = 1000, cuts = 1000;
   bool plot = true, efg = false;
+  ss::SolverKind solver = ss::SolverKind::Cholmod;
   std::string only;  // --efg part to run alone, "" for all
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -435,6 +439,15 @@ int main(int argc, char** argv) {
       sweeps = std::atoi(argv[++i]);
     } else if (arg == "--cuts" && i + 1 < argc) {
       cuts = std::atoi(argv[++i]);
+    } else if (arg == "--solver" && i + 1 < argc) {
+      const std::string name = argv[++i];
+      const auto kind = ss::enumFromName(ss::kSolverNames, name);
+      if (!kind) {
+        std::cerr << "cutting_bench: --solver " << name << " is not one of "
+                  << ss::enumNames(ss::kSolverNames) << "\n";
+        return 2;
+      }
+      solver = *kind;
     } else if (arg == "--efg") {
       efg = true;
     } else if (arg == "--only" && i + 1 < argc) {
@@ -460,7 +473,7 @@ int main(int argc, char** argv) {
     if (efg) {
       const auto runs = [&](const char* part) { return only.empty() || only == part; };
       if (runs("update")) efgUpdateTimes(dir);
-      if (runs("progressive")) efgProgressive(dir, cuts);
+      if (runs("progressive")) efgProgressive(dir, cuts, solver);
       if (runs("t3c")) t3c(dir);
       const bool ok = !runs("fuzz") || efgFuzz(dir, sweeps);
       if (plot) surgical_sim::tools::runPlotScript("cutting_bench", "plot_efg_cutting.py", {dir});

@@ -27,13 +27,19 @@ TEST(EfgCutFuzz, RejectsSettingsWithoutSweeps) {
   EXPECT_THROW(runEfgCutFuzz(EfgCutFuzzSettings{}), std::invalid_argument);
 }
 
-TEST(EfgProgressiveCuts, DofsAndMassStayWhileTheSurfaceOpens) {
+// Progressive cuts of the coarse liver (d = 8 mm, 5,120-triangle surface).
+EfgCutRunSettings coarseRun(int cuts, int sweeps_per_cut) {
   EfgCutRunSettings settings;
   settings.surface_subdivisions = 4;
   settings.spacing = 0.008;
   settings.front_width = 0.01;
-  settings.cuts = 4;
-  settings.sweeps_per_cut = 6;
+  settings.cuts = cuts;
+  settings.sweeps_per_cut = sweeps_per_cut;
+  return settings;
+}
+
+TEST(EfgProgressiveCuts, DofsAndMassStayWhileTheSurfaceOpens) {
+  const EfgCutRunSettings settings = coarseRun(4, 6);
   EfgCutRunInfo info;
   const std::vector<EfgCutSweepRecord> records = runEfgProgressiveCuts(settings, &info);
   ASSERT_EQ(records.size(), 24u);
@@ -48,6 +54,20 @@ TEST(EfgProgressiveCuts, DofsAndMassStayWhileTheSurfaceOpens) {
   EXPECT_GT(severed, 0);
   EXPECT_GT(crossed, 0);
   EXPECT_GT(records.back().triangles, info.surface_triangles);  // the cut faces were added
+}
+
+TEST(EfgProgressiveCuts, FactorReusingSolverConvergesThroughTheCuts) {
+  EfgCutRunSettings settings = coarseRun(3, 4);
+  settings.solver = SolverKind::PcgCholeskyWarped;
+  const std::vector<EfgCutSweepRecord> records = runEfgProgressiveCuts(settings);
+  ASSERT_EQ(records.size(), 12u);
+  int changed = 0;
+  for (const EfgCutSweepRecord& r : records) {
+    EXPECT_TRUE(r.finite) << "cut " << r.cut << " sweep " << r.sweep;  // converged to tolerance
+    EXPECT_GE(r.linear_iterations, 1);
+    changed += r.changed_ips;
+  }
+  EXPECT_GT(changed, 0);
 }
 
 TEST(EfgProgressiveCuts, RejectsBadSettingsByName) {

@@ -7,6 +7,7 @@
 
 #include "surgical_sim/core/cutting/efg_surface_cutter.h"
 #include "surgical_sim/core/cutting/efg_volume_cutter.h"
+#include "surgical_sim/core/solve/make_linear_solver.h"
 #include "surgical_sim/core/tissue/efg_model.h"
 
 namespace surgical_sim::bench {
@@ -82,9 +83,12 @@ struct EfgCutRunSettings {
   int cuts = 10;                                 ///< cuts, >= 1
   int sweeps_per_cut = 10;                       ///< blade steps per cut, >= 1
   double depth = 0.5;    ///< fraction of the body's height each cut descends below its top (0, 2]
-  bool simulate = true;  ///< one implicit Euler step (CHOLMOD) per sweep under gravity
-  double dt = 0.01;      ///< time step [s], > 0
-  double young = 5e3;    ///< [Pa]
+  bool simulate = true;  ///< one implicit Euler step per sweep under gravity
+  /// Linear solver of the steps (default PcgSettings; after a cut the integrator is reset, so
+  /// cholmod re-analyses and the factor-reusing solvers keep their factor).
+  core::SolverKind solver = core::SolverKind::Cholmod;
+  double dt = 0.01;    ///< time step [s], > 0
+  double young = 5e3;  ///< [Pa]
 };
 
 /// One sweep of runEfgProgressiveCuts().
@@ -101,7 +105,8 @@ struct EfgCutSweepRecord {
   double mass_error = 0.0;  ///< |total mass - initial| / initial [-]
   EfgCutBody::Times times;
   double step_ms = 0.0;  ///< implicit step incl. the re-analysis after a cut (0 if not simulated)
-  bool finite = true;    ///< positions finite after the step
+  int linear_iterations = 0;  ///< of the step's linear solve (1 for cholmod; 0 if not simulated)
+  bool finite = true;         ///< the step converged (status ok) and the positions are finite
 };
 
 /// Model sizes of runEfgProgressiveCuts().

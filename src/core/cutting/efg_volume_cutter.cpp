@@ -290,6 +290,7 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
         }
     return best;
   };
+  std::vector<std::pair<int, std::vector<char>>> old_masks;  // restored if the cut is rejected
   for (const auto& [e, points] : crossings) {
     if (volumes(e) <= 0.0) continue;
     const auto sel = selections.find(e);
@@ -309,6 +310,7 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
     normal.normalize();
     if (normal.dot(x_e - centre) > 0.0) normal = -normal;  // the IP on the negative side
     std::vector<char>& mask = sample_masks_[static_cast<size_t>(e)];
+    old_masks.emplace_back(e, mask);
     const int s3 = samples_ * samples_ * samples_;
     if (mask.empty()) mask.assign(static_cast<size_t>(s3), 1);
     const Eigen::Vector3d corner = grid.origin + grid.spacing * cellOf(e).cast<double>();
@@ -397,18 +399,29 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
     }
     changes.push_back(std::move(c));
   }
-  std::vector<int> released;  // particles some changed IP no longer uses
+  // Particles whose mass the changes can lower (an IP's old particles; an isolated IP's keep
+  // their index with volume 0), with the mass they had.
+  std::vector<int> touched;
   for (const EfgNeighbourhood& c : changes)
-    for (const int p : model_.ipParticles(c.ip))
-      if (std::find(c.particles.begin(), c.particles.end(), p) == c.particles.end())
-        released.push_back(p);
-  model_.setNeighbourhoods(changes);
+    touched.insert(touched.end(), model_.ipParticles(c.ip).begin(), model_.ipParticles(c.ip).end());
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
   const double total_mass = model_.lumpedMass().sum() / 3.0;  // [kg]
-  std::sort(released.begin(), released.end());
-  released.erase(std::unique(released.begin(), released.end()), released.end());
-  for (const int p : released)
-    if (model_.lumpedMass()(3 * p) <= kUnusedMassFraction * total_mass)
-      result.unused_particles.push_back(p);
+  std::vector<char> used_before(touched.size());
+  for (size_t i = 0; i < touched.size(); ++i)
+    used_before[i] = model_.lumpedMass()(3 * touched[i]) > kUnusedMassFraction * total_mass;
+  try {
+    model_.setNeighbourhoods(changes);
+  } catch (...) {
+    // Rejected: the model is unchanged (strong guarantee); undo the graph and the volume samples.
+    for (const int l : result.severed_links) graph_.restore(l);
+    for (auto it = old_masks.rbegin(); it != old_masks.rend(); ++it)
+      sample_masks_[static_cast<size_t>(it->first)] = std::move(it->second);
+    throw;
+  }
+  for (size_t i = 0; i < touched.size(); ++i)
+    if (used_before[i] && model_.lumpedMass()(3 * touched[i]) <= kUnusedMassFraction * total_mass)
+      result.unused_particles.push_back(touched[i]);
   for (const EfgNeighbourhood& c : changes) {
     result.changed_ips.push_back(c.ip);
     bool indirect = false;

@@ -98,31 +98,26 @@ SurfaceRemapper::SurfaceRemapper(const EfgMappingSource& source) : source_(sourc
 
 std::vector<int> SurfaceRemapper::candidates(const Eigen::Vector3d& X, double radius) const {
   std::vector<std::pair<double, int>> found;
-  if (radius < 0.0) {
-    for (std::size_t i = 0; i < ip_rest_.size(); ++i)
-      found.emplace_back((ip_rest_[i] - X).squaredNorm(), static_cast<int>(i));
-  } else {
-    const Eigen::Vector3i c0 = ((X.array() - radius - origin_.array()) / cell_)
-                                   .floor()
-                                   .cast<int>()
-                                   .max(0)
-                                   .min(dims_.array() - 1);
-    const Eigen::Vector3i c1 = ((X.array() + radius - origin_.array()) / cell_)
-                                   .floor()
-                                   .cast<int>()
-                                   .max(0)
-                                   .min(dims_.array() - 1);
-    for (int z = c0.z(); z <= c1.z(); ++z)
-      for (int y = c0.y(); y <= c1.y(); ++y)
-        for (int x = c0.x(); x <= c1.x(); ++x) {
-          const auto c = static_cast<std::size_t>((z * dims_.y() + y) * dims_.x() + x);
-          for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
-            const int ip = cell_ips_[static_cast<std::size_t>(k)];
-            const double d2 = (ip_rest_[static_cast<std::size_t>(ip)] - X).squaredNorm();
-            if (d2 <= radius * radius) found.emplace_back(d2, ip);
-          }
+  const Eigen::Vector3i c0 = ((X.array() - radius - origin_.array()) / cell_)
+                                 .floor()
+                                 .cast<int>()
+                                 .max(0)
+                                 .min(dims_.array() - 1);
+  const Eigen::Vector3i c1 = ((X.array() + radius - origin_.array()) / cell_)
+                                 .floor()
+                                 .cast<int>()
+                                 .max(0)
+                                 .min(dims_.array() - 1);
+  for (int z = c0.z(); z <= c1.z(); ++z)
+    for (int y = c0.y(); y <= c1.y(); ++y)
+      for (int x = c0.x(); x <= c1.x(); ++x) {
+        const auto c = static_cast<std::size_t>((z * dims_.y() + y) * dims_.x() + x);
+        for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
+          const int ip = cell_ips_[static_cast<std::size_t>(k)];
+          const double d2 = (ip_rest_[static_cast<std::size_t>(ip)] - X).squaredNorm();
+          if (d2 <= radius * radius) found.emplace_back(d2, ip);
         }
-  }
+      }
   std::sort(found.begin(), found.end());
   std::vector<int> out;
   out.reserve(found.size());
@@ -154,26 +149,26 @@ RemapResult SurfaceRemapper::find(const Eigen::Vector3d& X, const Eigen::Vector3
     for (int ip : near)
       if (valid(ip, X, normal, planes, ring_ips, level))
         return {ip, static_cast<RemapRelaxation>(level)};
-  // Every level needs the cut planes: when no IP at all is below them (a sliver between cuts),
-  // the answer is the nearest IP, found in one pass without sorting every IP.
+  // Every level needs the cut planes: one pass lists the IPs below them (nearest first, the
+  // order of a search over every IP) and finds the nearest IP, the answer when none is below
+  // them (a sliver between cuts).
   int nearest = 0;
   double nearest_d2 = INFINITY;
-  bool below_planes = false;
+  std::vector<std::pair<double, int>> below;
   for (std::size_t i = 0; i < ip_rest_.size(); ++i) {
     const double d2 = (ip_rest_[i] - X).squaredNorm();
     if (d2 < nearest_d2) {
       nearest_d2 = d2;
       nearest = static_cast<int>(i);
     }
-    below_planes = below_planes || belowPlanes(ip_rest_[i], planes);
+    if (belowPlanes(ip_rest_[i], planes)) below.emplace_back(d2, static_cast<int>(i));
   }
-  if (!below_planes) return {nearest, RemapRelaxation::kNearest};
-  const std::vector<int> all = candidates(X, -1.0);
+  std::sort(below.begin(), below.end());
   for (int level = 0; level <= 3; ++level)
-    for (int ip : all)
+    for (const auto& [d2, ip] : below)
       if (valid(ip, X, normal, planes, ring_ips, level))
         return {ip, static_cast<RemapRelaxation>(level)};
-  return {all.front(), RemapRelaxation::kNearest};
+  return {nearest, RemapRelaxation::kNearest};
 }
 
 }  // namespace surgical_sim::core

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
+#include <vector>
 
 #include "surgical_sim/core/common/validate.h"
 
@@ -27,6 +29,9 @@ int pcgIterationCap(const PcgSettings& settings, Eigen::Index n) {
 PcgSolver::PcgSolver(PcgPreconditioner preconditioner, const PcgSettings& settings)
     : preconditioner_(preconditioner), settings_(settings) {
   validatePcgSettings(settings);
+  cholesky_apply_ = [this](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+    return applyCholesky(r, z);
+  };
 }
 
 std::string PcgSolver::name() const {
@@ -52,6 +57,23 @@ void PcgSolver::setLinearizationState(const TissueModel& model, const Eigen::Vec
 }
 
 void PcgSolver::analyzePattern(const Eigen::SparseMatrix<double>& A) {
+  const bool cholesky = preconditioner_ == PcgPreconditioner::CholeskyReuse ||
+                        preconditioner_ == PcgPreconditioner::CholeskyWarped;
+  if (cholesky && cholesky_valid_ && A.rows() == matrix_.rows() && A.cols() == matrix_.cols()) {
+    // Same unknowns, changed pattern: keep the factor, correct it locally where it changed.
+    Eigen::SparseMatrix<double> pattern = A;
+    pattern.makeCompressed();
+    std::vector<int> unknowns =
+        changedPatternUnknowns(pattern, cholesky_.analysedMatrix(), kLocalRings);
+    if (!unknowns.empty() && static_cast<Eigen::Index>(unknowns.size()) <= pattern.rows() / 2) {
+      matrix_ = std::move(pattern);
+      local_.setUnknowns(matrix_, std::move(unknowns));
+      stale_pattern_ = true;
+      warped_ = false;
+      factorized_ = false;
+      return;
+    }
+  }
   matrix_ = A;
   matrix_.makeCompressed();
   const Eigen::Index n = A.rows();
@@ -73,10 +95,13 @@ void PcgSolver::analyzePattern(const Eigen::SparseMatrix<double>& A) {
     case PcgPreconditioner::CholeskyReuse:
     case PcgPreconditioner::CholeskyWarped:
       cholesky_.analyzePattern(matrix_);
+      ++cholesky_analyses_;
       break;
   }
   calls_since_refresh_ = 0;
   cholesky_valid_ = false;
+  stale_pattern_ = false;
+  local_.setUnknowns(matrix_, {});
   factor_has_rotations_ = false;
   warped_ = false;
   factorized_ = false;
@@ -127,11 +152,7 @@ bool PcgSolver::buildCholeskyReuse() {
       state_announced_ && 3 * static_cast<Eigen::Index>(state_rotations_.size()) == matrix_.rows();
   warped_ = false;
   if (!cholesky_valid_ || calls_since_refresh_ >= settings_.refresh_interval) {
-    calls_since_refresh_ = 0;
-    cholesky_valid_ = cholesky_.factorize(matrix_);
-    ++cholesky_factorizations_;
-    factor_has_rotations_ = rotations;
-    if (rotations) factor_rotations_ = state_rotations_;
+    refactorizeCholesky(rotations);
   } else if (rotations && factor_has_rotations_) {
     warp_.resize(state_rotations_.size());
     for (size_t i = 0; i < warp_.size(); ++i) {
@@ -140,7 +161,26 @@ bool PcgSolver::buildCholeskyReuse() {
     warped_ = true;
   }
   ++calls_since_refresh_;
+  if (cholesky_valid_ && stale_pattern_ && local_.active()) return local_.factorize(matrix_);
   return cholesky_valid_;
+}
+
+void PcgSolver::refactorizeCholesky(bool rotations) {
+  if (stale_pattern_ || cholesky_.analysedMatrix().rows() != matrix_.rows()) {
+    cholesky_.analyzePattern(matrix_);
+    ++cholesky_analyses_;
+    stale_pattern_ = false;
+    local_.setUnknowns(matrix_, {});
+  }
+  calls_since_refresh_ = 0;
+  cholesky_valid_ = cholesky_.factorize(matrix_);
+  ++cholesky_factorizations_;
+  factor_has_rotations_ = rotations;
+  if (rotations) factor_rotations_ = state_rotations_;
+}
+
+bool PcgSolver::applyCholesky(const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+  return warped_ ? applyWarpedCholesky(r, z) : cholesky_.precondition(r, z);
 }
 
 bool PcgSolver::applyWarpedCholesky(const Eigen::VectorXd& r, Eigen::VectorXd& z) {
@@ -187,19 +227,37 @@ bool PcgSolver::applyPreconditioner(const Eigen::VectorXd& r, Eigen::VectorXd& z
       return true;
     }
     case PcgPreconditioner::CholeskyReuse:
-      return cholesky_.precondition(r, z);
     case PcgPreconditioner::CholeskyWarped:
-      return warped_ ? applyWarpedCholesky(r, z) : cholesky_.precondition(r, z);
+      if (stale_pattern_ && local_.active()) return local_.apply(matrix_, r, z, cholesky_apply_);
+      return applyCholesky(r, z);
   }
   return false;
 }
 
 LinearSolveReport PcgSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   if (!factorized_) return {};
-  return preconditionedConjugateGradient(
-      matrix_, b, x, max_iterations_, settings_.relative_tolerance,
-      [this](const Eigen::VectorXd& r, Eigen::VectorXd& z) { return applyPreconditioner(r, z); },
-      work_);
+  const PreconditionerApply precondition = [this](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+    return applyPreconditioner(r, z);
+  };
+  if (!stale_pattern_) {
+    return preconditionedConjugateGradient(matrix_, b, x, max_iterations_,
+                                           settings_.relative_tolerance, precondition, work_);
+  }
+  LinearSolveReport report =
+      preconditionedConjugateGradient(matrix_, b, x, std::min(max_iterations_, kStaleIterations),
+                                      settings_.relative_tolerance, precondition, work_);
+  if (report.ok) return report;
+  // The kept factor does not precondition this matrix well enough: refactorize it.
+  const int first_iterations = report.iterations;
+  if (!x.allFinite()) x.setZero();
+  refactorizeCholesky(false);
+  warped_ = false;
+  factorized_ = cholesky_valid_;
+  if (!factorized_) return report;
+  report = preconditionedConjugateGradient(matrix_, b, x, max_iterations_,
+                                           settings_.relative_tolerance, precondition, work_);
+  report.iterations += first_iterations;
+  return report;
 }
 
 }  // namespace surgical_sim::core

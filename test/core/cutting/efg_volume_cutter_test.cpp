@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 #include <cmath>
+#include <memory>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -14,6 +15,7 @@
 #include "surgical_sim/core/mesh/surface_generators.h"
 #include "surgical_sim/core/solve/make_integrator.h"
 #include "surgical_sim/core/solve/make_linear_solver.h"
+#include "surgical_sim/core/solve/pcg_solver.h"
 #include "surgical_sim/core/tissue/material.h"
 
 namespace surgical_sim::core {
@@ -370,7 +372,7 @@ TEST(EfgVolumeCutter, ThinSliceStaysFiniteAndIsolatedPointsKeepTheMass) {
   EfgModel model = cylinder();
   const EfgModel before = model;
   EfgVolumeCutter cutter(model);
-  std::vector<int> changed;
+  std::vector<int> changed, unused;
   int isolated = 0;
   // Two cuts one integration cell apart, then one inside the slice.
   for (const double z : {0.0006, 0.0031, 0.0019}) {
@@ -378,15 +380,131 @@ TEST(EfgVolumeCutter, ThinSliceStaysFiniteAndIsolatedPointsKeepTheMass) {
     changed.insert(changed.end(), r.changed_ips.begin(), r.changed_ips.end());
     for (const int e : r.isolated_ips) EXPECT_EQ(model.grid().volumes(e), 0.0);
     isolated += static_cast<int>(r.isolated_ips.size());
+    unused.insert(unused.end(), r.unused_particles.begin(), r.unused_particles.end());
   }
   EXPECT_EQ(cutter.pieces(), 2);  // the slice holds no particle: its IPs are isolated
   EXPECT_GT(isolated, 0);
+  // Every particle left without mass (also those only the isolated IPs used) was reported.
+  std::sort(unused.begin(), unused.end());
+  EXPECT_EQ(cutter.unusedParticles(), unused);
   std::sort(changed.begin(), changed.end());
   changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
   std::vector<int> active;
   for (const int e : changed)
     if (model.grid().volumes(e) > 0.0) active.push_back(e);
   expectInvariants(before, model, active);
+}
+
+TEST(EfgVolumeCutter, ReusedFactorSolvesLikeTheDirectSolverThroughCutsWithoutReanalysis) {
+  // 16 cm long along z: the cuts change the top end's pattern only.
+  EfgModel model = efgModel(makeCylinder(0.01, 0.16, 32, 8), 0.0025);
+  EfgVolumeCutter cutter(model);
+  PcgSettings pcg;
+  pcg.refresh_interval = 10;
+  auto reuse = std::make_unique<PcgSolver>(PcgPreconditioner::CholeskyReuse, pcg);
+  PcgSolver& reused = *reuse;
+  const auto direct = makeIntegrator(IntegratorKind::ImplicitEulerLinearized, {},
+                                     makeLinearSolver(SolverKind::Cholmod, {}));
+  const auto iterative =
+      makeIntegrator(IntegratorKind::ImplicitEulerLinearized, {}, std::move(reuse));
+  DynamicsProblem problem;
+  problem.model = &model;
+  std::vector<char> fixed(static_cast<size_t>(model.numNodes()), 0);
+  const Eigen::Matrix3Xd& X = model.grid().particles;
+  for (int p = 0; p < model.numNodes(); ++p) fixed[static_cast<size_t>(p)] = X(2, p) < -0.075;
+  SimulationState a{model.restPositions(), Eigen::VectorXd::Zero(model.restPositions().size()),
+                    0.0};
+  SimulationState b = a;
+  const double dt = 0.01;
+  int cuts = 0;
+  // A blade descending in steps through the upper part of the cylinder, sideways, while it sags.
+  for (int i = 0; i < 9; ++i) {
+    problem.external_force = model.bodyForce(Eigen::Vector3d(-9.81, 0.0, 0.0));
+    problem.dirichlet = {};
+    for (int p = 0; p < model.numNodes(); ++p)
+      if (fixed[static_cast<size_t>(p)])
+        for (int k = 0; k < 3; ++k) problem.dirichlet.dofs.push_back(3 * p + k);
+    problem.dirichlet.positions.resize(static_cast<Eigen::Index>(problem.dirichlet.dofs.size()));
+    for (size_t k = 0; k < problem.dirichlet.dofs.size(); ++k)
+      problem.dirichlet.positions(static_cast<Eigen::Index>(k)) = a.x(problem.dirichlet.dofs[k]);
+    const Eigen::VectorXd x_start = a.x;
+    ASSERT_EQ(direct->step(problem, dt, a).status, StepStatus::Ok) << "step " << i;
+    ASSERT_EQ(iterative->step(problem, dt, b).status, StepStatus::Ok) << "step " << i;
+    const double displacement = (a.x - model.restPositions()).cwiseAbs().maxCoeff();
+    EXPECT_LT((a.x - b.x).cwiseAbs().maxCoeff(), 1e-7 * displacement) << "step " << i;
+    b = a;  // both continue from the same state
+    const double z0 = 0.08 - 0.003 * i, z1 = z0 - 0.003;
+    const EfgCutResult r =
+        cutter.cut({straightBlade(0.0, z0), straightBlade(0.0, z1)}, x_start, a.x);
+    for (const int p : r.unused_particles) fixed[static_cast<size_t>(p)] = 1;
+    if (!r.changed_ips.empty()) {
+      ++cuts;
+      direct->reset();  // new stiffness pattern
+      iterative->reset();
+    }
+  }
+  EXPECT_GE(cuts, 6);
+  // The factor was kept across the cuts and refreshed on schedule: one analysis, not one a cut.
+  EXPECT_EQ(reused.choleskyAnalyses(), 1);
+  EXPECT_LE(reused.choleskyFactorizations(), 2);
+}
+
+// Progressive cuts of the liver-like body at d = 6 mm (the cutting_bench sequence: 2 sweeps per
+// cut, 30 % of the height deep, vertical planes at 137.5 deg steps, golden-ratio offsets), tissue
+// at rest. Sweep 55 isolates an IP that alone used a particle: that particle loses its mass and
+// must be reported, or the pinned system stays singular (the progressive bench's failed step).
+TEST(EfgVolumeCutter, ProgressiveLiverCutsReportEveryParticleLeftWithoutMass) {
+  const Eigen::Vector3d semi(0.075, 0.05, 0.03);
+  const TriMesh liver = makeLiverSurface(semi, 4);
+  EfgModel model = efgModel(liver, 0.006, 5e3);
+  EfgVolumeCutter cutter(model);
+  const Eigen::VectorXd x = model.restPositions();
+  const double top = liver.vertices.row(2).maxCoeff(), bottom = liver.vertices.row(2).minCoeff();
+  const double golden = 0.5 * (std::sqrt(5.0) - 1.0);
+  std::vector<int> reported;
+  int isolated = 0;
+  for (int c = 0; c < 28; ++c) {
+    const double angle = c * 2.0 * M_PI * (1.0 - golden);
+    const Eigen::Vector3d along(std::cos(angle), std::sin(angle), 0.0);
+    const Eigen::Vector3d centre =
+        semi.x() * (std::fmod(c * golden, 1.0) - 0.5) * Eigen::Vector3d(-along.y(), along.x(), 0);
+    const double z_from = top + 0.1 * semi.z(), z_to = top - 0.3 * (top - bottom);
+    for (int s = 0; s < 2; ++s) {
+      BladeSweep sweep{Eigen::Matrix3Xd(3, 2), Eigen::Matrix3Xd(3, 2)};
+      for (int k = 0; k < 2; ++k) {
+        const Eigen::Vector3d p = centre + (k ? 3.0 : -3.0) * semi.x() * along;
+        sweep.start.col(k) = Eigen::Vector3d(p.x(), p.y(), z_from + (z_to - z_from) * s / 2);
+        sweep.end.col(k) = Eigen::Vector3d(p.x(), p.y(), z_from + (z_to - z_from) * (s + 1) / 2);
+      }
+      const EfgCutResult r = cutter.cut(sweep, x, x);
+      isolated += static_cast<int>(r.isolated_ips.size());
+      reported.insert(reported.end(), r.unused_particles.begin(), r.unused_particles.end());
+      std::sort(reported.begin(), reported.end());
+      reported.erase(std::unique(reported.begin(), reported.end()), reported.end());
+      // A reported particle may be used again by a later re-selection; none goes unreported.
+      const std::vector<int> unused = cutter.unusedParticles();
+      ASSERT_TRUE(std::includes(reported.begin(), reported.end(), unused.begin(), unused.end()))
+          << "cut " << c << " sweep " << s;
+    }
+  }
+  EXPECT_GT(isolated, 0);
+  ASSERT_FALSE(reported.empty());
+  // Reported particles and the lowest layer pinned: the implicit step's system is definite.
+  DynamicsProblem problem;
+  problem.model = &model;
+  problem.external_force = model.bodyForce(Eigen::Vector3d(0.0, 0.0, -9.81));
+  const double clamp_z = model.grid().particles.row(2).minCoeff() + 0.012;
+  for (int p = 0; p < model.numNodes(); ++p)
+    if (model.grid().particles(2, p) < clamp_z ||
+        std::binary_search(reported.begin(), reported.end(), p))
+      for (int k = 0; k < 3; ++k) problem.dirichlet.dofs.push_back(3 * p + k);
+  problem.dirichlet.positions.resize(static_cast<Eigen::Index>(problem.dirichlet.dofs.size()));
+  for (size_t k = 0; k < problem.dirichlet.dofs.size(); ++k)
+    problem.dirichlet.positions(static_cast<Eigen::Index>(k)) = x(problem.dirichlet.dofs[k]);
+  SimulationState state{x, Eigen::VectorXd::Zero(x.size()), 0.0};
+  const auto integrator = makeIntegrator(IntegratorKind::ImplicitEulerLinearized, {},
+                                         makeLinearSolver(SolverKind::Cholmod, {}));
+  EXPECT_EQ(integrator->step(problem, 0.01, state).status, StepStatus::Ok);
 }
 
 TEST(EfgVolumeCutter, MidCellCutMovesTheVolumeBeyondThePlane) {

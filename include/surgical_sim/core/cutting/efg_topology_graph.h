@@ -12,7 +12,8 @@ namespace surgical_sim::core {
 /// the integration points (IPs). Links join each particle to its grid neighbours along each axis
 /// (6-neighbour on the DOF grid of side 2 d) and each IP to the particles of its initial
 /// neighbourhood (EfgGrid::neighbours). Every link has its rest length [m] and is alive until
-/// sever() removes it for good. Rest configuration only; the graph never adds nodes or links.
+/// sever() removes it (restore() undoes that for a rejected cut). Rest configuration only; the
+/// graph never adds nodes or links.
 class EfgTopologyGraph {
  public:
   struct Link {
@@ -40,6 +41,8 @@ class EfgTopologyGraph {
   bool alive(int link) const { return alive_[static_cast<size_t>(link)] != 0; }
   /// Removes `link` (no effect if already severed).
   void sever(int link) { alive_[static_cast<size_t>(link)] = 0; }
+  /// Makes a severed `link` alive again (undoes sever() when a cut is rejected).
+  void restore(int link) { alive_[static_cast<size_t>(link)] = 1; }
   int numSevered() const;
 
   /// Dijkstra search from graph node `source` over alive links weighted by their rest lengths:

@@ -17,8 +17,9 @@ struct EfgCutResult {
   /// IPs that can no longer see 4 non-coplanar particles (a slice thinner than the particle
   /// spacing): their volume went to the nearest IP on their side, they keep volume 0 (ascending).
   std::vector<int> isolated_ips;
-  /// Particles that no IP with volume uses any more since this cut (zero mass and stiffness: the
-  /// caller constrains them, e.g. to follow their old neighbours, or the system is singular).
+  /// Particles that no IP with volume uses any more since this cut, including those only an IP
+  /// isolated by this cut used (zero mass and stiffness: the caller constrains them, e.g. to
+  /// follow their old neighbours, or the system is singular). Ascending.
   std::vector<int> unused_particles;
   int pieces = 0;               ///< connected pieces holding volume after the cut
   bool pieces_changed = false;  ///< pieces differs from before the cut
@@ -61,7 +62,8 @@ class EfgVolumeCutter {
   /// @param sweep blade motion over the step, tissue rest frame [m] (validateBladeSweep).
   /// @param x_start, x_end particle positions at the step start and end [m], size 3n each.
   /// @throws std::invalid_argument naming "blade_sweep.*", "x_start" or "x_end" (size or
-  ///         non-finite); the model is unchanged then.
+  ///         non-finite), or from EfgModel::setNeighbourhoods when a changed IP cannot be
+  ///         applied (the cut is rejected); the model and the cutter are unchanged then.
   EfgCutResult cut(const BladeSweep& sweep, const Eigen::VectorXd& x_start,
                    const Eigen::VectorXd& x_end);
 

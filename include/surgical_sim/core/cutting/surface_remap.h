@@ -90,7 +90,7 @@ class SurfaceRemapper {
   bool valid(int ip, const Eigen::Vector3d& X, const Eigen::Vector3d& normal,
              const std::vector<CutPlane>& planes, const std::vector<int>& ring_ips,
              int level) const;
-  /// IPs within `radius` of X (all IPs for radius < 0), nearest first.
+  /// IPs within `radius` >= 0 of X, nearest first.
   std::vector<int> candidates(const Eigen::Vector3d& X, double radius) const;
 
   const EfgMappingSource& source_;

@@ -12,6 +12,7 @@
 #include "surgical_sim/core/solve/cholmod_solver.h"
 #include "surgical_sim/core/solve/conjugate_gradient.h"
 #include "surgical_sim/core/solve/linear_solver.h"
+#include "surgical_sim/core/solve/local_schwarz_correction.h"
 
 namespace surgical_sim::core {
 
@@ -78,24 +79,44 @@ class PcgSolver final : public LinearSolver {
   /// ignored.
   void setLinearizationState(const TissueModel& model, const Eigen::VectorXd& x) override;
   /// Stores A's pattern, sizes all work vectors, analyses the preconditioner's pattern.
+  /// CholeskyReuse, CholeskyWarped with a factor of the same size and another pattern (a cut of a
+  /// model whose DOFs stay, e.g. EfgVolumeCutter): the factor is kept, not re-analysed. Until its
+  /// refresh is due (refresh_interval factorize() calls after it was made) it preconditions the
+  /// new pattern through a LocalSchwarzCorrection on the unknowns whose pattern changed
+  /// (changedPatternUnknowns() with kLocalRings rings); the refresh re-analyses the new pattern.
+  /// The same pattern, or a change on more than half the unknowns, is analysed afresh.
   void analyzePattern(const Eigen::SparseMatrix<double>& A) override;
   /// Copies A's values and builds the preconditioner. Returns false if the pattern differs, a
   /// (block) diagonal is not positive definite or the preconditioner factorization failed.
   bool factorize(const Eigen::SparseMatrix<double>& A) override;
   /// CG iterations on A x = b from the initial guess x (size n). ok when the relative residual
   /// reaches relative_tolerance within pcgIterationCap(settings, n) iterations; false on breakdown
-  /// (p^T A p <= 0, NaN) or at the cap (then capped).
+  /// (p^T A p <= 0, NaN) or at the cap (then capped). With a factor of an older pattern (see
+  /// analyzePattern()), a solve that fails within kStaleIterations iterations refactorizes A
+  /// (re-analysed) and continues from its last iterate (reported iterations: both solves).
   LinearSolveReport solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
 
   /// Cholesky factorizations since construction (CholeskyReuse, CholeskyWarped; for tests and
   /// benchmarks).
   int choleskyFactorizations() const { return cholesky_factorizations_; }
+  /// Symbolic analyses of the Cholesky preconditioner since construction (CholeskyReuse,
+  /// CholeskyWarped; for tests and benchmarks).
+  int choleskyAnalyses() const { return cholesky_analyses_; }
+  /// Rings of pattern neighbours around the changed unknowns of a kept factor's correction.
+  static constexpr int kLocalRings = 1;
+  /// Iteration budget of a solve with a factor of an older pattern before it refactorizes.
+  static constexpr int kStaleIterations = 50;
 
  private:
   bool buildJacobi();
   bool buildIncompleteCholesky();
-  /// Refactorizes when due; CholeskyWarped: stores the factor's rotations or sets the warp.
+  /// Refactorizes when due (re-analysing a changed pattern); CholeskyWarped: stores the factor's
+  /// rotations or sets the warp; a factor of an older pattern: factorizes the local correction.
   bool buildCholeskyReuse();
+  /// Analyses matrix_'s pattern and factorizes it (the refresh of buildCholeskyReuse()).
+  void refactorizeCholesky(bool rotations);
+  /// z = (warped) factor applied to r: the global part of a kept factor's correction.
+  bool applyCholesky(const Eigen::VectorXd& r, Eigen::VectorXd& z);
   /// z = W L^-T L^-1 W^T r with the warp_ blocks.
   bool applyWarpedCholesky(const Eigen::VectorXd& r, Eigen::VectorXd& z);
   /// z = P^-1 r. Returns false if the preconditioner application failed.
@@ -114,6 +135,11 @@ class PcgSolver final : public LinearSolver {
   int calls_since_refresh_ = 0;
   bool cholesky_valid_ = false;
   int cholesky_factorizations_ = 0;
+  int cholesky_analyses_ = 0;
+  /// The factor is of an older pattern than matrix_ (kept by analyzePattern()).
+  bool stale_pattern_ = false;
+  LocalSchwarzCorrection local_;        ///< on the changed unknowns while stale_pattern_
+  PreconditionerApply cholesky_apply_;  ///< applyCholesky, the global part of local_
   bool factorized_ = false;
   // CholeskyWarped.
   std::vector<Eigen::Matrix3d> state_rotations_;   ///< of the last setLinearizationState()
