@@ -12,6 +12,7 @@
 #include "surgical_sim/bench/text_mutation.h"
 #include "surgical_sim/bench/tissue_case.h"
 #include "surgical_sim/core/common/named_enum.h"
+#include "surgical_sim/core/scene/multi_body_simulation.h"
 #include "surgical_sim/core/scene/scene_config.h"
 #include "surgical_sim/core/scene/tissue_simulation.h"
 
@@ -198,11 +199,23 @@ SceneTrialResult trySceneMutant(const std::string& text, const std::string& path
       const BenchmarkScene sweep = parseBenchmarkScene(text, path);
       return caseScene(sweep, expandSweep(sweep).front());
     }();
-    const MeshSizeEstimate first =
-        estimateMeshSize(scene.mesh, scene.resolution, scene.element_type);
-    if (first.bytes <= construct_budget_bytes) {
-      TissueSimulation simulation(scene);
-      result.constructed = true;
+    if (scene.bodies.empty()) {
+      if (estimateMeshSize(scene.mesh, scene.resolution, scene.element_type).bytes <=
+          construct_budget_bytes) {
+        TissueSimulation simulation(scene);
+        result.constructed = true;
+      }
+    } else {
+      double bytes = 0.0;  // the organs' and tet-mesh layers' meshes
+      for (const BodySpec& body : scene.bodies)
+        bytes += estimateMeshSize(body.mesh, body.resolution, ElementType::Tet4).bytes;
+      for (const ConnectiveSpec& layer : scene.connective)
+        if (layer.sampling == "tet_mesh")
+          bytes += estimateMeshSize(layer.mesh, layer.resolution, ElementType::Tet4).bytes;
+      if (bytes <= construct_budget_bytes) {
+        MultiBodySimulation simulation(scene);
+        result.constructed = true;
+      }
     }
     result.outcome = SceneFuzzOutcome::Accepted;
     return result;

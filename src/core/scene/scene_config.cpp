@@ -30,6 +30,8 @@ constexpr long long kMaxYamlNodes = 1000000;     ///< YAML nodes visited (aliase
 constexpr double kMaxTissueOffset = 100.0;       ///< |tissue_pose.position| limit [m]
 constexpr double kMaxDisplacement = 10.0;        ///< |prescribed displacement|, |reference| [m]
 constexpr double kMaxLoadFactor = 1e3;           ///< |load_factors entry| [-]
+constexpr double kMaxLayerRigidNodes = 2e4;      ///< poisson_disk layer: rigid-node estimate
+constexpr double kMaxLayerSamples = 2e5;         ///< poisson_disk layer: sample estimate
 /// Working memory per node and per element of a case (mesh, model, stiffness and system
 /// matrices, sparse factorisation), by element type [bytes]; see estimateMeshSize().
 constexpr double kBytesPerNode[2] = {40e3, 50e3};
@@ -849,6 +851,20 @@ ConnectiveSpec readConnective(const KeyReader& r, const std::vector<BodySpec>& b
     checkRange(r, "sample_spacing", c.sample_spacing, 5e-5, c.node_spacing, "m");
     if (c.sample_spacing == c.node_spacing)
       r.fail("sample_spacing", "must be smaller than node_spacing");
+    // Poisson-disk points fill the hexahedron's bounding box at most at one point per spacing^3.
+    Eigen::AlignedBox3d box;
+    for (const Eigen::Vector3d& p : c.hexahedron) box.extend(p);
+    const double volume = box.volume();
+    if (!std::isfinite(volume)) r.fail("hexahedron", "corners must be finite");
+    const auto checkCount = [&](const char* key, double spacing, double limit) {
+      const double count = volume / (spacing * spacing * spacing);
+      if (count > limit)
+        r.fail(key, "about " + std::to_string(static_cast<long long>(count)) +
+                        " points in the hexahedron's bounding box; at most " +
+                        std::to_string(static_cast<long long>(limit)) + " are supported");
+    };
+    checkCount("node_spacing", c.node_spacing, kMaxLayerRigidNodes);
+    checkCount("sample_spacing", c.sample_spacing, kMaxLayerSamples);
     c.neighbours = r.integer("neighbours", 1, kMaxSampleNeighbours, c.neighbours);
     c.seed = r.integer("seed", 0, std::numeric_limits<int>::max(), c.seed);
   }

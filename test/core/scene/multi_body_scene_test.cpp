@@ -188,6 +188,10 @@ TEST(MultiBodySceneKeys, BadLayerKeysAreRejectedNamingTheKey) {
                  {"key 'connective[1].hexahedron'", "8 [x, y, z] corners"});
   expectRejected(replaced("node_spacing: 0.004", "node_spacing: 0.0"),
                  {"key 'connective[1].node_spacing'", "out of range [0.0001, 1] m"});
+  expectRejected(replaced("sample_spacing: 0.002", "sample_spacing: 0.00005"),
+                 {"key 'connective[1].sample_spacing'", "at most 200000 are supported"});
+  expectRejected(replaced("[0.024, 0.02, 0.01]]", "[1.0, 1.0, 1.0]]"),
+                 {"key 'connective[1].node_spacing'", "at most 20000 are supported"});
   expectRejected(replaced("sample_spacing: 0.002", "sample_spacing: 0.004"),
                  {"key 'connective[1].sample_spacing'", "smaller than node_spacing"});
   expectRejected(replaced("sample_spacing: 0.002", "sample_spacing: 0.005"),
