@@ -480,6 +480,7 @@ void ConnectiveCoupling::assemble(const CoupledState& state, const CoupledLoads&
         if (skin.column < 0) continue;
         force_.segment<3>(skin.column) += skin.weight * fa;
         force_.segment<3>(skin.column + 3) += skin.weight * rotated_[k].cross(fa);
+        if (!options.geometric) continue;
         // K_map = -w [f]x [r]x on the rotation block (P depends on R_j).
         Eigen::Matrix3d G = -skin.weight * skew(fa) * skew(rotated_[k]);
         if (options.symmetrize) G = 0.5 * (G + G.transpose()).eval();
@@ -491,6 +492,7 @@ void ConnectiveCoupling::assemble(const CoupledState& state, const CoupledLoads&
   }
   RigidNodeTangentOptions layer_options;
   layer_options.symmetrize = options.symmetrize;
+  layer_options.geometric = options.geometric;
   for (int l = 0; l < numLayers(); ++l) {
     const RigidNodeModel& model = *layers_[l].model;
     const RigidNodeConfiguration& q = state.layer_configurations[l];
@@ -503,7 +505,8 @@ void ConnectiveCoupling::assemble(const CoupledState& state, const CoupledLoads&
     model.addInternalForceAndStiffness(q, layer_options, internal, layer_stiffness_[l]);
     internal_squared_ += internal.squaredNorm();
     f += internal;
-    model.addBodyForceStiffness(q, loads.gravity, options.symmetrize, layer_stiffness_[l]);
+    if (options.geometric)
+      model.addBodyForceStiffness(q, loads.gravity, options.symmetrize, layer_stiffness_[l]);
     if (with_mass) model.assembleNodeMass(q, layer_mass_[l]);
     const std::vector<int>& dst = layer_value_[l];
     const double* Kl = layer_stiffness_[l].valuePtr();

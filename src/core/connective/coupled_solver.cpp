@@ -42,6 +42,22 @@ bool CoupledSolver::factorize(double mass_coefficient, double stiffness_coeffici
   return false;
 }
 
+bool CoupledSolver::factorizeAssembled(const CoupledState& state, const CoupledLoads& loads,
+                                       double mass_coefficient, double stiffness_coefficient,
+                                       StepPhaseTimes& phases) {
+  material_only_ = false;
+  if (timed(phases.factorization,
+            [&]() { return factorize(mass_coefficient, stiffness_coefficient); }))
+    return true;
+  CouplingTangentOptions options;
+  options.geometric = false;
+  timed(phases.forces,
+        [&]() { coupling_.assemble(state, loads, options, mass_coefficient != 0.0); });
+  material_only_ = true;
+  return timed(phases.factorization,
+               [&]() { return factorize(mass_coefficient, stiffness_coefficient); });
+}
+
 LinearSolveReport CoupledSolver::solveSystem(const Eigen::VectorXd& b, StepPhaseTimes& phases) {
   if (du_.size() != b.size()) du_.setZero(b.size());
   LinearSolveReport report = timed(phases.linear_solve, [&]() { return solver_.solve(b, du_); });
@@ -60,8 +76,11 @@ StepReport CoupledSolver::step(const CoupledLoads& loads, double dt, CoupledStat
     return report;
   };
   const double alpha = settings_.mass_damping, beta = settings_.stiffness_damping;
+  timed(report.phases.forces,
+        [&]() { coupling_.assemble(state, loads, CouplingTangentOptions{}, true); });
+  if (!factorizeAssembled(state, loads, 1.0 + dt * alpha, dt * beta + dt * dt, report.phases))
+    return failed(StepStatus::SolverFailed);
   timed(report.phases.forces, [&]() {
-    coupling_.assemble(state, loads, CouplingTangentOptions{}, true);
     coupling_.gatherVelocity(state, velocity_);
     // b = h (f - alpha M u - (beta + h) K u).
     product_ = coupling_.stiffness() * velocity_;
@@ -72,9 +91,6 @@ StepReport CoupledSolver::step(const CoupledLoads& loads, double dt, CoupledStat
     }
     rhs_ *= dt;
   });
-  if (!timed(report.phases.factorization,
-             [&]() { return factorize(1.0 + dt * alpha, dt * beta + dt * dt); }))
-    return failed(StepStatus::SolverFailed);
   const LinearSolveReport solve = solveSystem(rhs_, report.phases);
   if (!solve.ok) return failed(StepStatus::SolverFailed);
   velocity_ += du_;
@@ -112,9 +128,8 @@ StepReport CoupledSolver::solveStatic(const CoupledLoads& loads, CoupledState& s
       report.status = StepStatus::Ok;
       break;
     }
-    const bool factorized =
-        timed(report.phases.factorization, [&]() { return factorize(0.0, 1.0); });
-    if (!factorized || !solveSystem(f, report.phases).ok) {
+    if (!factorizeAssembled(state, loads, 0.0, 1.0, report.phases) ||
+        !solveSystem(f, report.phases).ok) {
       state = start_;
       report.status = StepStatus::SolverFailed;
       return report;

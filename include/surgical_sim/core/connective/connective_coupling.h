@@ -74,6 +74,10 @@ struct CouplingTangentOptions {
   /// Keep only the symmetric part of the rigid nodes' rotation terms (layer geometric and
   /// gravity terms, the mapping term below), as the SPD solvers need.
   bool symmetrize = true;
+  /// Include the stress- and load-dependent rigid-node terms: the layers' geometric and
+  /// gravity terms and the mapping term below. Without them K~ is the layers' material
+  /// tangent plus the organs' tangents: positive semi-definite whatever the loads.
+  bool geometric = true;
 };
 
 /// FE organs and connective layers coupled into one mechanical system.

@@ -23,7 +23,10 @@ struct CoupledSolverSettings {
 /// factorized by CHOLMOD with its symbolic analysis done once. Without mass (quasi-static), or
 /// if A does not factorize, the free rigid-node rotation diagonal is shifted by
 /// kRotationShifts[k] times its mean, the smallest that factorizes (the drilling modes of
-/// RigidNodeTangentSystem); the shift changes increments, never residuals.
+/// RigidNodeTangentSystem). If no shift factorizes (large grasp or contact forces make the
+/// mapping and geometric terms strongly indefinite), K~ is rebuilt without them
+/// (CouplingTangentOptions::geometric off) and the shifts tried again. Shifts and the dropped
+/// terms change increments, never residuals.
 class CoupledSolver {
  public:
   /// @throws std::invalid_argument naming a setting out of range
@@ -43,7 +46,16 @@ class CoupledSolver {
   /// restored. Velocities are left zero. report.residual: |f~| / forceScale() at the end.
   StepReport solveStatic(const CoupledLoads& loads, CoupledState& state);
 
+  /// Whether the last factorization dropped the geometric terms.
+  bool usedMaterialTangentOnly() const { return material_only_; }
+
  private:
+  /// factorize() the full tangent that coupling_ holds (assembled at state, loads); if that
+  /// fails, reassemble it without the geometric terms (with mass if mass_coefficient != 0;
+  /// the force is unchanged) and factorize again. Time added to phases.
+  bool factorizeAssembled(const CoupledState& state, const CoupledLoads& loads,
+                          double mass_coefficient, double stiffness_coefficient,
+                          StepPhaseTimes& phases);
   /// system_ = c_M M~ + c_K K~ factorized (with the smallest rotation shift that works).
   bool factorize(double mass_coefficient, double stiffness_coefficient);
   /// du_ = A^-1 b with the current factor, its time added to phases.linear_solve; ok is false
@@ -54,6 +66,7 @@ class CoupledSolver {
   CoupledSolverSettings settings_;
   CholmodSolver solver_;
   bool analysed_ = false;
+  bool material_only_ = false;
   Eigen::SparseMatrix<double> system_;
   Eigen::VectorXd velocity_, rhs_, du_, product_;
   CoupledState start_, trial_;
