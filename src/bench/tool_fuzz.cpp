@@ -195,13 +195,47 @@ std::vector<std::optional<double>> sceneForceBounds(const SceneBase& scene) {
   return bounds;
 }
 
-ToolFuzzOutcome runToolFuzzSequence(TissueSimulation& sim, const ToolFuzzSettings& settings,
-                                    std::mt19937& rng) {
+namespace {
+
+/// Bounding box of the rest tissue [m].
+Box restBox(const TissueSimulation& sim) {
+  const Eigen::Matrix3Xd& rest = sim.mesh().nodes;
+  return {rest.rowwise().minCoeff(), rest.rowwise().maxCoeff()};
+}
+Box restBox(const MultiBodySimulation& sim) {
+  Box box{Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()),
+          Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity())};
+  for (int b = 0; b < sim.numBodies(); ++b) {
+    const Eigen::Matrix3Xd& rest = sim.bodyMesh(b).nodes;
+    box.lo = box.lo.cwiseMin(rest.rowwise().minCoeff());
+    box.hi = box.hi.cwiseMax(rest.rowwise().maxCoeff());
+  }
+  return box;
+}
+
+/// Whether the state's positions and velocities are finite.
+bool finiteState(const TissueSimulation& sim) {
+  return sim.state().x.allFinite() && sim.state().v.allFinite();
+}
+bool finiteState(const MultiBodySimulation& sim) {
+  const CoupledState& state = sim.state();
+  auto all = [](const std::vector<Eigen::VectorXd>& vectors) {
+    return std::all_of(vectors.begin(), vectors.end(),
+                       [](const Eigen::VectorXd& v) { return v.allFinite(); });
+  };
+  bool finite =
+      all(state.organ_positions) && all(state.organ_velocities) && all(state.layer_velocities);
+  for (const RigidNodeConfiguration& q : state.layer_configurations)
+    for (int j = 0; j < q.numNodes(); ++j)
+      finite = finite && q.p_TN[j].allFinite() && q.q_TN[j].coeffs().allFinite();
+  return finite;
+}
+
+template <typename Simulation>
+ToolFuzzOutcome runSequence(Simulation& sim, const ToolFuzzSettings& settings, std::mt19937& rng) {
   validate(settings);
   sim.reset();
-  const Eigen::Matrix3Xd& rest = sim.mesh().nodes;
-  const Box tissue{rest.rowwise().minCoeff(), rest.rowwise().maxCoeff()};
-  MotionGenerator gen(settings, tissue, rng);
+  MotionGenerator gen(settings, restBox(sim), rng);
   const auto n_tools = static_cast<std::size_t>(sim.numTools());
   std::vector<ToolMotion> motion(n_tools);
   ToolFuzzOutcome out;
@@ -248,7 +282,7 @@ ToolFuzzOutcome runToolFuzzSequence(TissueSimulation& sim, const ToolFuzzSetting
     const std::string status = toString(stats.report.status);
     ++out.status_steps[status];
     const double energy = stats.report.energy;
-    bool finite = sim.state().x.allFinite() && sim.state().v.allFinite() && std::isfinite(energy);
+    bool finite = finiteState(sim) && std::isfinite(energy);
     bool over = false;
     bool limited_ok = false;
     bool contact = false;
@@ -278,6 +312,18 @@ ToolFuzzOutcome runToolFuzzSequence(TissueSimulation& sim, const ToolFuzzSetting
     previous_energy = energy;
   }
   return out;
+}
+
+}  // namespace
+
+ToolFuzzOutcome runToolFuzzSequence(TissueSimulation& sim, const ToolFuzzSettings& settings,
+                                    std::mt19937& rng) {
+  return runSequence(sim, settings, rng);
+}
+
+ToolFuzzOutcome runToolFuzzSequence(MultiBodySimulation& sim, const ToolFuzzSettings& settings,
+                                    std::mt19937& rng) {
+  return runSequence(sim, settings, rng);
 }
 
 }  // namespace surgical_sim::bench

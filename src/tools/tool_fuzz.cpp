@@ -15,6 +15,7 @@
 #include "bench_cli.h"
 #include "package_dirs.h"
 #include "surgical_sim/bench/tool_fuzz.h"
+#include "surgical_sim/core/scene/multi_body_simulation.h"
 #include "surgical_sim/core/scene/scene_config.h"
 
 namespace {
@@ -27,7 +28,8 @@ constexpr const char* kUsage =
     "  Drives the scene's tools with random hostile pose streams in lockstep with the\n"
     "  simulation (within 10 cm of the tissue, up to 2 m/s, dives through the body, 1 m\n"
     "  teleports and back, random orientations, jaw toggles, malformed poses that the node's\n"
-    "  pose check must reject). Sequence i uses seed S + i.\n"
+    "  pose check must reject). Sequence i uses seed S + i. A multi-body scene (bodies:\n"
+    "  FE organs and connective layers) is driven the same way.\n"
     "  --scene FILE       scene YAML (default config/scenes/palpation.yaml)\n"
     "  --sequences N      number of sequences (default 10)\n"
     "  --steps N          steps per sequence (default 1000 = 10 s at dt 0.01 s)\n"
@@ -158,6 +160,43 @@ void writeCsv(std::ostream& csv, const std::vector<ToolFuzzOutcome>& rows, unsig
 
 }  // namespace
 
+/// Runs args.sequences sequences on sim (a scene of `nodes` organ nodes), prints the table and
+/// writes the CSV; the exit code: 0 clean, 3 a violation.
+template <typename Simulation>
+int fuzz(const Args& args, const surgical_sim::bench::ToolFuzzSettings& settings, Simulation& sim,
+         int nodes) {
+  std::ofstream csv;
+  if (!surgical_sim::tools::openCsv("tool_fuzz", args.csv, csv)) return 1;
+  std::ostringstream bound;
+  for (std::size_t i = 0; i < settings.force_bounds.size(); ++i)
+    bound << (i ? ";" : "")
+          << (settings.force_bounds[i] ? std::to_string(*settings.force_bounds[i]) : "none");
+
+  std::cerr << "tool_fuzz: scene " << sim.scene().name << " (" << nodes << " nodes, "
+            << sim.numTools() << " tool(s), force bound " << bound.str() << " N), "
+            << args.sequences << " x " << args.steps << " steps, seed " << args.seed << "\n";
+  std::vector<ToolFuzzOutcome> rows;
+  ToolFuzzOutcome total;
+  for (int s = 0; s < args.sequences; ++s) {
+    std::mt19937 rng(args.seed + static_cast<unsigned>(s));
+    rows.push_back(surgical_sim::bench::runToolFuzzSequence(sim, settings, rng));
+    total.merge(rows.back());
+    std::cerr << "tool_fuzz: sequence " << s + 1 << "/" << args.sequences << ": "
+              << rows.back().non_finite_steps << " non-finite, max force " << rows.back().max_force
+              << " N, " << 1e3 * rows.back().wall_seconds / rows.back().steps << " ms/step\n";
+  }
+  const std::vector<std::string> statuses = statusColumns(total);
+  printHeader(std::cout);
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    printRow(std::cout, std::to_string(i), rows[i], statuses);
+  printRow(std::cout, "total", total, statuses);
+  printCounts(std::cout, total, statuses);
+  if (csv.is_open()) writeCsv(csv, rows, args.seed, statuses, bound.str());
+  const bool clean = total.non_finite_steps == 0 && total.over_bound_steps == 0 &&
+                     total.limited_but_ok_steps == 0 && total.bad_poses_accepted == 0;
+  return clean ? 0 : 3;
+}
+
 int main(int argc, char** argv) {
   Args args;
   bool help = false;
@@ -170,50 +209,26 @@ int main(int argc, char** argv) {
     std::cerr << "tool_fuzz: " << problem << "\n" << kUsage;
     return 2;
   }
-  std::ofstream csv;
-  if (!surgical_sim::tools::openCsv("tool_fuzz", args.csv, csv)) return 1;
   try {
     const surgical_sim::core::RuntimeScene scene = surgical_sim::core::loadRuntimeScene(args.scene);
     if (scene.tools.empty()) {
       std::cerr << "tool_fuzz: scene " << args.scene << " has no tools\n";
       return 1;
     }
-    surgical_sim::core::TissueSimulation sim(scene);
     surgical_sim::bench::ToolFuzzSettings settings;
     settings.steps = args.steps;
     settings.bad_pose_rate = args.bad_pose_rate;
     settings.force_bounds = surgical_sim::bench::sceneForceBounds(scene);
     if (args.max_force > 0.0)
       for (auto& b : settings.force_bounds) b = args.max_force;
-    std::ostringstream bound;
-    for (std::size_t i = 0; i < settings.force_bounds.size(); ++i)
-      bound << (i ? ";" : "")
-            << (settings.force_bounds[i] ? std::to_string(*settings.force_bounds[i]) : "none");
-
-    std::cerr << "tool_fuzz: scene " << scene.name << " (" << sim.mesh().numNodes() << " nodes, "
-              << sim.numTools() << " tool(s), force bound " << bound.str() << " N), "
-              << args.sequences << " x " << args.steps << " steps, seed " << args.seed << "\n";
-    std::vector<ToolFuzzOutcome> rows;
-    ToolFuzzOutcome total;
-    for (int s = 0; s < args.sequences; ++s) {
-      std::mt19937 rng(args.seed + static_cast<unsigned>(s));
-      rows.push_back(surgical_sim::bench::runToolFuzzSequence(sim, settings, rng));
-      total.merge(rows.back());
-      std::cerr << "tool_fuzz: sequence " << s + 1 << "/" << args.sequences << ": "
-                << rows.back().non_finite_steps << " non-finite, max force "
-                << rows.back().max_force << " N, "
-                << 1e3 * rows.back().wall_seconds / rows.back().steps << " ms/step\n";
+    if (scene.bodies.empty()) {
+      surgical_sim::core::TissueSimulation sim(scene);
+      return fuzz(args, settings, sim, sim.mesh().numNodes());
     }
-    const std::vector<std::string> statuses = statusColumns(total);
-    printHeader(std::cout);
-    for (std::size_t i = 0; i < rows.size(); ++i)
-      printRow(std::cout, std::to_string(i), rows[i], statuses);
-    printRow(std::cout, "total", total, statuses);
-    printCounts(std::cout, total, statuses);
-    if (csv.is_open()) writeCsv(csv, rows, args.seed, statuses, bound.str());
-    const bool clean = total.non_finite_steps == 0 && total.over_bound_steps == 0 &&
-                       total.limited_but_ok_steps == 0 && total.bad_poses_accepted == 0;
-    return clean ? 0 : 3;
+    surgical_sim::core::MultiBodySimulation sim(scene);
+    int nodes = 0;
+    for (int b = 0; b < sim.numBodies(); ++b) nodes += sim.bodyMesh(b).numNodes();
+    return fuzz(args, settings, sim, nodes);
   } catch (const std::exception& e) {
     std::cerr << "tool_fuzz: " << e.what() << "\n";
     return 1;

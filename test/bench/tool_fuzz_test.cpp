@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "surgical_sim/core/scene/multi_body_simulation.h"
 #include "surgical_sim/core/scene/scene_config.h"
 #include "surgical_sim/core/scene/tissue_simulation.h"
 
@@ -60,6 +61,31 @@ TEST(ToolFuzz, HostileMotionStaysFiniteBoundedAndTruthful) {
     EXPECT_EQ(total.over_bound_steps, 0);
     EXPECT_EQ(total.limited_but_ok_steps, 0);
   }
+}
+
+/// Scene (b): two organs joined by a connective layer, one tool with jaws. Hostile motion grabs,
+/// dives through and yanks the organs; every step is ok or capped, finite and truthful.
+TEST(ToolFuzz, MultiBodySceneUnderHostileMotionStaysFiniteBoundedAndTruthful) {
+  const RuntimeScene scene = loadRuntimeScene(std::string(SURGICAL_SIM_SOURCE_DIR) +
+                                              "/config/scenes/connective_two_organs.yaml");
+  MultiBodySimulation sim(scene);
+  ToolFuzzSettings settings = shortSettings(scene);
+  settings.steps = 150;
+  settings.grasp_toggle_rate = 0.05;
+  ToolFuzzOutcome total;
+  for (unsigned seed = 1; seed <= 2; ++seed) {
+    std::mt19937 rng(seed);
+    total.merge(runToolFuzzSequence(sim, settings, rng));
+  }
+  EXPECT_EQ(total.non_finite_steps, 0);
+  EXPECT_EQ(total.status_steps["ok"] + total.status_steps["contact_limited"], total.steps);
+  EXPECT_GT(total.contact_steps, 0);
+  EXPECT_GT(total.grasp_toggles, 0);
+  EXPECT_EQ(total.bad_poses_accepted, 0);
+  ASSERT_TRUE(settings.force_bounds.at(0).has_value());
+  EXPECT_LE(total.max_force, *settings.force_bounds[0] * (1.0 + 1e-6));
+  EXPECT_EQ(total.over_bound_steps, 0);
+  EXPECT_EQ(total.limited_but_ok_steps, 0);
 }
 
 TEST(ToolFuzz, SameSeedReplaysTheSameSequence) {

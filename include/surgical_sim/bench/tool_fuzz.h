@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "surgical_sim/core/scene/multi_body_simulation.h"
 #include "surgical_sim/core/scene/scene_config.h"
 #include "surgical_sim/core/scene/tissue_simulation.h"
 
@@ -71,6 +72,10 @@ std::vector<std::optional<double>> sceneForceBounds(const SceneBase& scene);
 /// throws from the step path.
 /// @throws std::invalid_argument naming the setting when a setting is out of range.
 ToolFuzzOutcome runToolFuzzSequence(TissueSimulation& sim, const ToolFuzzSettings& settings,
+                                    std::mt19937& rng);
+/// The same on a multi-body scene: the motion targets are taken around the bounding box of all
+/// bodies at rest; the state checked is every organ node and rigid node.
+ToolFuzzOutcome runToolFuzzSequence(MultiBodySimulation& sim, const ToolFuzzSettings& settings,
                                     std::mt19937& rng);
 
 }  // namespace surgical_sim::bench
