@@ -146,14 +146,39 @@ def alive(pid):
 # ------------------------------------------------------------------------------------------
 # Tool motion (same semantics as core::runToolFuzzSequence, in the world frame)
 # ------------------------------------------------------------------------------------------
+def body_box(mesh, position):
+    """(lo, hi) [m] around a generated body mesh (box/beam from its min corner, organ_blob
+    around 0) placed at position, rotation-safe: its centre +- its half diagonal."""
+    size = mesh.get("size", [0.075, 0.05, 0.024])
+    if mesh.get("generator") in ("box", "beam"):
+        centre = [mesh.get("origin", [0.0, 0.0, 0.0])[k] + 0.5 * size[k] for k in range(3)]
+        radius = 0.5 * math.sqrt(sum(v * v for v in size))
+    elif mesh.get("generator") == "organ_blob":
+        centre, radius = [0.0, 0.0, 0.0], max(size)
+    else:
+        raise SystemExit("ros_robustness: mesh generator %r: no bounding box known (box, beam, "
+                         "organ_blob)" % mesh.get("generator"))
+    return ([position[k] + centre[k] - radius for k in range(3)],
+            [position[k] + centre[k] + radius for k in range(3)])
+
+
 def scene_info(path):
-    """(tissue box (lo, hi) in world [m], tool specs) of an organ_blob/box scene."""
+    """(tissue box (lo, hi) in world [m], tool specs) of an organ_blob/box scene or of a
+    multi-body scene (the box around all bodies)."""
     with open(path) as f:
         scene = yaml.safe_load(f)
-    semi = scene["mesh"].get("size", [0.075, 0.05, 0.024])
     origin = scene.get("tissue_pose", {}).get("position", [0.0, 0.0, 0.0])
-    lo = [origin[k] - semi[k] for k in range(3)]
-    hi = [origin[k] + semi[k] for k in range(3)]
+    if "bodies" not in scene:
+        semi = scene["mesh"].get("size", [0.075, 0.05, 0.024])
+        lo = [origin[k] - semi[k] for k in range(3)]
+        hi = [origin[k] + semi[k] for k in range(3)]
+        return (lo, hi), scene.get("tools", [])
+    boxes = []
+    for body in scene["bodies"]:
+        position = body.get("pose", {}).get("position", [0.0, 0.0, 0.0])
+        boxes.append(body_box(body["mesh"], [origin[k] + position[k] for k in range(3)]))
+    lo = [min(b[0][k] for b in boxes) for k in range(3)]
+    hi = [max(b[1][k] for b in boxes) for k in range(3)]
     return (lo, hi), scene.get("tools", [])
 
 
