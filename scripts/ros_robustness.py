@@ -412,7 +412,8 @@ def part_realtime(args):
         box, tools = scene_info(args.scene)
         recorder = TissueRecorder(tool_bound(tools, args.max_force))
         pub = rospy.Publisher(tools[0].get("pose_topic", "tool/pose"), PoseStamped, queue_size=100)
-        grasp_topic = tools[0].get("grasp_topic")
+        grasp = tools[0].get("grasp")
+        grasp_topic = grasp.get("topic", "tool/grasp") if isinstance(grasp, dict) else None
         grasp_pub = rospy.Publisher(grasp_topic, Bool, queue_size=10) if grasp_topic else None
         rospy.wait_for_service("tissue/reset", timeout=60)
         reset = rospy.ServiceProxy("tissue/reset", Empty)
