@@ -186,6 +186,7 @@ void EfgSurfaceCutter::commit() {
     active_ = false;
   }
   completed_ = false;
+  generated_of_.clear();
   crossings_.clear();
   path_.clear();
   row_.clear();
@@ -542,6 +543,16 @@ void EfgSurfaceCutter::rebuild() {
       generated_.push_back({other(t[0]), other(t[2]), other(t[1])});
     }
   }
+  generated_of_.clear();
+  for (int k = 0; k < intSize(generated_); ++k)
+    for (int v : at(generated_, k)) generated_of_.emplace_back(v, k);
+  std::sort(generated_of_.begin(), generated_of_.end());
+}
+
+std::pair<std::vector<std::pair<int, int>>::const_iterator,
+          std::vector<std::pair<int, int>>::const_iterator>
+EfgSurfaceCutter::generatedOf(int v) const {
+  return std::equal_range(generated_of_.begin(), generated_of_.end(), v, GeneratedOrder{});
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -554,15 +565,17 @@ void EfgSurfaceCutter::forIncident(int v, const F& f) const {
       const int t = at(vertex_tris_, k);
       if (!at(replaced_, t)) f(at(tris_, t));
     }
-  for (const auto& t : generated_)
-    if (t[0] == v || t[1] == v || t[2] == v) f(t);
+  const auto [first, last] = generatedOf(v);
+  for (auto it = first; it != last; ++it) f(at(generated_, it->second));
 }
 
 Eigen::Vector3d EfgSurfaceCutter::sheetNormal(int v) const {
   Eigen::Vector3d n = Eigen::Vector3d::Zero();
-  for (std::size_t k = static_cast<std::size_t>(sheet_start_); k < generated_.size(); k += 2) {
-    const auto& t = generated_[k];
-    if (t[0] != v && t[1] != v && t[2] != v) continue;
+  const auto [first, last] = generatedOf(v);
+  for (auto it = first; it != last; ++it) {
+    const int k = it->second;
+    if (k < sheet_start_ || (k - sheet_start_) % 2 != 0) continue;  // side A sheet only
+    const auto& t = at(generated_, k);
     const Eigen::Vector3d &a = at(verts_, t[0]).rest, &b = at(verts_, t[1]).rest,
                           &c = at(verts_, t[2]).rest;
     n += (b - a).cross(c - a);

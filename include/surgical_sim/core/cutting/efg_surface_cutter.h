@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include "surgical_sim/core/cutting/blade_sweep.h"
@@ -144,6 +145,15 @@ class EfgSurfaceCutter {
   void updateFront(std::vector<int>& created);
   void rebuild();
   std::function<Eigen::Vector3d(int)> restOf() const;
+  /// Orders generated_of_ entries by vertex (for equal_range on a vertex id).
+  struct GeneratedOrder {
+    bool operator()(const std::pair<int, int>& a, int v) const { return a.first < v; }
+    bool operator()(int v, const std::pair<int, int>& a) const { return v < a.first; }
+  };
+  /// Range of generated_of_ for vertex v, in generated_ order.
+  std::pair<std::vector<std::pair<int, int>>::const_iterator,
+            std::vector<std::pair<int, int>>::const_iterator>
+  generatedOf(int v) const;
   /// Calls f(triangle) for every current triangle holding v.
   template <class F>
   void forIncident(int v, const F& f) const;
@@ -186,7 +196,9 @@ class EfgSurfaceCutter {
   std::vector<std::uint8_t> replaced_;           ///< per committed triangle
   std::vector<int> cut_tris_;                    ///< committed triangles replaced by splits
   std::vector<std::array<int, 3>> generated_;    ///< triangles of the running cut
-  std::vector<std::uint8_t> outcode_;            ///< per vertex, broad-phase scratch of cut()
+  /// (vertex, index in generated_) of each corner of the running cut's triangles, sorted.
+  std::vector<std::pair<int, int>> generated_of_;
+  std::vector<std::uint8_t> outcode_;  ///< per vertex, broad-phase scratch of cut()
   int sheet_start_ = 0;  ///< first sheet triangle in generated_ (side A, B alternating)
   bool completed_ = false;
 };
