@@ -16,6 +16,8 @@ namespace {
 /// Grid cells per IP (about) and search radius in cells.
 constexpr double kIpsPerCell = 4.0;
 constexpr double kSearchCells = 1.0;
+/// Grid cells per axis of a block, the coarse level of the search below the cut planes.
+constexpr int kBlockCells = 4;
 
 /// True when X lies strictly below every plane.
 bool belowPlanes(const Eigen::Vector3d& X, const std::vector<CutPlane>& planes) {
@@ -149,17 +151,25 @@ RemapResult SurfaceRemapper::find(const Eigen::Vector3d& X, const Eigen::Vector3
   // over every IP), from the grid cells not wholly on or above one of the planes; without a
   // valid one, the nearest IP (a sliver between cuts).
   std::vector<std::pair<double, int>> below;
-  for (int z = 0; z < dims_.z(); ++z)
-    for (int y = 0; y < dims_.y(); ++y)
-      for (int x = 0; x < dims_.x(); ++x) {
-        const Eigen::Vector3i c(x, y, z);
-        if (!cellMayBeBelow(c, planes)) continue;
-        const auto k = static_cast<std::size_t>(cellIndex(c));
-        for (int i = cell_start_[k]; i < cell_start_[k + 1]; ++i) {
-          const int ip = cell_ips_[static_cast<std::size_t>(i)];
-          const Eigen::Vector3d& Xi = ip_rest_[static_cast<std::size_t>(ip)];
-          if (belowPlanes(Xi, planes)) below.emplace_back((Xi - X).squaredNorm(), ip);
-        }
+  const Eigen::Vector3i blocks = (dims_.array() + kBlockCells - 1) / kBlockCells;
+  for (int bz = 0; bz < blocks.z(); ++bz)
+    for (int by = 0; by < blocks.y(); ++by)
+      for (int bx = 0; bx < blocks.x(); ++bx) {
+        const Eigen::Vector3i lo = kBlockCells * Eigen::Vector3i(bx, by, bz);
+        const Eigen::Vector3i hi = (lo.array() + kBlockCells).min(dims_.array());
+        if (!boxMayBeBelow(lo, hi, planes)) continue;
+        for (int z = lo.z(); z < hi.z(); ++z)
+          for (int y = lo.y(); y < hi.y(); ++y)
+            for (int x = lo.x(); x < hi.x(); ++x) {
+              const Eigen::Vector3i c(x, y, z);
+              if (!boxMayBeBelow(c, c + Eigen::Vector3i::Ones(), planes)) continue;
+              const auto k = static_cast<std::size_t>(cellIndex(c));
+              for (int i = cell_start_[k]; i < cell_start_[k + 1]; ++i) {
+                const int ip = cell_ips_[static_cast<std::size_t>(i)];
+                const Eigen::Vector3d& Xi = ip_rest_[static_cast<std::size_t>(ip)];
+                if (belowPlanes(Xi, planes)) below.emplace_back((Xi - X).squaredNorm(), ip);
+              }
+            }
       }
   std::sort(below.begin(), below.end());
   for (int level = 0; level <= 3; ++level)
@@ -177,12 +187,13 @@ int SurfaceRemapper::cellIndex(const Eigen::Vector3i& c) const {
   return (c.z() * dims_.y() + c.y()) * dims_.x() + c.x();
 }
 
-bool SurfaceRemapper::cellMayBeBelow(const Eigen::Vector3i& c,
-                                     const std::vector<CutPlane>& planes) const {
-  const Eigen::Vector3d centre = origin_ + cell_ * (c.cast<double>().array() + 0.5).matrix();
-  // Lowest (X - point) . normal over the cell; a margin of 1e-9 cell absorbs rounding.
+bool SurfaceRemapper::boxMayBeBelow(const Eigen::Vector3i& lo, const Eigen::Vector3i& hi,
+                                    const std::vector<CutPlane>& planes) const {
+  const Eigen::Vector3d half = 0.5 * cell_ * (hi - lo).cast<double>();
+  const Eigen::Vector3d centre = origin_ + cell_ * lo.cast<double>() + half;
+  // Lowest (X - point) . normal over the box; a margin of 1e-9 cell absorbs rounding.
   for (const CutPlane& p : planes)
-    if ((centre - p.point).dot(p.normal) - 0.5 * cell_ * p.normal.lpNorm<1>() > 1e-9 * cell_)
+    if ((centre - p.point).dot(p.normal) - half.dot(p.normal.cwiseAbs()) > 1e-9 * cell_)
       return false;
   return true;
 }
