@@ -9,6 +9,7 @@
 #include <string>
 #include <utility>
 
+#include "efg_sweep_slab.h"
 #include "index_at.h"
 #include "surgical_sim/core/cutting/cut_front.h"
 #include "surgical_sim/core/cutting/edge_sweep_ccd.h"
@@ -794,6 +795,9 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
     int edge;
     double s;
   };
+  std::vector<efg_sweep_slab::SweepSlab> slabs;
+  for (Eigen::Index i = 0; i < segments; ++i)
+    slabs.push_back(efg_sweep_slab::sweepSlab(sweep, i, tol));
   std::vector<Hit> hits;
   std::vector<int> near;
   for (int c = 0; c + 1 < intSize(cluster_start_); ++c) {
@@ -810,6 +814,9 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
       if (at(outcode_, a) & at(outcode_, b)) continue;
       std::optional<EdgeSweepHit> best;
       for (Eigen::Index i = 0; i < segments; ++i) {
+        if (at(slabs, static_cast<int>(i))
+                .apart({x_start.col(a), x_start.col(b), x_end.col(a), x_end.col(b)}))
+          continue;
         const auto hit = edgeSweepCrossing(sweep.start.col(i), sweep.start.col(i + 1),
                                            sweep.end.col(i), sweep.end.col(i + 1), x_start.col(a),
                                            x_start.col(b), x_end.col(a), x_end.col(b), tol);
@@ -827,6 +834,7 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
     if (!vert.used || vert.ip < 0) continue;
     const Eigen::Vector3d x_ip = source_.ipPosition(vert.ip);
     for (Eigen::Index i = 0; i < segments; ++i) {
+      if (at(slabs, static_cast<int>(i)).apart({x_start.col(v), x_end.col(v), x_ip})) continue;
       const auto hit =
           edgeSweepCrossing(sweep.start.col(i), sweep.start.col(i + 1), sweep.end.col(i),
                             sweep.end.col(i + 1), x_start.col(v), x_ip, x_end.col(v), x_ip, tol);

@@ -10,6 +10,7 @@
 #include <string>
 #include <utility>
 
+#include "efg_sweep_slab.h"
 #include "surgical_sim/core/cutting/edge_sweep_ccd.h"
 #include "surgical_sim/core/tissue/efg_shape_functions.h"
 
@@ -260,39 +261,13 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
   const double margin = kStretchMargin * max_link_length_;
   const Eigen::Vector3d lo = sweep_lo.array() - margin;
   const Eigen::Vector3d hi = sweep_hi.array() + margin;
-  // Each segment's sweep lies in its four corners' hull: the slab of that hull along the normal
-  // of the swept quad (none when the segment moves along itself or not at all).
-  struct Slab {
-    Eigen::Vector3d normal;
-    double lo, hi;  ///< [m], grown by the margin
-  };
-  std::vector<Slab> slabs;
-  for (Eigen::Index i = 0; i + 1 < sweep.start.cols(); ++i) {
-    const Eigen::Vector3d c[4] = {sweep.start.col(i), sweep.start.col(i + 1), sweep.end.col(i),
-                                  sweep.end.col(i + 1)};
-    const Eigen::Vector3d normal =
-        (c[1] - c[0]).cross(c[2] - c[0]) + (c[3] - c[2]).cross(c[3] - c[1]);
-    if (!(normal.norm() > 1e-12 * (c[1] - c[0]).squaredNorm())) {
-      slabs.clear();  // a segment without a slab: no slab test
-      break;
-    }
-    Slab slab{normal.normalized(), std::numeric_limits<double>::infinity(),
-              -std::numeric_limits<double>::infinity()};
-    for (const Eigen::Vector3d& corner : c) {
-      slab.lo = std::min(slab.lo, slab.normal.dot(corner));
-      slab.hi = std::max(slab.hi, slab.normal.dot(corner));
-    }
-    slab.lo -= margin + tolerance;
-    slab.hi += margin + tolerance;
-    slabs.push_back(slab);
-  }
+  std::vector<efg_sweep_slab::SweepSlab> slabs;
+  for (Eigen::Index i = 0; i + 1 < sweep.start.cols(); ++i)
+    slabs.push_back(efg_sweep_slab::sweepSlab(sweep, i, margin + tolerance));
   const auto nearASlab = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-    if (slabs.empty()) return true;
-    for (const Slab& slab : slabs) {
-      const double pa = slab.normal.dot(a), pb = slab.normal.dot(b);
-      if (std::max(pa, pb) >= slab.lo && std::min(pa, pb) <= slab.hi) return true;
-    }
-    return false;
+    return std::any_of(slabs.begin(), slabs.end(), [&](const efg_sweep_slab::SweepSlab& slab) {
+      return !slab.apart({a, b});
+    });
   };
   std::vector<int> candidates;
   std::vector<char> marked(graph_.links().size(), 0);
