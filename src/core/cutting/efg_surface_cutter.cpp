@@ -851,18 +851,17 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
     return x.t < y.t || (x.t == y.t && x.edge < y.edge);
   });
   const int first_crossing = intSize(crossings_);
+  std::vector<std::uint8_t> taken(hits.size(), 0);
   for (bool progress = true; progress;) {
     progress = false;
-    for (auto it = hits.begin(); it != hits.end();)
-      if (accept(it->edge, it->s)) {
-        it = hits.erase(it);
+    for (std::size_t i = 0; i < hits.size(); ++i)
+      if (!taken[i] && accept(hits[i].edge, hits[i].s)) {
+        taken[i] = 1;
         progress = true;
         ++out.crossed_edges;
-      } else {
-        ++it;
       }
   }
-  out.ignored_crossings = intSize(hits);
+  out.ignored_crossings = intSize(hits) - out.crossed_edges;
   std::vector<int> to_remap;
   for (const auto& h : ip_hits) {
     addPlane(h.first, h.second.point, h.second.normal);
@@ -917,11 +916,14 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
   }
   // Existing vertices first, so new ones see mapped neighbours.
   std::vector<int> done;
+  remapped_mark_.resize(verts_.size(), 0);
   for (int v : to_remap) {
-    if (!at(verts_, v).used || std::find(done.begin(), done.end(), v) != done.end()) continue;
+    if (!at(verts_, v).used || at(remapped_mark_, v)) continue;
     remap(v);
+    at(remapped_mark_, v) = 1;
     done.push_back(v);
   }
+  for (int v : done) at(remapped_mark_, v) = 0;
   std::sort(done.begin(), done.end());
   out.remapped = std::move(done);
   return out;

@@ -16,8 +16,6 @@ namespace {
 /// Grid cells per IP (about) and search radius in cells.
 constexpr double kIpsPerCell = 4.0;
 constexpr double kSearchCells = 1.0;
-/// Grid cells per axis of a block, the coarse level of the search below the cut planes.
-constexpr int kBlockCells = 4;
 
 /// True when X lies strictly below every plane.
 bool belowPlanes(const Eigen::Vector3d& X, const std::vector<CutPlane>& planes) {
@@ -151,26 +149,7 @@ RemapResult SurfaceRemapper::find(const Eigen::Vector3d& X, const Eigen::Vector3
   // over every IP), from the grid cells not wholly on or above one of the planes; without a
   // valid one, the nearest IP (a sliver between cuts).
   std::vector<std::pair<double, int>> below;
-  const Eigen::Vector3i blocks = (dims_.array() + kBlockCells - 1) / kBlockCells;
-  for (int bz = 0; bz < blocks.z(); ++bz)
-    for (int by = 0; by < blocks.y(); ++by)
-      for (int bx = 0; bx < blocks.x(); ++bx) {
-        const Eigen::Vector3i lo = kBlockCells * Eigen::Vector3i(bx, by, bz);
-        const Eigen::Vector3i hi = (lo.array() + kBlockCells).min(dims_.array());
-        if (!boxMayBeBelow(lo, hi, planes)) continue;
-        for (int z = lo.z(); z < hi.z(); ++z)
-          for (int y = lo.y(); y < hi.y(); ++y)
-            for (int x = lo.x(); x < hi.x(); ++x) {
-              const Eigen::Vector3i c(x, y, z);
-              if (!boxMayBeBelow(c, c + Eigen::Vector3i::Ones(), planes)) continue;
-              const auto k = static_cast<std::size_t>(cellIndex(c));
-              for (int i = cell_start_[k]; i < cell_start_[k + 1]; ++i) {
-                const int ip = cell_ips_[static_cast<std::size_t>(i)];
-                const Eigen::Vector3d& Xi = ip_rest_[static_cast<std::size_t>(ip)];
-                if (belowPlanes(Xi, planes)) below.emplace_back((Xi - X).squaredNorm(), ip);
-              }
-            }
-      }
+  collectBelow(Eigen::Vector3i::Zero(), dims_, X, planes, below);
   std::sort(below.begin(), below.end());
   for (int level = 0; level <= 3; ++level)
     for (const auto& [d2, ip] : below)
@@ -185,6 +164,29 @@ Eigen::Vector3i SurfaceRemapper::cellAt(const Eigen::Vector3d& X) const {
 
 int SurfaceRemapper::cellIndex(const Eigen::Vector3i& c) const {
   return (c.z() * dims_.y() + c.y()) * dims_.x() + c.x();
+}
+
+void SurfaceRemapper::collectBelow(const Eigen::Vector3i& lo, const Eigen::Vector3i& hi,
+                                   const Eigen::Vector3d& X, const std::vector<CutPlane>& planes,
+                                   std::vector<std::pair<double, int>>& below) const {
+  if (!boxMayBeBelow(lo, hi, planes)) return;
+  int axis = 0;
+  (hi - lo).maxCoeff(&axis);
+  if (hi[axis] - lo[axis] > 1) {
+    Eigen::Vector3i mid = hi;
+    mid[axis] = (lo[axis] + hi[axis]) / 2;
+    collectBelow(lo, mid, X, planes, below);
+    Eigen::Vector3i upper = lo;
+    upper[axis] = mid[axis];
+    collectBelow(upper, hi, X, planes, below);
+    return;
+  }
+  const auto k = static_cast<std::size_t>(cellIndex(lo));
+  for (int i = cell_start_[k]; i < cell_start_[k + 1]; ++i) {
+    const int ip = cell_ips_[static_cast<std::size_t>(i)];
+    const Eigen::Vector3d& Xi = ip_rest_[static_cast<std::size_t>(ip)];
+    if (belowPlanes(Xi, planes)) below.emplace_back((Xi - X).squaredNorm(), ip);
+  }
 }
 
 bool SurfaceRemapper::boxMayBeBelow(const Eigen::Vector3i& lo, const Eigen::Vector3i& hi,

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <utility>
 #include <vector>
 
 namespace surgical_sim::core {
@@ -75,8 +76,8 @@ struct RemapResult {
 /// order of RemapRelaxation (cut planes, which keep a vertex on its own side, are dropped last),
 /// first over the IPs within one grid cell (4 IPs a cell, about 1.6 IP spacings), then over
 /// every IP below the cut planes. Uses a uniform grid of the IP rest positions built once
-/// (O(IPs)): the second search skips the blocks of 4^3 cells, then the cells, wholly above a cut
-/// plane, and the nearest IP is found in cubes of cells growing about X.
+/// (O(IPs)): the second search halves boxes of cells down to cells, skipping those wholly above
+/// a cut plane, and the nearest IP is found in cubes of cells growing about X.
 class SurfaceRemapper {
  public:
   /// @throws std::invalid_argument when the source has no IP or an IP position is not finite.
@@ -98,6 +99,12 @@ class SurfaceRemapper {
   Eigen::Vector3i cellAt(const Eigen::Vector3d& X) const;
   /// Flat index of grid cell c.
   int cellIndex(const Eigen::Vector3i& c) const;
+  /// Appends (squared distance to X [m^2], IP) for the IPs below `planes` in the box of grid
+  /// cells [lo, hi) (non-empty): boxes wholly above a plane are skipped, others halved along
+  /// their longest side down to single cells.
+  void collectBelow(const Eigen::Vector3i& lo, const Eigen::Vector3i& hi, const Eigen::Vector3d& X,
+                    const std::vector<CutPlane>& planes,
+                    std::vector<std::pair<double, int>>& below) const;
   /// False when the box of grid cells [lo, hi) lies wholly on or above one of `planes` (no IP in
   /// it is below them).
   bool boxMayBeBelow(const Eigen::Vector3i& lo, const Eigen::Vector3i& hi,
