@@ -851,15 +851,46 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
     return x.t < y.t || (x.t == y.t && x.edge < y.edge);
   });
   const int first_crossing = intSize(crossings_);
+  // Passes over the hits in that order, accepting what accept() takes, until a pass takes none.
+  // A running cut takes only edges of its tip triangles, so each pass visits just the hits on
+  // those (accept() has no effect when it declines).
+  std::vector<std::pair<int, int>> hit_of_edge;  // (edge, hit), sorted
+  for (int i = 0; i < intSize(hits); ++i) hit_of_edge.emplace_back(at(hits, i).edge, i);
+  std::sort(hit_of_edge.begin(), hit_of_edge.end());
   std::vector<std::uint8_t> taken(hits.size(), 0);
-  for (bool progress = true; progress;) {
+  const auto take = [&](int i) {
+    at(taken, i) = 1;
+    ++out.crossed_edges;
+  };
+  for (int i = 0; !active_ && i < intSize(hits); ++i)
+    if (accept(at(hits, i).edge, at(hits, i).s)) take(i);
+  for (bool progress = active_; progress;) {
     progress = false;
-    for (std::size_t i = 0; i < hits.size(); ++i)
-      if (!taken[i] && accept(hits[i].edge, hits[i].s)) {
-        taken[i] = 1;
-        progress = true;
-        ++out.crossed_edges;
-      }
+    for (int next = 0;;) {
+      // The first hit from `next` on that accept() takes, among those on the tip triangles.
+      std::vector<int> candidates;
+      if (!completed_)
+        for (int tri : tip_tri_)
+          for (int e : at(tri_edges_, tri)) {
+            const auto it = std::lower_bound(hit_of_edge.begin(), hit_of_edge.end(),
+                                             std::pair<int, int>{e, -1});
+            if (it != hit_of_edge.end() && it->first == e && it->second >= next &&
+                !at(taken, it->second))
+              candidates.push_back(it->second);
+          }
+      std::sort(candidates.begin(), candidates.end());
+      candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+      int accepted = -1;
+      for (int i : candidates)
+        if (accept(at(hits, i).edge, at(hits, i).s)) {
+          accepted = i;
+          break;
+        }
+      if (accepted < 0) break;
+      take(accepted);
+      progress = true;
+      next = accepted + 1;
+    }
   }
   out.ignored_crossings = intSize(hits) - out.crossed_edges;
   std::vector<int> to_remap;
