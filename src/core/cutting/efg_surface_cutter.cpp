@@ -799,14 +799,18 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
   for (Eigen::Index i = 0; i < segments; ++i)
     slabs.push_back(efg_sweep_slab::sweepSlab(sweep, i, tol));
   std::vector<Hit> hits;
-  std::vector<int> near;
+  std::vector<int> near;  // distinct vertices of the clusters tested
+  vertex_mark_.resize(verts_.size(), 0);
   for (int c = 0; c + 1 < intSize(cluster_start_); ++c) {
     std::uint8_t common = 0x3f;
     for (int k = at(cluster_vstart_, c); k < at(cluster_vstart_, c + 1) && common; ++k)
       common &= at(outcode_, at(cluster_verts_, k));
     if (common) continue;
-    near.insert(near.end(), cluster_verts_.begin() + at(cluster_vstart_, c),
-                cluster_verts_.begin() + at(cluster_vstart_, c + 1));
+    for (int k = at(cluster_vstart_, c); k < at(cluster_vstart_, c + 1); ++k) {
+      const int v = at(cluster_verts_, k);
+      if (!at(vertex_mark_, v)) near.push_back(v);
+      at(vertex_mark_, v) = 1;
+    }
     for (int k = at(cluster_start_, c); k < at(cluster_start_, c + 1); ++k) {
       const int e = at(cluster_edges_, k);
       if (at(edge_crossing_, e) >= 0) continue;
@@ -827,8 +831,8 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
   }
   // Blade crossing the segment from a vertex to its IP (IP held at its current position).
   std::vector<std::pair<int, CutPlane>> ip_hits;
+  for (int v : near) at(vertex_mark_, v) = 0;
   std::sort(near.begin(), near.end());
-  near.erase(std::unique(near.begin(), near.end()), near.end());
   for (int v : near) {
     const Vertex& vert = at(verts_, v);
     if (!vert.used || vert.ip < 0) continue;
@@ -947,14 +951,14 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
   }
   // Existing vertices first, so new ones see mapped neighbours.
   std::vector<int> done;
-  remapped_mark_.resize(verts_.size(), 0);
+  vertex_mark_.resize(verts_.size(), 0);
   for (int v : to_remap) {
-    if (!at(verts_, v).used || at(remapped_mark_, v)) continue;
+    if (!at(verts_, v).used || at(vertex_mark_, v)) continue;
     remap(v);
-    at(remapped_mark_, v) = 1;
+    at(vertex_mark_, v) = 1;
     done.push_back(v);
   }
-  for (int v : done) at(remapped_mark_, v) = 0;
+  for (int v : done) at(vertex_mark_, v) = 0;
   std::sort(done.begin(), done.end());
   out.remapped = std::move(done);
   return out;

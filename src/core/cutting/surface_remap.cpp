@@ -169,35 +169,39 @@ int SurfaceRemapper::cellIndex(const Eigen::Vector3i& c) const {
 void SurfaceRemapper::collectBelow(const Eigen::Vector3i& lo, const Eigen::Vector3i& hi,
                                    const Eigen::Vector3d& X, const std::vector<CutPlane>& planes,
                                    std::vector<std::pair<double, int>>& below) const {
-  if (!boxMayBeBelow(lo, hi, planes)) return;
-  int axis = 0;
-  (hi - lo).maxCoeff(&axis);
-  if (hi[axis] - lo[axis] > 1) {
-    Eigen::Vector3i mid = hi;
-    mid[axis] = (lo[axis] + hi[axis]) / 2;
-    collectBelow(lo, mid, X, planes, below);
-    Eigen::Vector3i upper = lo;
-    upper[axis] = mid[axis];
-    collectBelow(upper, hi, X, planes, below);
-    return;
-  }
-  const auto k = static_cast<std::size_t>(cellIndex(lo));
-  for (int i = cell_start_[k]; i < cell_start_[k + 1]; ++i) {
-    const int ip = cell_ips_[static_cast<std::size_t>(i)];
-    const Eigen::Vector3d& Xi = ip_rest_[static_cast<std::size_t>(ip)];
-    if (belowPlanes(Xi, planes)) below.emplace_back((Xi - X).squaredNorm(), ip);
-  }
-}
-
-bool SurfaceRemapper::boxMayBeBelow(const Eigen::Vector3i& lo, const Eigen::Vector3i& hi,
-                                    const std::vector<CutPlane>& planes) const {
+  // (X - point) . normal over the box lies within centre's value +- reach; a margin of 1e-9 cell
+  // absorbs round-off. A box wholly on or above a plane holds no IP below them all; a plane the
+  // box lies wholly below needs no test inside it.
   const Eigen::Vector3d half = 0.5 * cell_ * (hi - lo).cast<double>();
   const Eigen::Vector3d centre = origin_ + cell_ * lo.cast<double>() + half;
-  // Lowest (X - point) . normal over the box; a margin of 1e-9 cell absorbs rounding.
-  for (const CutPlane& p : planes)
-    if ((centre - p.point).dot(p.normal) - half.dot(p.normal.cwiseAbs()) > 1e-9 * cell_)
-      return false;
-  return true;
+  const double margin = 1e-9 * cell_;
+  std::vector<CutPlane> straddling;
+  for (const CutPlane& p : planes) {
+    const double h = (centre - p.point).dot(p.normal), reach = half.dot(p.normal.cwiseAbs());
+    if (h - reach > margin) return;
+    if (h + reach >= -margin) straddling.push_back(p);
+  }
+  int axis = 0;
+  (hi - lo).maxCoeff(&axis);
+  if (!straddling.empty() && hi[axis] - lo[axis] > 1) {
+    Eigen::Vector3i mid = hi;
+    mid[axis] = (lo[axis] + hi[axis]) / 2;
+    collectBelow(lo, mid, X, straddling, below);
+    Eigen::Vector3i upper = lo;
+    upper[axis] = mid[axis];
+    collectBelow(upper, hi, X, straddling, below);
+    return;
+  }
+  for (int z = lo.z(); z < hi.z(); ++z)
+    for (int y = lo.y(); y < hi.y(); ++y)
+      for (int x = lo.x(); x < hi.x(); ++x) {
+        const auto k = static_cast<std::size_t>(cellIndex({x, y, z}));
+        for (int i = cell_start_[k]; i < cell_start_[k + 1]; ++i) {
+          const int ip = cell_ips_[static_cast<std::size_t>(i)];
+          const Eigen::Vector3d& Xi = ip_rest_[static_cast<std::size_t>(ip)];
+          if (belowPlanes(Xi, straddling)) below.emplace_back((Xi - X).squaredNorm(), ip);
+        }
+      }
 }
 
 int SurfaceRemapper::nearest(const Eigen::Vector3d& X) const {

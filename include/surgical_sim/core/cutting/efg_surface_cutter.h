@@ -219,8 +219,8 @@ class EfgSurfaceCutter {
   std::vector<std::array<int, 3>> generated_;    ///< triangles of the running cut
   /// (vertex, index in generated_) of each corner of the running cut's triangles, sorted.
   std::vector<std::pair<int, int>> generated_of_;
-  std::vector<std::uint8_t> outcode_;        ///< per vertex, broad-phase scratch of cut()
-  std::vector<std::uint8_t> remapped_mark_;  ///< per vertex, 0 outside the remap pass of cut()
+  std::vector<std::uint8_t> outcode_;      ///< per vertex, broad-phase scratch of cut()
+  std::vector<std::uint8_t> vertex_mark_;  ///< per vertex, cut() scratch, all 0 between uses
   int sheet_start_ = 0;  ///< first sheet triangle in generated_ (side A, B alternating)
   bool completed_ = false;
 };

@@ -100,15 +100,12 @@ class SurfaceRemapper {
   /// Flat index of grid cell c.
   int cellIndex(const Eigen::Vector3i& c) const;
   /// Appends (squared distance to X [m^2], IP) for the IPs below `planes` in the box of grid
-  /// cells [lo, hi) (non-empty): boxes wholly above a plane are skipped, others halved along
-  /// their longest side down to single cells.
+  /// cells [lo, hi) (non-empty): a box wholly above a plane is skipped, a plane the box lies
+  /// wholly below is dropped, and the box is halved along its longest side down to single cells
+  /// while a plane is left.
   void collectBelow(const Eigen::Vector3i& lo, const Eigen::Vector3i& hi, const Eigen::Vector3d& X,
                     const std::vector<CutPlane>& planes,
                     std::vector<std::pair<double, int>>& below) const;
-  /// False when the box of grid cells [lo, hi) lies wholly on or above one of `planes` (no IP in
-  /// it is below them).
-  bool boxMayBeBelow(const Eigen::Vector3i& lo, const Eigen::Vector3i& hi,
-                     const std::vector<CutPlane>& planes) const;
   /// The IP nearest to X (the lowest index among equally near ones).
   int nearest(const Eigen::Vector3d& X) const;
 
