@@ -415,6 +415,7 @@ EfgCutFuzzReport runEfgCutFuzz(const EfgCutFuzzSettings& settings) {
           wrongSide(body, slivers, report.planes_checked, report.sliver_vertices);
       if (!side.empty()) fail(side);
     }
+    if (report.failure.empty() && settings.passed) settings.passed(report.sweeps);
   }
   const EfgSurfaceCutter& surface = body.surface();
   report.pieces = body.volume().pieces();

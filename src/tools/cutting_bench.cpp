@@ -387,6 +387,11 @@ bool efgFuzz(const std::string& dir, int sweeps) {
   ss::EfgCutFuzzSettings settings;
   settings.sweeps = sweeps;
   settings.seed = 19;
+  settings.passed = [](int done) {
+    if (done % 50 == 0)
+      surgical_sim::tools::progress("cutting_bench",
+                                    "EFG fuzz, " + std::to_string(done) + " sweeps passed");
+  };
   const ss::EfgCutFuzzReport r = ss::runEfgCutFuzz(settings);
   FILE* csv = openCsv(dir, "efg_cut_fuzz.csv",
                       "sweeps,seed,failure,max_mass_error,severed_links,crossed_edges,pieces,"

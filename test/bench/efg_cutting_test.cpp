@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <stdexcept>
+#include <vector>
 
 namespace surgical_sim::bench {
 namespace {
@@ -13,9 +14,13 @@ TEST(EfgCutFuzz, RandomSweepsOverTheLiverKeepMassClosureAndSides) {
   EfgCutFuzzSettings settings;
   settings.sweeps = 100;
   settings.seed = 20261126;
+  std::vector<int> passed;  // the count after each sweep that passed its checks
+  settings.passed = [&](int done) { passed.push_back(done); };
   const EfgCutFuzzReport r = runEfgCutFuzz(settings);
   EXPECT_EQ(r.failure, "");
   EXPECT_EQ(r.sweeps, 100);
+  ASSERT_EQ(passed.size(), 100u);
+  for (std::size_t i = 0; i < passed.size(); ++i) EXPECT_EQ(passed[i], static_cast<int>(i) + 1);
   EXPECT_LE(r.max_mass_error, 1e-12);
   EXPECT_GT(r.severed_links, 0);
   EXPECT_GT(r.crossed_edges, 0);

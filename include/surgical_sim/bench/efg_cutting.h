@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -133,6 +134,8 @@ struct EfgCutFuzzSettings {
   Eigen::Vector3d semi_axes{0.075, 0.05, 0.03};  ///< liver semi-axes [m]
   int surface_subdivisions = 4;                  ///< makeLiverSurface level
   double spacing = 0.008;                        ///< EFG integration cell side d [m], > 0
+  /// Called with the number of sweeps done after each sweep that passed every check (optional).
+  std::function<void(int)> passed;
 };
 
 /// Outcome of runEfgCutFuzz().

@@ -9,6 +9,7 @@
 #include <string>
 #include <utility>
 
+#include "efg_sweep_slab.h"
 #include "index_at.h"
 #include "surgical_sim/core/cutting/cut_front.h"
 #include "surgical_sim/core/cutting/edge_sweep_ccd.h"
@@ -176,16 +177,22 @@ SurfaceMapping EfgSurfaceCutter::mapping(int nodes) const {
 // Committed surface tables.
 
 void EfgSurfaceCutter::commit() {
-  if (active_) {
-    std::vector<std::array<int, 3>> all;
-    all.reserve(tris_.size() + generated_.size());
-    for (std::size_t t = 0; t < tris_.size(); ++t)
-      if (!replaced_[t]) all.push_back(tris_[t]);
-    all.insert(all.end(), generated_.begin(), generated_.end());
-    tris_ = std::move(all);
-    active_ = false;
+  if (active_ && !options_.rebuild_tables) {
+    updateTables();
+  } else {
+    if (active_) {
+      std::vector<std::array<int, 3>> all;
+      all.reserve(tris_.size() + generated_.size());
+      for (std::size_t t = 0; t < tris_.size(); ++t)
+        if (!replaced_[t]) all.push_back(tris_[t]);
+      all.insert(all.end(), generated_.begin(), generated_.end());
+      tris_ = std::move(all);
+    }
+    buildTables();
   }
+  active_ = false;
   completed_ = false;
+  generated_of_.clear();
   crossings_.clear();
   path_.clear();
   row_.clear();
@@ -196,6 +203,20 @@ void EfgSurfaceCutter::commit() {
   cut_tris_.clear();
   tip_tri_ = {-1, -1};
   tip_vertex_ = {-1, -1};
+  edge_crossing_.assign(edges_.size(), -1);
+  replaced_.assign(tris_.size(), 0);
+  vertex_tri_start_.assign(verts_.size() + 1, 0);
+  for (const auto& t : tris_)
+    for (int v : t) ++at(vertex_tri_start_, v + 1);
+  for (std::size_t v = 1; v < vertex_tri_start_.size(); ++v)
+    vertex_tri_start_[v] += vertex_tri_start_[v - 1];
+  vertex_tris_.resize(3 * tris_.size());
+  std::vector<int> fill(vertex_tri_start_.begin(), vertex_tri_start_.end() - 1);
+  for (std::size_t t = 0; t < tris_.size(); ++t)
+    for (int v : tris_[t]) at(vertex_tris_, at(fill, v)++) = static_cast<int>(t);
+}
+
+void EfgSurfaceCutter::buildTables() {
   // Edges: (lower, higher, triangle, local edge), sorted.
   std::vector<std::array<int, 4>> uses;
   uses.reserve(3 * tris_.size());
@@ -218,50 +239,148 @@ void EfgSurfaceCutter::commit() {
     }
     at(tri_edges_, uses[i][2])[static_cast<std::size_t>(uses[i][3])] = intSize(edges_) - 1;
   }
-  edge_crossing_.assign(edges_.size(), -1);
-  replaced_.assign(tris_.size(), 0);
-  vertex_tri_start_.assign(verts_.size() + 1, 0);
-  for (const auto& t : tris_)
-    for (int v : t) ++at(vertex_tri_start_, v + 1);
-  for (std::size_t v = 1; v < vertex_tri_start_.size(); ++v)
-    vertex_tri_start_[v] += vertex_tri_start_[v - 1];
-  vertex_tris_.resize(3 * tris_.size());
-  std::vector<int> fill(vertex_tri_start_.begin(), vertex_tri_start_.end() - 1);
-  for (std::size_t t = 0; t < tris_.size(); ++t)
-    for (int v : tris_[t]) at(vertex_tris_, at(fill, v)++) = static_cast<int>(t);
-  buildClusters();
+  cluster_box_ = edgeBox();
+  std::vector<std::pair<std::uint32_t, int>> order(edges_.size());
+  for (std::size_t e = 0; e < edges_.size(); ++e)
+    order[e] = {mortonCode(static_cast<int>(e)), static_cast<int>(e)};
+  std::sort(order.begin(), order.end());
+  buildClusters(std::move(order));
 }
 
-void EfgSurfaceCutter::buildClusters() {
+void EfgSurfaceCutter::updateTables() {
+  // The edges of the replaced triangles: their uses by kept and generated triangles are sorted
+  // again; every other edge keeps its two (kept) triangles and its place in the sorted order.
+  std::vector<char> affected(edges_.size(), 0);
+  for (int t : cut_tris_)
+    for (int e : at(tri_edges_, t)) at(affected, e) = 1;
+  std::vector<int> new_tri(tris_.size(), -1);
+  int kept = 0;
+  for (std::size_t t = 0; t < tris_.size(); ++t) {
+    if (replaced_[t]) continue;
+    new_tri[t] = kept;
+    at(tris_, kept) = tris_[t];
+    at(tri_edges_, kept) = tri_edges_[t];
+    ++kept;
+  }
+  std::vector<std::array<int, 4>> uses;  // (lower, higher, new triangle, local edge)
+  for (std::size_t e = 0; e < edges_.size(); ++e) {
+    if (!affected[e]) continue;
+    for (int t : edge_tris_[e]) {
+      if (t < 0 || at(replaced_, t)) continue;
+      const auto& te = at(tri_edges_, at(new_tri, t));
+      const int k =
+          static_cast<int>(std::find(te.begin(), te.end(), static_cast<int>(e)) - te.begin());
+      uses.push_back({edges_[e][0], edges_[e][1], at(new_tri, t), k});
+    }
+  }
+  tris_.resize(static_cast<std::size_t>(kept));
+  tri_edges_.resize(static_cast<std::size_t>(kept));
+  for (const auto& g : generated_) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = g[static_cast<std::size_t>(k)], b = g[static_cast<std::size_t>((k + 1) % 3)];
+      uses.push_back({std::min(a, b), std::max(a, b), intSize(tris_), k});
+    }
+    tris_.push_back(g);
+    tri_edges_.push_back({-1, -1, -1});
+  }
+  std::sort(uses.begin(), uses.end());
+  // Merge the unaffected edges (sorted) with the re-sorted uses.
+  std::vector<int> new_edge(edges_.size(), -1);
+  std::vector<std::array<int, 2>> edges, edge_tris;
+  edges.reserve(edges_.size() + uses.size() / 2);
+  edge_tris.reserve(edges.capacity());
+  std::vector<std::pair<int, int>> local;  // (use, new edge)
+  std::vector<int> fresh;                  // new ids of the edges from `uses`
+  std::size_t i = 0;
+  for (std::size_t e = 0; e <= edges_.size(); ++e) {
+    for (; i < uses.size() &&
+           (e == edges_.size() || std::array<int, 2>{uses[i][0], uses[i][1]} < edges_[e]);
+         ++i) {
+      if (i == 0 || uses[i][0] != uses[i - 1][0] || uses[i][1] != uses[i - 1][1]) {
+        fresh.push_back(intSize(edges));
+        edges.push_back({uses[i][0], uses[i][1]});
+        edge_tris.push_back({uses[i][2], -1});
+      } else {
+        edge_tris.back()[1] = uses[i][2];
+      }
+      local.emplace_back(static_cast<int>(i), intSize(edges) - 1);
+    }
+    if (e == edges_.size() || affected[e]) continue;
+    new_edge[e] = intSize(edges);
+    edges.push_back(edges_[e]);
+    const auto renumbered = [&](int t) { return t < 0 ? -1 : at(new_tri, t); };
+    edge_tris.push_back({renumbered(edge_tris_[e][0]), renumbered(edge_tris_[e][1])});
+  }
+  for (auto& te : tri_edges_)
+    for (int& e : te)
+      if (e >= 0 && !at(affected, e)) e = at(new_edge, e);
+  for (const auto& [u, e] : local)
+    at(tri_edges_, uses[static_cast<std::size_t>(u)]
+                       [2])[static_cast<std::size_t>(uses[static_cast<std::size_t>(u)][3])] = e;
+  edges_ = std::move(edges);
+  edge_tris_ = std::move(edge_tris);
+  // Clusters: the kept order with the new edges merged in, unless the edges' box moved (then
+  // every Morton code changes).
+  const std::array<Eigen::Vector3d, 2> box = edgeBox();
+  if (box[0] != cluster_box_[0] || box[1] != cluster_box_[1]) {
+    cluster_box_ = box;
+    std::vector<std::pair<std::uint32_t, int>> order(edges_.size());
+    for (std::size_t e = 0; e < edges_.size(); ++e)
+      order[e] = {mortonCode(static_cast<int>(e)), static_cast<int>(e)};
+    std::sort(order.begin(), order.end());
+    buildClusters(std::move(order));
+    return;
+  }
+  std::vector<std::pair<std::uint32_t, int>> added;
+  for (int e : fresh) added.emplace_back(mortonCode(e), e);
+  std::sort(added.begin(), added.end());
+  std::vector<std::pair<std::uint32_t, int>> order;
+  order.reserve(edges_.size());
+  std::size_t j = 0;
+  for (const auto& [code, e] : cluster_order_) {
+    if (at(affected, e)) continue;
+    const std::pair<std::uint32_t, int> moved{code, at(new_edge, e)};
+    for (; j < added.size() && added[j] < moved; ++j) order.push_back(added[j]);
+    order.push_back(moved);
+  }
+  order.insert(order.end(), added.begin() + static_cast<long>(j), added.end());
+  buildClusters(std::move(order));
+}
+
+std::array<Eigen::Vector3d, 2> EfgSurfaceCutter::edgeBox() const {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::max()), hi = -lo;
   for (const auto& e : edges_)
     for (int v : e) {
       lo = lo.cwiseMin(at(verts_, v).rest);
       hi = hi.cwiseMax(at(verts_, v).rest);
     }
-  const Eigen::Vector3d scale = 1023.0 / (hi - lo).cwiseMax(1e-300).array();
-  std::vector<std::pair<std::uint32_t, int>> order(edges_.size());
-  for (std::size_t e = 0; e < edges_.size(); ++e) {
-    const Eigen::Vector3d mid =
-        0.5 * (at(verts_, edges_[e][0]).rest + at(verts_, edges_[e][1]).rest);
-    const Eigen::Vector3d q = (mid - lo).cwiseProduct(scale);
-    order[e] = {spreadBits(static_cast<std::uint32_t>(q.x())) |
-                    (spreadBits(static_cast<std::uint32_t>(q.y())) << 1) |
-                    (spreadBits(static_cast<std::uint32_t>(q.z())) << 2),
-                static_cast<int>(e)};
-  }
-  std::sort(order.begin(), order.end());
+  return {lo, hi};
+}
+
+std::uint32_t EfgSurfaceCutter::mortonCode(int e) const {
+  const Eigen::Vector3d& lo = cluster_box_[0];
+  const Eigen::Vector3d scale = 1023.0 / (cluster_box_[1] - lo).cwiseMax(1e-300).array();
+  const Eigen::Vector3d mid =
+      0.5 * (at(verts_, at(edges_, e)[0]).rest + at(verts_, at(edges_, e)[1]).rest);
+  const Eigen::Vector3d q = (mid - lo).cwiseProduct(scale);
+  return spreadBits(static_cast<std::uint32_t>(q.x())) |
+         (spreadBits(static_cast<std::uint32_t>(q.y())) << 1) |
+         (spreadBits(static_cast<std::uint32_t>(q.z())) << 2);
+}
+
+void EfgSurfaceCutter::buildClusters(std::vector<std::pair<std::uint32_t, int>> order) {
+  cluster_order_ = std::move(order);
   cluster_start_.assign(1, 0);
   cluster_edges_.clear();
   cluster_vstart_.assign(1, 0);
   cluster_verts_.clear();
   std::vector<int> vs;
-  for (std::size_t i = 0; i < order.size(); i += kClusterEdges) {
+  for (std::size_t i = 0; i < cluster_order_.size(); i += kClusterEdges) {
     vs.clear();
-    for (std::size_t j = i; j < std::min(order.size(), i + kClusterEdges); ++j) {
-      cluster_edges_.push_back(order[j].second);
-      vs.push_back(at(edges_, order[j].second)[0]);
-      vs.push_back(at(edges_, order[j].second)[1]);
+    for (std::size_t j = i; j < std::min(cluster_order_.size(), i + kClusterEdges); ++j) {
+      cluster_edges_.push_back(cluster_order_[j].second);
+      vs.push_back(at(edges_, cluster_order_[j].second)[0]);
+      vs.push_back(at(edges_, cluster_order_[j].second)[1]);
     }
     std::sort(vs.begin(), vs.end());
     vs.erase(std::unique(vs.begin(), vs.end()), vs.end());
@@ -542,6 +661,16 @@ void EfgSurfaceCutter::rebuild() {
       generated_.push_back({other(t[0]), other(t[2]), other(t[1])});
     }
   }
+  generated_of_.clear();
+  for (int k = 0; k < intSize(generated_); ++k)
+    for (int v : at(generated_, k)) generated_of_.emplace_back(v, k);
+  std::sort(generated_of_.begin(), generated_of_.end());
+}
+
+std::pair<std::vector<std::pair<int, int>>::const_iterator,
+          std::vector<std::pair<int, int>>::const_iterator>
+EfgSurfaceCutter::generatedOf(int v) const {
+  return std::equal_range(generated_of_.begin(), generated_of_.end(), v, GeneratedOrder{});
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -554,15 +683,17 @@ void EfgSurfaceCutter::forIncident(int v, const F& f) const {
       const int t = at(vertex_tris_, k);
       if (!at(replaced_, t)) f(at(tris_, t));
     }
-  for (const auto& t : generated_)
-    if (t[0] == v || t[1] == v || t[2] == v) f(t);
+  const auto [first, last] = generatedOf(v);
+  for (auto it = first; it != last; ++it) f(at(generated_, it->second));
 }
 
 Eigen::Vector3d EfgSurfaceCutter::sheetNormal(int v) const {
   Eigen::Vector3d n = Eigen::Vector3d::Zero();
-  for (std::size_t k = static_cast<std::size_t>(sheet_start_); k < generated_.size(); k += 2) {
-    const auto& t = generated_[k];
-    if (t[0] != v && t[1] != v && t[2] != v) continue;
+  const auto [first, last] = generatedOf(v);
+  for (auto it = first; it != last; ++it) {
+    const int k = it->second;
+    if (k < sheet_start_ || (k - sheet_start_) % 2 != 0) continue;  // side A sheet only
+    const auto& t = at(generated_, k);
     const Eigen::Vector3d &a = at(verts_, t[0]).rest, &b = at(verts_, t[1]).rest,
                           &c = at(verts_, t[2]).rest;
     n += (b - a).cross(c - a);
@@ -664,15 +795,22 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
     int edge;
     double s;
   };
+  std::vector<efg_sweep_slab::SweepSlab> slabs;
+  for (Eigen::Index i = 0; i < segments; ++i)
+    slabs.push_back(efg_sweep_slab::sweepSlab(sweep, i, tol));
   std::vector<Hit> hits;
-  std::vector<int> near;
+  std::vector<int> near;  // distinct vertices of the clusters tested
+  vertex_mark_.resize(verts_.size(), 0);
   for (int c = 0; c + 1 < intSize(cluster_start_); ++c) {
     std::uint8_t common = 0x3f;
     for (int k = at(cluster_vstart_, c); k < at(cluster_vstart_, c + 1) && common; ++k)
       common &= at(outcode_, at(cluster_verts_, k));
     if (common) continue;
-    near.insert(near.end(), cluster_verts_.begin() + at(cluster_vstart_, c),
-                cluster_verts_.begin() + at(cluster_vstart_, c + 1));
+    for (int k = at(cluster_vstart_, c); k < at(cluster_vstart_, c + 1); ++k) {
+      const int v = at(cluster_verts_, k);
+      if (!at(vertex_mark_, v)) near.push_back(v);
+      at(vertex_mark_, v) = 1;
+    }
     for (int k = at(cluster_start_, c); k < at(cluster_start_, c + 1); ++k) {
       const int e = at(cluster_edges_, k);
       if (at(edge_crossing_, e) >= 0) continue;
@@ -680,6 +818,9 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
       if (at(outcode_, a) & at(outcode_, b)) continue;
       std::optional<EdgeSweepHit> best;
       for (Eigen::Index i = 0; i < segments; ++i) {
+        if (at(slabs, static_cast<int>(i))
+                .apart({x_start.col(a), x_start.col(b), x_end.col(a), x_end.col(b)}))
+          continue;
         const auto hit = edgeSweepCrossing(sweep.start.col(i), sweep.start.col(i + 1),
                                            sweep.end.col(i), sweep.end.col(i + 1), x_start.col(a),
                                            x_start.col(b), x_end.col(a), x_end.col(b), tol);
@@ -690,13 +831,14 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
   }
   // Blade crossing the segment from a vertex to its IP (IP held at its current position).
   std::vector<std::pair<int, CutPlane>> ip_hits;
+  for (int v : near) at(vertex_mark_, v) = 0;
   std::sort(near.begin(), near.end());
-  near.erase(std::unique(near.begin(), near.end()), near.end());
   for (int v : near) {
     const Vertex& vert = at(verts_, v);
     if (!vert.used || vert.ip < 0) continue;
     const Eigen::Vector3d x_ip = source_.ipPosition(vert.ip);
     for (Eigen::Index i = 0; i < segments; ++i) {
+      if (at(slabs, static_cast<int>(i)).apart({x_start.col(v), x_end.col(v), x_ip})) continue;
       const auto hit =
           edgeSweepCrossing(sweep.start.col(i), sweep.start.col(i + 1), sweep.end.col(i),
                             sweep.end.col(i + 1), x_start.col(v), x_ip, x_end.col(v), x_ip, tol);
@@ -713,18 +855,48 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
     return x.t < y.t || (x.t == y.t && x.edge < y.edge);
   });
   const int first_crossing = intSize(crossings_);
-  for (bool progress = true; progress;) {
+  // Passes over the hits in that order, accepting what accept() takes, until a pass takes none.
+  // A running cut takes only edges of its tip triangles, so each pass visits just the hits on
+  // those (accept() has no effect when it declines).
+  std::vector<std::pair<int, int>> hit_of_edge;  // (edge, hit), sorted
+  for (int i = 0; i < intSize(hits); ++i) hit_of_edge.emplace_back(at(hits, i).edge, i);
+  std::sort(hit_of_edge.begin(), hit_of_edge.end());
+  std::vector<std::uint8_t> taken(hits.size(), 0);
+  const auto take = [&](int i) {
+    at(taken, i) = 1;
+    ++out.crossed_edges;
+  };
+  for (int i = 0; !active_ && i < intSize(hits); ++i)
+    if (accept(at(hits, i).edge, at(hits, i).s)) take(i);
+  for (bool progress = active_; progress;) {
     progress = false;
-    for (auto it = hits.begin(); it != hits.end();)
-      if (accept(it->edge, it->s)) {
-        it = hits.erase(it);
-        progress = true;
-        ++out.crossed_edges;
-      } else {
-        ++it;
-      }
+    for (int next = 0;;) {
+      // The first hit from `next` on that accept() takes, among those on the tip triangles.
+      std::vector<int> candidates;
+      if (!completed_)
+        for (int tri : tip_tri_)
+          for (int e : at(tri_edges_, tri)) {
+            const auto it = std::lower_bound(hit_of_edge.begin(), hit_of_edge.end(),
+                                             std::pair<int, int>{e, -1});
+            if (it != hit_of_edge.end() && it->first == e && it->second >= next &&
+                !at(taken, it->second))
+              candidates.push_back(it->second);
+          }
+      std::sort(candidates.begin(), candidates.end());
+      candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+      int accepted = -1;
+      for (int i : candidates)
+        if (accept(at(hits, i).edge, at(hits, i).s)) {
+          accepted = i;
+          break;
+        }
+      if (accepted < 0) break;
+      take(accepted);
+      progress = true;
+      next = accepted + 1;
+    }
   }
-  out.ignored_crossings = intSize(hits);
+  out.ignored_crossings = intSize(hits) - out.crossed_edges;
   std::vector<int> to_remap;
   for (const auto& h : ip_hits) {
     addPlane(h.first, h.second.point, h.second.normal);
@@ -779,11 +951,14 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
   }
   // Existing vertices first, so new ones see mapped neighbours.
   std::vector<int> done;
+  vertex_mark_.resize(verts_.size(), 0);
   for (int v : to_remap) {
-    if (!at(verts_, v).used || std::find(done.begin(), done.end(), v) != done.end()) continue;
+    if (!at(verts_, v).used || at(vertex_mark_, v)) continue;
     remap(v);
+    at(vertex_mark_, v) = 1;
     done.push_back(v);
   }
+  for (int v : done) at(vertex_mark_, v) = 0;
   std::sort(done.begin(), done.end());
   out.remapped = std::move(done);
   return out;

@@ -5,10 +5,12 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <queue>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
+#include "efg_sweep_slab.h"
 #include "surgical_sim/core/cutting/edge_sweep_ccd.h"
 #include "surgical_sim/core/tissue/efg_shape_functions.h"
 
@@ -59,7 +61,11 @@ EfgVolumeCutter::EfgVolumeCutter(EfgModel& model)
       has_indirect_(static_cast<size_t>(model.numIntegrationPoints()), 0) {
   for (const EfgTopologyGraph::Link& l : graph_.links())
     max_link_length_ = std::max(max_link_length_, l.rest_length);
-  pieces_ = countPieces();
+  tree_of_.assign(static_cast<size_t>(graph_.numNodes()), -1);
+  const int count = graph_.components(labels_);
+  volume_ips_.assign(static_cast<size_t>(count), 0);
+  for (int e = 0; e < model_.numIntegrationPoints(); ++e)
+    if (model_.grid().volumes(e) > 0.0) addVolumeIp(e, 1);
 }
 
 Eigen::Vector3i EfgVolumeCutter::cellOf(int e) const {
@@ -80,14 +86,95 @@ int EfgVolumeCutter::ipAt(const Eigen::Vector3i& c) const {
       .ip_of_cell[static_cast<size_t>(c.x() + grid.cells.x() * (c.y() + grid.cells.y() * c.z()))];
 }
 
-int EfgVolumeCutter::countPieces() const {
-  std::vector<int> labels;
-  const int count = graph_.components(labels);
-  std::vector<char> holds(static_cast<size_t>(count), 0);
-  for (int e = 0; e < model_.numIntegrationPoints(); ++e)
-    if (model_.grid().volumes(e) > 0.0)
-      holds[static_cast<size_t>(labels[static_cast<size_t>(graph_.ipNode(e))])] = 1;
-  return static_cast<int>(std::count(holds.begin(), holds.end(), 1));
+void EfgVolumeCutter::addVolumeIp(int e, int change) {
+  int& count = volume_ips_[static_cast<size_t>(labels_[static_cast<size_t>(graph_.ipNode(e))])];
+  pieces_ -= count > 0 ? 1 : 0;
+  count += change;
+  pieces_ += count > 0 ? 1 : 0;
+}
+
+void EfgVolumeCutter::splitPieces(const std::vector<int>& severed) {
+  // Per old piece, a breadth-first search from the ends of its severed links, one search tree per
+  // end; trees that meet merge (union-find over the ends). A tree that runs out of nodes to visit
+  // is a new piece (every new piece holds such an end); the search stops once at most one tree
+  // of the old piece is still growing: that one keeps the old label.
+  std::vector<int> ends;
+  for (const int l : severed) {
+    const EfgTopologyGraph::Link& link = graph_.links()[static_cast<size_t>(l)];
+    ends.push_back(link.a);
+    ends.push_back(link.b);
+  }
+  std::sort(ends.begin(), ends.end(), [&](int a, int b) {
+    const int la = labels_[static_cast<size_t>(a)], lb = labels_[static_cast<size_t>(b)];
+    return la != lb ? la < lb : a < b;
+  });
+  ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+  for (size_t first = 0; first < ends.size();) {
+    const int old_label = labels_[static_cast<size_t>(ends[first])];
+    size_t last = first;
+    while (last < ends.size() && labels_[static_cast<size_t>(ends[last])] == old_label) ++last;
+    const int trees = static_cast<int>(last - first);
+    std::vector<int> parent(static_cast<size_t>(trees)), frontier(static_cast<size_t>(trees), 1);
+    for (int t = 0; t < trees; ++t) parent[static_cast<size_t>(t)] = t;
+    const auto root = [&](int t) {
+      while (parent[static_cast<size_t>(t)] != t)
+        t = parent[static_cast<size_t>(t)] =
+            parent[static_cast<size_t>(parent[static_cast<size_t>(t)])];
+      return t;
+    };
+    std::vector<std::pair<int, int>> visited;  // (graph node, tree)
+    std::queue<int> queue;
+    for (int t = 0; t < trees; ++t) {
+      const int v = ends[first + static_cast<size_t>(t)];
+      tree_of_[static_cast<size_t>(v)] = t;
+      visited.emplace_back(v, t);
+      queue.push(v);
+    }
+    int growing = trees;
+    while (growing > 1 && !queue.empty()) {
+      const int v = queue.front();
+      queue.pop();
+      int r = root(tree_of_[static_cast<size_t>(v)]);
+      --frontier[static_cast<size_t>(r)];
+      for (const int l : graph_.linksOf(v)) {
+        if (!graph_.alive(l)) continue;
+        const int w = graph_.otherEnd(l, v);
+        int& tw = tree_of_[static_cast<size_t>(w)];
+        if (tw < 0) {
+          tw = r;
+          visited.emplace_back(w, r);
+          queue.push(w);
+          ++frontier[static_cast<size_t>(r)];
+        } else if (const int rw = root(tw); rw != r) {
+          // Two growing trees meet (a finished tree has no alive link out of it).
+          parent[static_cast<size_t>(rw)] = r;
+          frontier[static_cast<size_t>(r)] += frontier[static_cast<size_t>(rw)];
+          --growing;
+        }
+      }
+      if (frontier[static_cast<size_t>(r)] == 0) --growing;  // r is a whole new piece
+    }
+    // Finished trees become new pieces; the growing one (if any) keeps the old label.
+    std::vector<int> new_label(static_cast<size_t>(trees), -1);
+    for (int t = 0; t < trees; ++t) {
+      const int r = root(t);
+      if (r == t && frontier[static_cast<size_t>(r)] == 0) {
+        new_label[static_cast<size_t>(r)] = static_cast<int>(volume_ips_.size());
+        volume_ips_.push_back(0);
+      }
+    }
+    const int n = graph_.numParticles();
+    for (const auto& [v, t] : visited) {
+      tree_of_[static_cast<size_t>(v)] = -1;
+      const int label = new_label[static_cast<size_t>(root(t))];
+      if (label < 0) continue;
+      const bool holds = v >= n && model_.grid().volumes(v - n) > 0.0;
+      if (holds) addVolumeIp(v - n, -1);
+      labels_[static_cast<size_t>(v)] = label;
+      if (holds) addVolumeIp(v - n, 1);
+    }
+    first = last;
+  }
 }
 
 std::vector<int> EfgVolumeCutter::unusedParticles() const {
@@ -99,10 +186,7 @@ std::vector<int> EfgVolumeCutter::unusedParticles() const {
 }
 
 std::vector<int> EfgVolumeCutter::particlePieces() const {
-  std::vector<int> labels;
-  graph_.components(labels);
-  labels.resize(static_cast<size_t>(graph_.numParticles()));
-  return labels;
+  return {labels_.begin(), labels_.begin() + graph_.numParticles()};
 }
 
 EfgVolumeCutter::Selection EfgVolumeCutter::select(int e) const {
@@ -177,12 +261,21 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
   const double margin = kStretchMargin * max_link_length_;
   const Eigen::Vector3d lo = sweep_lo.array() - margin;
   const Eigen::Vector3d hi = sweep_hi.array() + margin;
+  std::vector<efg_sweep_slab::SweepSlab> slabs;
+  for (Eigen::Index i = 0; i + 1 < sweep.start.cols(); ++i)
+    slabs.push_back(efg_sweep_slab::sweepSlab(sweep, i, margin + tolerance));
+  const auto nearASlab = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return std::any_of(slabs.begin(), slabs.end(), [&](const efg_sweep_slab::SweepSlab& slab) {
+      return !slab.apart({a, b});
+    });
+  };
   std::vector<int> candidates;
   std::vector<char> marked(graph_.links().size(), 0);
   for (int p = 0; p < n; ++p) {
     const Eigen::Vector3d a = x_start.segment<3>(3 * p);
     const Eigen::Vector3d b = x_end.segment<3>(3 * p);
-    if ((a.cwiseMax(b).array() < lo.array()).any() || (a.cwiseMin(b).array() > hi.array()).any())
+    if ((a.cwiseMax(b).array() < lo.array()).any() || (a.cwiseMin(b).array() > hi.array()).any() ||
+        !nearASlab(a, b))
       continue;
     for (const int l : graph_.linksOf(p)) {
       if (graph_.alive(l) && !marked[static_cast<size_t>(l)]) {
@@ -410,6 +503,9 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
   std::vector<char> used_before(touched.size());
   for (size_t i = 0; i < touched.size(); ++i)
     used_before[i] = model_.lumpedMass()(3 * touched[i]) > kUnusedMassFraction * total_mass;
+  std::vector<char> held_volume(changes.size());
+  for (size_t i = 0; i < changes.size(); ++i)
+    held_volume[i] = grid.volumes(changes[i].ip) > 0.0 ? 1 : 0;
   try {
     model_.setNeighbourhoods(changes);
   } catch (...) {
@@ -434,7 +530,9 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
     has_indirect_[static_cast<size_t>(c.ip)] = indirect ? 1 : 0;
   }
   const int before = pieces_;
-  pieces_ = countPieces();
+  for (size_t i = 0; i < changes.size(); ++i)
+    addVolumeIp(changes[i].ip, (grid.volumes(changes[i].ip) > 0.0 ? 1 : 0) - held_volume[i]);
+  splitPieces(result.severed_links);
   result.pieces = pieces_;
   result.pieces_changed = pieces_ != before;
   return result;

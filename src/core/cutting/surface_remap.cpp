@@ -82,11 +82,7 @@ SurfaceRemapper::SurfaceRemapper(const EfgMappingSource& source) : source_(sourc
   origin_ = lo;
   dims_ = ((extent / cell_).array().floor().cast<int>() + 1).matrix();
   cell_start_.assign(static_cast<std::size_t>(dims_.prod()) + 1, 0);
-  auto cellOf = [this](const Eigen::Vector3d& X) {
-    const Eigen::Vector3i c =
-        ((X - origin_) / cell_).array().floor().cast<int>().max(0).min(dims_.array() - 1);
-    return (c.z() * dims_.y() + c.y()) * dims_.x() + c.x();
-  };
+  const auto cellOf = [this](const Eigen::Vector3d& X) { return cellIndex(cellAt(X)); };
   for (const auto& X : ip_rest_) ++cell_start_[static_cast<std::size_t>(cellOf(X)) + 1];
   for (std::size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
   cell_ips_.resize(ip_rest_.size());
@@ -111,7 +107,7 @@ std::vector<int> SurfaceRemapper::candidates(const Eigen::Vector3d& X, double ra
   for (int z = c0.z(); z <= c1.z(); ++z)
     for (int y = c0.y(); y <= c1.y(); ++y)
       for (int x = c0.x(); x <= c1.x(); ++x) {
-        const auto c = static_cast<std::size_t>((z * dims_.y() + y) * dims_.x() + x);
+        const auto c = static_cast<std::size_t>(cellIndex({x, y, z}));
         for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
           const int ip = cell_ips_[static_cast<std::size_t>(k)];
           const double d2 = (ip_rest_[static_cast<std::size_t>(ip)] - X).squaredNorm();
@@ -149,26 +145,100 @@ RemapResult SurfaceRemapper::find(const Eigen::Vector3d& X, const Eigen::Vector3
     for (int ip : near)
       if (valid(ip, X, normal, planes, ring_ips, level))
         return {ip, static_cast<RemapRelaxation>(level)};
-  // Every level needs the cut planes: one pass lists the IPs below them (nearest first, the
-  // order of a search over every IP) and finds the nearest IP, the answer when none is below
-  // them (a sliver between cuts).
-  int nearest = 0;
-  double nearest_d2 = INFINITY;
+  // Every level needs the cut planes: the IPs below them, nearest first (the order of a search
+  // over every IP), from the grid cells not wholly on or above one of the planes; without a
+  // valid one, the nearest IP (a sliver between cuts).
   std::vector<std::pair<double, int>> below;
-  for (std::size_t i = 0; i < ip_rest_.size(); ++i) {
-    const double d2 = (ip_rest_[i] - X).squaredNorm();
-    if (d2 < nearest_d2) {
-      nearest_d2 = d2;
-      nearest = static_cast<int>(i);
-    }
-    if (belowPlanes(ip_rest_[i], planes)) below.emplace_back(d2, static_cast<int>(i));
-  }
+  collectBelow(Eigen::Vector3i::Zero(), dims_, X, planes, below);
   std::sort(below.begin(), below.end());
   for (int level = 0; level <= 3; ++level)
     for (const auto& [d2, ip] : below)
       if (valid(ip, X, normal, planes, ring_ips, level))
         return {ip, static_cast<RemapRelaxation>(level)};
-  return {nearest, RemapRelaxation::kNearest};
+  return {nearest(X), RemapRelaxation::kNearest};
+}
+
+Eigen::Vector3i SurfaceRemapper::cellAt(const Eigen::Vector3d& X) const {
+  return ((X - origin_) / cell_).array().floor().cast<int>().max(0).min(dims_.array() - 1);
+}
+
+int SurfaceRemapper::cellIndex(const Eigen::Vector3i& c) const {
+  return (c.z() * dims_.y() + c.y()) * dims_.x() + c.x();
+}
+
+void SurfaceRemapper::collectBelow(const Eigen::Vector3i& lo, const Eigen::Vector3i& hi,
+                                   const Eigen::Vector3d& X, const std::vector<CutPlane>& planes,
+                                   std::vector<std::pair<double, int>>& below) const {
+  // (X - point) . normal over the box lies within centre's value +- reach; a margin of 1e-9 cell
+  // absorbs round-off. A box wholly on or above a plane holds no IP below them all; a plane the
+  // box lies wholly below needs no test inside it.
+  const Eigen::Vector3d half = 0.5 * cell_ * (hi - lo).cast<double>();
+  const Eigen::Vector3d centre = origin_ + cell_ * lo.cast<double>() + half;
+  const double margin = 1e-9 * cell_;
+  std::vector<CutPlane> straddling;
+  for (const CutPlane& p : planes) {
+    const double h = (centre - p.point).dot(p.normal), reach = half.dot(p.normal.cwiseAbs());
+    if (h - reach > margin) return;
+    if (h + reach >= -margin) straddling.push_back(p);
+  }
+  int axis = 0;
+  (hi - lo).maxCoeff(&axis);
+  if (!straddling.empty() && hi[axis] - lo[axis] > 1) {
+    Eigen::Vector3i mid = hi;
+    mid[axis] = (lo[axis] + hi[axis]) / 2;
+    collectBelow(lo, mid, X, straddling, below);
+    Eigen::Vector3i upper = lo;
+    upper[axis] = mid[axis];
+    collectBelow(upper, hi, X, straddling, below);
+    return;
+  }
+  for (int z = lo.z(); z < hi.z(); ++z)
+    for (int y = lo.y(); y < hi.y(); ++y)
+      for (int x = lo.x(); x < hi.x(); ++x) {
+        const auto k = static_cast<std::size_t>(cellIndex({x, y, z}));
+        for (int i = cell_start_[k]; i < cell_start_[k + 1]; ++i) {
+          const int ip = cell_ips_[static_cast<std::size_t>(i)];
+          const Eigen::Vector3d& Xi = ip_rest_[static_cast<std::size_t>(ip)];
+          if (belowPlanes(Xi, straddling)) below.emplace_back((Xi - X).squaredNorm(), ip);
+        }
+      }
+}
+
+int SurfaceRemapper::nearest(const Eigen::Vector3d& X) const {
+  // Cubes of cells of growing half-width r about X's (clamped) cell until no cell outside the
+  // cube can hold a nearer IP; ties go to the lower index (as a scan over every IP).
+  const Eigen::Vector3i c0 = cellAt(X);
+  int best = -1;
+  double best_d2 = INFINITY;
+  for (int r = 0;; ++r) {
+    const Eigen::Vector3i lo = (c0.array() - r).max(0),
+                          hi = (c0.array() + r).min(dims_.array() - 1);
+    for (int z = lo.z(); z <= hi.z(); ++z)
+      for (int y = lo.y(); y <= hi.y(); ++y)
+        for (int x = lo.x(); x <= hi.x(); ++x) {
+          const Eigen::Vector3i c(x, y, z);
+          if ((c - c0).cwiseAbs().maxCoeff() != r) continue;  // visited with a smaller r
+          const auto k = static_cast<std::size_t>(cellIndex(c));
+          for (int i = cell_start_[k]; i < cell_start_[k + 1]; ++i) {
+            const int ip = cell_ips_[static_cast<std::size_t>(i)];
+            const double d2 = (ip_rest_[static_cast<std::size_t>(ip)] - X).squaredNorm();
+            if (d2 < best_d2 || (d2 == best_d2 && ip < best)) {
+              best_d2 = d2;
+              best = ip;
+            }
+          }
+        }
+    // Distance from X to the cells outside the cube (only sides with cells beyond them).
+    double bound = INFINITY;
+    for (int d = 0; d < 3; ++d) {
+      if (lo[d] > 0) bound = std::min(bound, std::max(0.0, X[d] - (origin_[d] + cell_ * lo[d])));
+      if (hi[d] < dims_[d] - 1)
+        bound = std::min(bound, std::max(0.0, origin_[d] + cell_ * (hi[d] + 1) - X[d]));
+    }
+    if (std::isinf(bound)) return best;  // every cell visited
+    const double margin = bound - 1e-9 * cell_;
+    if (best >= 0 && margin > 0.0 && best_d2 < margin * margin) return best;
+  }
 }
 
 }  // namespace surgical_sim::core

@@ -6,7 +6,9 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <random>
 #include <stdexcept>
@@ -557,6 +559,52 @@ TEST(EfgVolumeCutter, RandomSweepsKeepMassCompletenessAndFiniteness) {
   model.addInternalForce(model.restPositions(), f);
   EXPECT_LT(f.cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_TRUE(model.bodyForce(Eigen::Vector3d(0, 0, -9.81)).allFinite());
+}
+
+// Pieces from scratch: the graph's components holding an IP with volume, and a particle label
+// per component.
+int piecesFromScratch(const EfgVolumeCutter& cutter, std::vector<int>& labels) {
+  const int count = cutter.graph().components(labels);
+  std::vector<char> holds(static_cast<size_t>(count), 0);
+  for (int e = 0; e < cutter.model().numIntegrationPoints(); ++e)
+    if (cutter.model().grid().volumes(e) > 0.0)
+      holds[static_cast<size_t>(labels[static_cast<size_t>(cutter.graph().ipNode(e))])] = 1;
+  labels.resize(static_cast<size_t>(cutter.graph().numParticles()));
+  return static_cast<int>(std::count(holds.begin(), holds.end(), 1));
+}
+
+// Through-cuts carve the cylinder into many pieces (and isolate IPs): after every sweep the
+// pieces found by searching from the severed links are the graph's components, with the same
+// particle partition.
+TEST(EfgVolumeCutter, PiecesFromTheSeveredLinksAreTheGraphComponents) {
+  EfgModel model = cylinder();
+  EfgVolumeCutter cutter(model);
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int splits = 0;
+  for (int i = 0; i < 30; ++i) {
+    // A blade longer than the body, through a random point, swept across it.
+    const Eigen::Vector3d centre = 0.015 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+    const Eigen::Vector3d along = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+    Eigen::Vector3d across = along.cross(Eigen::Vector3d(u(rng), u(rng), u(rng))).normalized();
+    BladeSweep sweep{Eigen::Matrix3Xd(3, 2), Eigen::Matrix3Xd(3, 2)};
+    sweep.start << centre - 0.1 * along - 0.1 * across, centre + 0.1 * along - 0.1 * across;
+    sweep.end << centre - 0.1 * along + 0.1 * across, centre + 0.1 * along + 0.1 * across;
+    const EfgCutResult r = cutter.cut(sweep, model.restPositions(), model.restPositions());
+    splits += r.pieces_changed ? 1 : 0;
+    std::vector<int> labels;
+    ASSERT_EQ(cutter.pieces(), piecesFromScratch(cutter, labels)) << "sweep " << i;
+    EXPECT_EQ(r.pieces, cutter.pieces());
+    // Same partition: label pairs map one to one.
+    const std::vector<int> mine = cutter.particlePieces();
+    std::map<int, int> forward, backward;
+    for (size_t p = 0; p < labels.size(); ++p) {
+      ASSERT_EQ(forward.emplace(mine[p], labels[p]).first->second, labels[p]) << "sweep " << i;
+      ASSERT_EQ(backward.emplace(labels[p], mine[p]).first->second, mine[p]) << "sweep " << i;
+    }
+  }
+  EXPECT_GE(splits, 5);
+  EXPECT_GE(cutter.pieces(), 6);
 }
 
 TEST(EfgVolumeCutter, BladeThatMissesChangesNoBit) {

@@ -2,7 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
 #include <stdexcept>
+#include <utility>
 
 #include "efg_surface_test_util.h"
 
@@ -55,6 +60,76 @@ TEST(SurfaceRemapper, CriteriaAreRelaxedTangentFirstWhenNoIpIsValid) {
   const std::vector<CutPlane> planes = {{V(0.5, 0, 0), V(1, 0, 0)}, {V(0.5, 0, 0), V(-1, 0, 0)}};
   EXPECT_EQ(g.remapper.find(V(0.3, 0.3, 2.0), V(0, 0, 1), planes, {}).relaxation,
             RemapRelaxation::kNearest);
+}
+
+// The criteria relaxed level by level over the IPs within `radius` of X, then over every IP,
+// nearest first (ties to the lower index): the definition the grid search must reproduce.
+RemapResult scanEveryIp(const EfgMappingSource& s, double radius, const V& X, const V& normal,
+                        const std::vector<CutPlane>& planes, const std::vector<int>& ring) {
+  const auto below = [&](const V& Y) {
+    return std::all_of(planes.begin(), planes.end(),
+                       [&](const CutPlane& p) { return (Y - p.point).dot(p.normal) < 0.0; });
+  };
+  const auto shares = [&](int ip, int r) {
+    const std::vector<int>&a = s.ipParticles(ip), &b = s.ipParticles(r);
+    return std::any_of(a.begin(), a.end(),
+                       [&](int p) { return std::find(b.begin(), b.end(), p) != b.end(); });
+  };
+  std::vector<std::pair<double, int>> order;
+  for (int i = 0; i < s.numIntegrationPoints(); ++i)
+    order.emplace_back((s.ipRestPosition(i) - X).squaredNorm(), i);
+  std::sort(order.begin(), order.end());
+  for (const double limit : {radius * radius, std::numeric_limits<double>::infinity()})
+    for (int level = 0; level <= 3; ++level)
+      for (const auto& [d2, ip] : order) {
+        if (d2 > limit) break;
+        const V Y = s.ipRestPosition(ip);
+        const bool tangent = level == 0 || level == 2, shared = level <= 1;
+        if (!below(Y)) continue;
+        if (tangent && normal.squaredNorm() > 0.0 && (Y - X).dot(normal) >= 0.0) continue;
+        if (shared && !std::all_of(ring.begin(), ring.end(), [&](int r) { return shares(ip, r); }))
+          continue;
+        return {ip, static_cast<RemapRelaxation>(level)};
+      }
+  return {order.front().second, RemapRelaxation::kNearest};
+}
+
+TEST(SurfaceRemapper, GridSearchFindsWhatAScanOverEveryIpFinds) {
+  // 12 x 9 x 7 IPs; vertices inside and outside the IPs' box, 0-3 random planes (slivers
+  // included: two planes with opposite normals), random normals and 1-rings.
+  const GridSource source(V(-0.1, 0.2, 0.0), Eigen::Vector3i(12, 9, 7), 0.05);
+  const SurfaceRemapper remapper(source);
+  // The first search's radius: one grid cell of about 4 IPs over the IPs' bounding box.
+  const double radius = std::cbrt(4.0 * (0.05 * V(11, 8, 6)).prod() / (12 * 9 * 7));
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const auto point = [&] {
+    return V(0.2 + 0.5 * u(rng), 0.42 + 0.4 * u(rng), 0.17 + 0.3 * u(rng));
+  };
+  int relaxed = 0, nearest = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const V X = point();
+    const V normal = trial % 5 == 0 ? V::Zero() : V(u(rng), u(rng), u(rng)).normalized();
+    std::vector<CutPlane> planes;
+    const int count = static_cast<int>(rng() % 4);
+    for (int k = 0; k < count; ++k) {
+      const V n = V(u(rng), u(rng), u(rng)).normalized();
+      planes.push_back({point(), n});
+      if (trial % 7 == 0) planes.push_back({planes.back().point + 0.04 * n, -n});
+    }
+    std::vector<int> ring;
+    for (int k = static_cast<int>(rng() % 3); k > 0; --k)
+      ring.push_back(
+          static_cast<int>(rng() % static_cast<unsigned>(source.numIntegrationPoints())));
+    const RemapResult want = scanEveryIp(source, radius, X, normal, planes, ring);
+    const RemapResult got = remapper.find(X, normal, planes, ring);
+    ASSERT_EQ(got.ip, want.ip) << "trial " << trial;
+    ASSERT_EQ(got.relaxation, want.relaxation) << "trial " << trial;
+    relaxed += want.relaxation != RemapRelaxation::kNone;
+    nearest += want.relaxation == RemapRelaxation::kNearest;
+  }
+  EXPECT_GT(relaxed, 100);  // the search over every cell is exercised
+  EXPECT_GT(nearest, 20);   // and the nearest-IP search
 }
 
 class EmptySource : public GridSource {

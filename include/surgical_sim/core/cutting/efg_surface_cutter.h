@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include "surgical_sim/core/cutting/blade_sweep.h"
@@ -17,6 +18,10 @@ namespace surgical_sim::core {
 struct EfgSurfaceCutOptions {
   double front_width = 0.0;  ///< w [m] > 0: desired largest width of an exposed-surface triangle
   double tolerance = 0.0;    ///< blade-edge contact distance [m], >= 0 (edgeSweepCrossing)
+  /// Rebuild the committed surface's edge tables and clusters from scratch when a cut is
+  /// committed (O(t log t)) instead of updating the replaced triangles' edges in place (the
+  /// reference the update is tested against; both give the same tables).
+  bool rebuild_tables = false;
 };
 
 /// What one EfgSurfaceCutter::cut() call changed.
@@ -59,7 +64,9 @@ struct EfgSurfaceCutStep {
 ///   for a straight blade under a locally affine deformation).
 /// - Completion: the last chain closes into a polygon, filled by a strip from the last fixed row
 ///   (without a row: the polygon's first half) to the rest of the polygon;
-///   transient vertices are freed and the edge tables are rebuilt (O(t log t), once per cut).
+///   transient vertices are freed and the edge tables and clusters are updated: the edges of the
+///   replaced triangles are re-derived and merged into the kept sorted order (linear in the
+///   surface with small constants, no sort of it; rebuild_tables: from scratch, O(t log t)).
 /// - A step whose blade pierces neither tip triangle (the blade left the body) ends the cut as a
 ///   crack: the surface is committed as it is, front and tip vertices stay, shared by both lips.
 /// Remapping (SurfaceRemapper criteria): new vertices; the endpoints and copies of a cut edge,
@@ -83,7 +90,7 @@ class EfgSurfaceCutter {
   /// One step: finds the crossings of `sweep` (tissue frame, current configuration) and updates
   /// surface, front and mapping. No crossing and no running cut: nothing changes. Cost: one pass
   /// over the positions, the edges of the clusters the swept box touches, the running cut's
-  /// size; a step that ends a cut also rebuilds the edge tables, O(t log t).
+  /// size; a step that ends a cut also updates the edge tables (see the class comment).
   /// @param x_start, x_end current vertex positions at the step start and end [m], shape
   ///        3 x numVertices() (free slots: any finite value).
   /// @throws std::invalid_argument for a sweep failing validateBladeSweep or positions of the
@@ -133,8 +140,21 @@ class EfgSurfaceCutter {
     std::vector<double> weights;
   };
 
+  /// Ends the running cut (its triangles join the committed surface) and updates the tables.
   void commit();
-  void buildClusters();
+  /// Edge tables and clusters of tris_ from scratch.
+  void buildTables();
+  /// Edge tables and clusters after the running cut's triangles replace cut_tris_: tris_ keeps
+  /// its kept triangles in order, then the generated ones; edges keep their sorted order and
+  /// clusters their Morton order, with the edges of the replaced triangles re-derived. Linear in
+  /// the surface (no sort of it) plus the cut's size.
+  void updateTables();
+  /// Bounding box (lower, upper corner) of the edges' rest vertices [m].
+  std::array<Eigen::Vector3d, 2> edgeBox() const;
+  /// Morton code of edge e's midpoint in cluster_box_ (10 bits per axis).
+  std::uint32_t mortonCode(int e) const;
+  /// Clusters of kClusterEdges consecutive edges of `order` ((Morton code, edge), sorted).
+  void buildClusters(std::vector<std::pair<std::uint32_t, int>> order);
   int newVertex(Eigen::Vector3d rest);
   void freeVertex(int v);
   bool accept(int edge, double s);
@@ -144,6 +164,15 @@ class EfgSurfaceCutter {
   void updateFront(std::vector<int>& created);
   void rebuild();
   std::function<Eigen::Vector3d(int)> restOf() const;
+  /// Orders generated_of_ entries by vertex (for equal_range on a vertex id).
+  struct GeneratedOrder {
+    bool operator()(const std::pair<int, int>& a, int v) const { return a.first < v; }
+    bool operator()(int v, const std::pair<int, int>& a) const { return v < a.first; }
+  };
+  /// Range of generated_of_ for vertex v, in generated_ order.
+  std::pair<std::vector<std::pair<int, int>>::const_iterator,
+            std::vector<std::pair<int, int>>::const_iterator>
+  generatedOf(int v) const;
   /// Calls f(triangle) for every current triangle holding v.
   template <class F>
   void forIncident(int v, const F& f) const;
@@ -168,9 +197,11 @@ class EfgSurfaceCutter {
   std::vector<std::array<int, 2>> edges_;      ///< (lower, higher vertex)
   std::vector<std::array<int, 3>> tri_edges_;  ///< edge k = (tri[k], tri[k+1])
   std::vector<std::array<int, 2>> edge_tris_;
-  std::vector<int> vertex_tri_start_, vertex_tris_;  ///< CSR vertex -> committed triangles
-  std::vector<int> cluster_start_, cluster_edges_;   ///< CSR cluster -> edges
-  std::vector<int> cluster_vstart_, cluster_verts_;  ///< CSR cluster -> distinct vertices
+  std::vector<int> vertex_tri_start_, vertex_tris_;           ///< CSR vertex -> committed triangles
+  std::vector<int> cluster_start_, cluster_edges_;            ///< CSR cluster -> edges
+  std::vector<int> cluster_vstart_, cluster_verts_;           ///< CSR cluster -> distinct vertices
+  std::vector<std::pair<std::uint32_t, int>> cluster_order_;  ///< (Morton code, edge), sorted
+  std::array<Eigen::Vector3d, 2> cluster_box_;                ///< box of the Morton codes [m]
   // Running cut.
   bool active_ = false;
   std::vector<Crossing> crossings_;
@@ -186,7 +217,10 @@ class EfgSurfaceCutter {
   std::vector<std::uint8_t> replaced_;           ///< per committed triangle
   std::vector<int> cut_tris_;                    ///< committed triangles replaced by splits
   std::vector<std::array<int, 3>> generated_;    ///< triangles of the running cut
-  std::vector<std::uint8_t> outcode_;            ///< per vertex, broad-phase scratch of cut()
+  /// (vertex, index in generated_) of each corner of the running cut's triangles, sorted.
+  std::vector<std::pair<int, int>> generated_of_;
+  std::vector<std::uint8_t> outcode_;      ///< per vertex, broad-phase scratch of cut()
+  std::vector<std::uint8_t> vertex_mark_;  ///< per vertex, cut() scratch, all 0 between uses
   int sheet_start_ = 0;  ///< first sheet triangle in generated_ (side A, B alternating)
   bool completed_ = false;
 };

@@ -33,9 +33,10 @@ struct EfgCutResult {
 /// 1. Crossing: each alive link, with both ends moving linearly from x_start to x_end (an IP at
 ///    sum_a phi_a x_a of its current particles), is tested against every blade segment with
 ///    edgeSweepCrossing (so a static blade in moving tissue cuts). Broad phase: only the links of
-///    particles whose motion box meets the sweep's box grown by 3 x the longest rest link, and
-///    whose own motion box meets a segment's sweep box, are tested (a link stretched to more than
-///    3 x its rest length can be missed).
+///    particles whose motion box meets the sweep's box and whose motion meets the slab of one
+///    segment's sweep (its four corners' extent along the swept quad's normal), both grown by
+///    3 x the longest rest link, and whose own motion box meets a segment's sweep box, are tested
+///    (a link stretched to more than 3 x its rest length can be missed).
 /// 2. Re-selection, for each IP with a severed link and each IP with indirect particles near a
 ///    severed link: a Dijkstra search from the IP over the alive links (rest lengths) lists the
 ///    visible particles by graph distance r. They are taken in that order, skipping one that would
@@ -53,6 +54,11 @@ struct EfgCutResult {
 ///    neighbouring-cell IP) and keeps its old particles with volume 0. Volume moves between IPs
 ///    only, so the total mass is conserved.
 /// 4. EfgModel::setNeighbourhoods for the changed IPs (the model's stiffness pattern is rebuilt).
+/// 5. Pieces: a cut can only split the pieces holding a severed link. A breadth-first search from
+///    each end of the severed links over alive links, the searches merging where they meet, stops
+///    once at most one unmerged search per old piece still grows; each search that ran out of
+///    nodes is a new piece. Cost: the nodes reached, at most about twice the smaller side of a
+///    split (a cut that splits nothing stops where its ends' searches meet around the cut).
 /// A cut that severs nothing changes nothing.
 class EfgVolumeCutter {
  public:
@@ -81,8 +87,10 @@ class EfgVolumeCutter {
   struct Selection;
   /// Particles (by graph distance) for IP e, or an empty selection if e is isolated.
   Selection select(int e) const;
-  /// Pieces holding volume, from the graph components.
-  int countPieces() const;
+  /// Moves IP e's count of pieces_ (change +1: e holds volume, -1: it no longer does).
+  void addVolumeIp(int e, int change);
+  /// Relabels the pieces the severed links split (searches from their ends, see cut()).
+  void splitPieces(const std::vector<int>& severed);
   /// Cell (i, j, k) of IP e.
   Eigen::Vector3i cellOf(int e) const;
   /// IP of cell c, or -1 (dropped or outside the grid).
@@ -91,8 +99,11 @@ class EfgVolumeCutter {
   EfgModel& model_;
   EfgTopologyGraph graph_;
   double max_link_length_ = 0.0;  ///< [m]
-  int pieces_ = 0;
-  int samples_ = 4;  ///< volume samples per axis of the mid-cell redistribution
+  int pieces_ = 0;                ///< labels with volume IPs
+  std::vector<int> labels_;       ///< piece label per graph node (graph components)
+  std::vector<int> volume_ips_;   ///< per label, its IPs holding volume
+  std::vector<int> tree_of_;      ///< splitPieces scratch per graph node, -1 outside a search
+  int samples_ = 4;               ///< volume samples per axis of the mid-cell redistribution
   /// Remaining volume samples (samples_^3) of the cells a cut has crossed, per IP (empty if none).
   std::vector<std::vector<char>> sample_masks_;
   std::vector<char> has_indirect_;  ///< per IP: uses a particle it has no alive link to

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <utility>
 #include <vector>
 
 namespace surgical_sim::core {
@@ -74,7 +75,9 @@ struct RemapResult {
 /// Among valid IPs the nearest to X wins. When none is valid the criteria are relaxed in the
 /// order of RemapRelaxation (cut planes, which keep a vertex on its own side, are dropped last),
 /// first over the IPs within one grid cell (4 IPs a cell, about 1.6 IP spacings), then over
-/// every IP. Uses a uniform grid of the IP rest positions built once (O(IPs)).
+/// every IP below the cut planes. Uses a uniform grid of the IP rest positions built once
+/// (O(IPs)): the second search halves boxes of cells down to cells, skipping those wholly above
+/// a cut plane, and the nearest IP is found in cubes of cells growing about X.
 class SurfaceRemapper {
  public:
   /// @throws std::invalid_argument when the source has no IP or an IP position is not finite.
@@ -92,6 +95,19 @@ class SurfaceRemapper {
              int level) const;
   /// IPs within `radius` >= 0 of X, nearest first.
   std::vector<int> candidates(const Eigen::Vector3d& X, double radius) const;
+  /// Grid cell of X, clamped to the grid.
+  Eigen::Vector3i cellAt(const Eigen::Vector3d& X) const;
+  /// Flat index of grid cell c.
+  int cellIndex(const Eigen::Vector3i& c) const;
+  /// Appends (squared distance to X [m^2], IP) for the IPs below `planes` in the box of grid
+  /// cells [lo, hi) (non-empty): a box wholly above a plane is skipped, a plane the box lies
+  /// wholly below is dropped, and the box is halved along its longest side down to single cells
+  /// while a plane is left.
+  void collectBelow(const Eigen::Vector3i& lo, const Eigen::Vector3i& hi, const Eigen::Vector3d& X,
+                    const std::vector<CutPlane>& planes,
+                    std::vector<std::pair<double, int>>& below) const;
+  /// The IP nearest to X (the lowest index among equally near ones).
+  int nearest(const Eigen::Vector3d& X) const;
 
   const EfgMappingSource& source_;
   std::vector<Eigen::Vector3d> ip_rest_;
