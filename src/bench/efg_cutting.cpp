@@ -56,7 +56,8 @@ using SliverCache = std::vector<std::pair<std::size_t, int>>;
 /// planes, or no IP at all does (a sliver between cuts thinner than the IP spacing: the vertex
 /// keeps the nearest IP, counted in `slivers`); else the first offending vertex. Adds the
 /// (vertex, plane) pairs checked to `checked`.
-std::string wrongSide(const EfgCutBody& body, SliverCache& cache, int& checked, int& slivers) {
+std::string wrongSide(const EfgCutBody& body, SliverCache& cache, long long& checked,
+                      int& slivers) {
   const EfgSurfaceCutter& surface = body.surface();
   cache.resize(static_cast<std::size_t>(surface.numVertices()), {0, -1});
   slivers = 0;
@@ -65,7 +66,7 @@ std::string wrongSide(const EfgCutBody& body, SliverCache& cache, int& checked, 
     const int ip_index = surface.vertexIp(v);
     const Eigen::Vector3d ip = body.source().ipRestPosition(ip_index);
     const std::vector<CutPlane>& planes = surface.vertexPlanes(v);
-    checked += static_cast<int>(planes.size());
+    checked += static_cast<long long>(planes.size());
     std::pair<std::size_t, int>& known = cache[static_cast<std::size_t>(v)];
     if (known == std::pair{planes.size(), ip_index} && !planes.empty()) {
       ++slivers;

@@ -396,14 +396,15 @@ bool efgFuzz(const std::string& dir, int sweeps) {
   FILE* csv = openCsv(dir, "efg_cut_fuzz.csv",
                       "sweeps,seed,failure,max_mass_error,severed_links,crossed_edges,pieces,"
                       "triangles,planes_checked,sliver_vertices,mean_update_ms");
-  std::fprintf(csv, "%d,%u,%s,%.3e,%d,%d,%d,%d,%d,%d,%.4f\n", r.sweeps, settings.seed,
+  std::fprintf(csv, "%d,%u,%s,%.3e,%d,%d,%d,%d,%lld,%d,%.4f\n", r.sweeps, settings.seed,
                r.failure.empty() ? "none" : r.failure.c_str(), r.max_mass_error, r.severed_links,
                r.crossed_edges, r.pieces, r.triangles, r.planes_checked, r.sliver_vertices,
                r.mean_update_ms);
   std::fclose(csv);
   std::printf(
       "efg fuzz   %d sweeps: %s, max mass error %.1e, %d links severed, %d surface edges cut, "
-      "%d pieces, %d vertex-plane sides checked (%d sliver vertices without an IP on their side), "
+      "%d pieces, %lld vertex-plane sides checked (%d sliver vertices without an IP on their "
+      "side), "
       "mean update %.2f ms\n",
       r.sweeps, r.failure.empty() ? "no failure" : r.failure.c_str(), r.max_mass_error,
       r.severed_links, r.crossed_edges, r.pieces, r.planes_checked, r.sliver_vertices,

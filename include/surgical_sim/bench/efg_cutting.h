@@ -140,14 +140,14 @@ struct EfgCutFuzzSettings {
 
 /// Outcome of runEfgCutFuzz().
 struct EfgCutFuzzReport {
-  int sweeps = 0;               ///< sweeps run (stops at the first failure)
-  std::string failure;          ///< "" or "sweep i: <problem>"
-  double max_mass_error = 0.0;  ///< max relative total-mass error [-]
-  int severed_links = 0;        ///< in total
-  int crossed_edges = 0;        ///< surface edges cut in total
-  int pieces = 0;               ///< at the end
-  int triangles = 0;            ///< surface triangles at the end
-  int planes_checked = 0;       ///< (vertex, stored cut plane) pairs checked, all sweeps
+  int sweeps = 0;                ///< sweeps run (stops at the first failure)
+  std::string failure;           ///< "" or "sweep i: <problem>"
+  double max_mass_error = 0.0;   ///< max relative total-mass error [-]
+  int severed_links = 0;         ///< in total
+  int crossed_edges = 0;         ///< surface edges cut in total
+  int pieces = 0;                ///< at the end
+  int triangles = 0;             ///< surface triangles at the end
+  long long planes_checked = 0;  ///< (vertex, stored cut plane) pairs checked, all sweeps
   /// Vertices whose cut planes leave no IP on their side (a sliver between cuts thinner than the
   /// IP spacing; mapped to the nearest IP, SurfaceRemapper's last relaxation), after the last
   /// sweep.
