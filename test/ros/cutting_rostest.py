@@ -1,5 +1,6 @@
 #!/usr/bin/python3
 """rostest: cutting bag -> cutting_tool -> tissue_simulator (lockstep) -> tissue/stats.pieces."""
+import copy
 import sys
 import threading
 import unittest
@@ -13,7 +14,8 @@ from std_srvs.srv import Empty
 from surgical_sim.msg import BladeSweep, TissueStats
 from surgical_sim.srv import SetBlade
 
-from node_probe import subscribe_by_stamp, wait_for_subscribers
+from node_probe import (messages_received, subscribe_by_stamp, wait_for_connection,
+                        wait_for_messages_received, wait_for_subscribers)
 
 
 class Replayer:
@@ -34,15 +36,19 @@ class Replayer:
             self.sweeps += 1
             self.lock.notify_all()
 
-    def replay(self, messages, dz):
+    def replay(self, messages, dz, settle_poses=3):
         """Replays (topic, msg) with every pose raised by dz [m]; returns the last stats.
         While the blade is active, waits for the sweep of each pose before the next pose, so
-        every sweep is applied at the step of the next pose (a deterministic replay)."""
+        every sweep is applied at the step of the next pose (tissue_simulator has received it
+        before that pose is sent: a deterministic replay, also on a loaded machine). The replay
+        ends by holding the last pose for settle_poses more steps, so the returned stats
+        include the last sweep."""
         with self.lock:
             self.stats.clear()
             self.sweeps = 0
         last = None
         active, poses_while_active, expected = False, 0, 0
+        received = messages_received("/tissue_simulator", "/cutting/blade_sweep")
         for topic, msg in messages:
             if topic == "cutting/activate":
                 self.activate_pub.publish(msg)
@@ -66,8 +72,24 @@ class Replayer:
                     if not self.lock.wait_for(lambda: self.sweeps >= expected, timeout=10.0):
                         raise AssertionError("no cutting/blade_sweep for pose stamped %s" %
                                              pose.header.stamp)
-            rospy.sleep(0.005)  # the sweep also reaches tissue_simulator before the next pose
+            # The sweep also reaches tissue_simulator before the next pose.
+            wait_for_messages_received("/tissue_simulator", "/cutting/blade_sweep",
+                                       received + expected)
             pose.pose.position.z -= dz
+        if last is None:
+            return None
+        held = PoseStamped()
+        held.header = copy.deepcopy(pose.header)
+        held.pose = copy.deepcopy(pose.pose)
+        held.pose.position.z += dz
+        for k in range(settle_poses):
+            held.header.stamp += rospy.Duration(0.01)
+            key = held.header.stamp.to_nsec()
+            self.pose_pub.publish(held)
+            with self.lock:
+                if not self.lock.wait_for(lambda: key in self.stats, timeout=20.0):
+                    raise AssertionError("no tissue/stats for the held pose %d" % k)
+                last = self.stats[key]
         return last
 
 
@@ -82,6 +104,7 @@ class CuttingTest(unittest.TestCase):
         rospy.wait_for_service("cutting/set_blade", timeout=60.0)
         cls.reset = rospy.ServiceProxy("tissue/reset", Empty)
         cls.set_blade = rospy.ServiceProxy("cutting/set_blade", SetBlade)
+        wait_for_connection("/cutting_tool", "/cutting/blade_sweep", "/tissue_simulator")
         cls.replayer = Replayer()
 
     def test_1_bag_cuts_the_organ_through(self):

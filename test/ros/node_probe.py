@@ -4,7 +4,9 @@ import signal
 import subprocess
 import time
 import uuid
+import xmlrpc.client
 
+import rosgraph
 import rospy
 from geometry_msgs.msg import PoseStamped
 
@@ -17,6 +19,41 @@ def wait_for_subscribers(*publishers, timeout=30.0):
     while rospy.get_time() < deadline and any(
             pub.get_num_connections() < count for pub, count in wanted):
         rospy.sleep(0.05)
+
+
+def wait_for_connection(node, topic, peer, timeout=30.0):
+    """Waits at most `timeout` s until node's publisher of `topic` is connected to `peer` (node
+    names and topic fully qualified), from node's bus information: messages published before
+    that connection exists are lost. Raises AssertionError naming the three on time-out."""
+    uri = rosgraph.Master(rospy.get_name()).lookupNode(node)
+    proxy = xmlrpc.client.ServerProxy(uri)
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        _, _, connections = proxy.getBusInfo(rospy.get_name())
+        if any(c[1] == peer and c[2] == "o" and c[4] == topic for c in connections):
+            return
+        time.sleep(0.05)
+    raise AssertionError("%s's %s never connected to %s within %.0f s" % (node, topic, peer,
+                                                                         timeout))
+
+
+def messages_received(node, topic):
+    """Messages of `topic` that node's subscription has received so far (all publishers), from
+    its bus statistics (roscpp: [connection, bytes, messages, drops, ...] per publisher)."""
+    uri = rosgraph.Master(rospy.get_name()).lookupNode(node)
+    _, subscriptions = xmlrpc.client.ServerProxy(uri).getBusStats(rospy.get_name())[:2]
+    return sum(c[2] for name, connections in subscriptions if name == topic for c in connections)
+
+
+def wait_for_messages_received(node, topic, count, timeout=20.0):
+    """Waits at most `timeout` s until node has received `count` messages of `topic`; raises
+    AssertionError naming them on time-out."""
+    deadline = time.time() + timeout
+    while messages_received(node, topic) < count:
+        if time.time() > deadline:
+            raise AssertionError("%s received %d of %d messages of %s within %.0f s" % (
+                node, messages_received(node, topic), count, topic, timeout))
+        time.sleep(0.002)
 
 
 def subscribe_by_stamp(topic, msg_type, lock, store, value=lambda msg: msg):
