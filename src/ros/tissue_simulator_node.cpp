@@ -196,6 +196,7 @@ void TissueSimulatorNode::runLockstep() {
       burst_open_ = true;
     }
     const int k = ++burst_steps_done_;
+    if (k == 1) requestDeferredCuts(burst_stamp_);
     const bool ok = stepAndPublish(burst_stamp_, k == steps_per_pose_, burst_stamp_, k);
     if (!ok || k == steps_per_pose_) burst_open_ = false;
   }
@@ -259,10 +260,32 @@ void TissueSimulatorNode::onBladeSweep(const surgical_sim::BladeSweep::ConstPtr&
     sweep.end.col(static_cast<Eigen::Index>(i)) = X_SF * toEigen(msg->end[i]);
   try {
     std::lock_guard<std::mutex> lock(sim_mutex_);
-    sim_->requestCut(sweep);
+    if (sync_) {
+      core::validateBladeSweep(sweep);
+      deferred_sweeps_.emplace_back(msg->stamp_end, sweep);
+    } else {
+      sim_->requestCut(sweep);
+    }
   } catch (const std::invalid_argument& e) {
     ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator", "rejected cutting/blade_sweep: %s", e.what());
   }
+}
+
+void TissueSimulatorNode::requestDeferredCuts(const ros::Time& set_stamp) {
+  std::vector<std::pair<ros::Time, core::BladeSweep>> later;
+  for (auto& [stamp_end, sweep] : deferred_sweeps_) {
+    if (stamp_end >= set_stamp) {
+      later.emplace_back(stamp_end, std::move(sweep));
+      continue;
+    }
+    try {
+      sim_->requestCut(sweep);
+    } catch (const std::invalid_argument& e) {
+      ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator", "rejected cutting/blade_sweep: %s",
+                              e.what());
+    }
+  }
+  deferred_sweeps_ = std::move(later);
 }
 
 void TissueSimulatorNode::onTimer() {
@@ -538,6 +561,7 @@ bool TissueSimulatorNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Re
   restart_real_time_factor_ = true;
   step_count_ = 0;
   if (sync_) sync_->reset();
+  deferred_sweeps_.clear();
   burst_open_ = false;
   ROS_INFO_NAMED("tissue_simulator", "reset to the rest state");
   return true;

@@ -94,6 +94,8 @@ class TissueSimulatorNode {
   /// Jaws from the tool's grip joint in a JointState (e.g. trocar_device's joint_states).
   void onGrip(const sensor_msgs::JointState::ConstPtr& msg, int tool);
   void onBladeSweep(const surgical_sim::BladeSweep::ConstPtr& msg);
+  /// Lockstep: hands the deferred sweeps that ended before set_stamp to sim_ (under sim_mutex_).
+  void requestDeferredCuts(const ros::Time& set_stamp);
   void onTimer();
   /// Steps once and publishes everything stamped `stamp`; burst_step > 0: step burst_step of the
   /// lockstep burst of set `set_stamp` (reported in tissue/stats). Needs sim_mutex_ held; returns
@@ -162,6 +164,10 @@ class TissueSimulatorNode {
   ros::Time burst_stamp_;                     ///< stamp of the set whose burst is open
   int burst_steps_done_ = 0;                  ///< steps of the open burst done so far
   bool burst_open_ = false;                   ///< a set was taken and its burst is unfinished
+  /// Lockstep with tools: sweeps not yet handed to sim_, each with its stamp_end. A sweep ending
+  /// at a pose is cut at the first step of a later pose set, whichever of the sweep and that
+  /// pose reached the node first, so a replay cuts the same way on a loaded machine.
+  std::vector<std::pair<ros::Time, core::BladeSweep>> deferred_sweeps_;
   ros::NodeHandle nh_;
   ros::WallTimer resume_timer_;  ///< one-shot: resumes lockstep on the main thread after un-pause
   ros::Publisher surface_pub_, tool_marker_pub_, stats_pub_, rigid_node_pub_;
