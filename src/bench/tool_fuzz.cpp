@@ -168,35 +168,6 @@ void validate(const ToolFuzzSettings& s) {
   requirePositive("ToolFuzzSettings.max_tool_distance", s.max_tool_distance, "m");
 }
 
-}  // namespace
-
-void ToolFuzzOutcome::merge(const ToolFuzzOutcome& o) {
-  sequences += o.sequences;
-  steps += o.steps;
-  non_finite_steps += o.non_finite_steps;
-  contact_steps += o.contact_steps;
-  max_force = std::max(max_force, o.max_force);
-  for (const auto& [status, n] : o.status_steps) status_steps[status] += n;
-  over_bound_steps += o.over_bound_steps;
-  limited_but_ok_steps += o.limited_but_ok_steps;
-  accepted_poses += o.accepted_poses;
-  rejected_poses += o.rejected_poses;
-  bad_poses_accepted += o.bad_poses_accepted;
-  grasp_toggles += o.grasp_toggles;
-  teleports += o.teleports;
-  max_abs_energy = std::max(max_abs_energy, o.max_abs_energy);
-  max_energy_rise = std::max(max_energy_rise, o.max_energy_rise);
-  wall_seconds += o.wall_seconds;
-}
-
-std::vector<std::optional<double>> sceneForceBounds(const SceneBase& scene) {
-  std::vector<std::optional<double>> bounds;
-  for (const ToolSpec& tool : scene.tools) bounds.push_back(tool.max_force);
-  return bounds;
-}
-
-namespace {
-
 /// Bounding box of the rest tissue [m].
 Box restBox(const TissueSimulation& sim) {
   const Eigen::Matrix3Xd& rest = sim.mesh().nodes;
@@ -315,6 +286,31 @@ ToolFuzzOutcome runSequence(Simulation& sim, const ToolFuzzSettings& settings, s
 }
 
 }  // namespace
+
+void ToolFuzzOutcome::merge(const ToolFuzzOutcome& o) {
+  sequences += o.sequences;
+  steps += o.steps;
+  non_finite_steps += o.non_finite_steps;
+  contact_steps += o.contact_steps;
+  max_force = std::max(max_force, o.max_force);
+  for (const auto& [status, n] : o.status_steps) status_steps[status] += n;
+  over_bound_steps += o.over_bound_steps;
+  limited_but_ok_steps += o.limited_but_ok_steps;
+  accepted_poses += o.accepted_poses;
+  rejected_poses += o.rejected_poses;
+  bad_poses_accepted += o.bad_poses_accepted;
+  grasp_toggles += o.grasp_toggles;
+  teleports += o.teleports;
+  max_abs_energy = std::max(max_abs_energy, o.max_abs_energy);
+  max_energy_rise = std::max(max_energy_rise, o.max_energy_rise);
+  wall_seconds += o.wall_seconds;
+}
+
+std::vector<std::optional<double>> sceneForceBounds(const SceneBase& scene) {
+  std::vector<std::optional<double>> bounds;
+  for (const ToolSpec& tool : scene.tools) bounds.push_back(tool.max_force);
+  return bounds;
+}
 
 ToolFuzzOutcome runToolFuzzSequence(TissueSimulation& sim, const ToolFuzzSettings& settings,
                                     std::mt19937& rng) {

@@ -239,7 +239,11 @@ void EfgSurfaceCutter::buildTables() {
     }
     at(tri_edges_, uses[i][2])[static_cast<std::size_t>(uses[i][3])] = intSize(edges_) - 1;
   }
-  cluster_box_ = edgeBox();
+  buildClustersFromScratch(edgeBox());
+}
+
+void EfgSurfaceCutter::buildClustersFromScratch(const std::array<Eigen::Vector3d, 2>& box) {
+  cluster_box_ = box;
   std::vector<std::pair<std::uint32_t, int>> order(edges_.size());
   for (std::size_t e = 0; e < edges_.size(); ++e)
     order[e] = {mortonCode(static_cast<int>(e)), static_cast<int>(e)};
@@ -323,12 +327,7 @@ void EfgSurfaceCutter::updateTables() {
   // every Morton code changes).
   const std::array<Eigen::Vector3d, 2> box = edgeBox();
   if (box[0] != cluster_box_[0] || box[1] != cluster_box_[1]) {
-    cluster_box_ = box;
-    std::vector<std::pair<std::uint32_t, int>> order(edges_.size());
-    for (std::size_t e = 0; e < edges_.size(); ++e)
-      order[e] = {mortonCode(static_cast<int>(e)), static_cast<int>(e)};
-    std::sort(order.begin(), order.end());
-    buildClusters(std::move(order));
+    buildClustersFromScratch(box);
     return;
   }
   std::vector<std::pair<std::uint32_t, int>> added;

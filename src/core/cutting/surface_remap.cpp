@@ -92,28 +92,26 @@ SurfaceRemapper::SurfaceRemapper(const EfgMappingSource& source) : source_(sourc
         fill[static_cast<std::size_t>(cellOf(ip_rest_[static_cast<std::size_t>(i)]))]++)] = i;
 }
 
+template <class F>
+void SurfaceRemapper::forIpsInCells(const Eigen::Vector3i& lo, const Eigen::Vector3i& hi,
+                                    const F& f) const {
+  for (int z = lo.z(); z <= hi.z(); ++z)
+    for (int y = lo.y(); y <= hi.y(); ++y)
+      for (int x = lo.x(); x <= hi.x(); ++x) {
+        const Eigen::Vector3i c(x, y, z);
+        const auto k = static_cast<std::size_t>(cellIndex(c));
+        for (int i = cell_start_[k]; i < cell_start_[k + 1]; ++i)
+          f(c, cell_ips_[static_cast<std::size_t>(i)]);
+      }
+}
+
 std::vector<int> SurfaceRemapper::candidates(const Eigen::Vector3d& X, double radius) const {
   std::vector<std::pair<double, int>> found;
-  const Eigen::Vector3i c0 = ((X.array() - radius - origin_.array()) / cell_)
-                                 .floor()
-                                 .cast<int>()
-                                 .max(0)
-                                 .min(dims_.array() - 1);
-  const Eigen::Vector3i c1 = ((X.array() + radius - origin_.array()) / cell_)
-                                 .floor()
-                                 .cast<int>()
-                                 .max(0)
-                                 .min(dims_.array() - 1);
-  for (int z = c0.z(); z <= c1.z(); ++z)
-    for (int y = c0.y(); y <= c1.y(); ++y)
-      for (int x = c0.x(); x <= c1.x(); ++x) {
-        const auto c = static_cast<std::size_t>(cellIndex({x, y, z}));
-        for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
-          const int ip = cell_ips_[static_cast<std::size_t>(k)];
-          const double d2 = (ip_rest_[static_cast<std::size_t>(ip)] - X).squaredNorm();
-          if (d2 <= radius * radius) found.emplace_back(d2, ip);
-        }
-      }
+  forIpsInCells(cellAt((X.array() - radius).matrix()), cellAt((X.array() + radius).matrix()),
+                [&](const Eigen::Vector3i&, int ip) {
+                  const double d2 = (ip_rest_[static_cast<std::size_t>(ip)] - X).squaredNorm();
+                  if (d2 <= radius * radius) found.emplace_back(d2, ip);
+                });
   std::sort(found.begin(), found.end());
   std::vector<int> out;
   out.reserve(found.size());
@@ -192,16 +190,10 @@ void SurfaceRemapper::collectBelow(const Eigen::Vector3i& lo, const Eigen::Vecto
     collectBelow(upper, hi, X, straddling, below);
     return;
   }
-  for (int z = lo.z(); z < hi.z(); ++z)
-    for (int y = lo.y(); y < hi.y(); ++y)
-      for (int x = lo.x(); x < hi.x(); ++x) {
-        const auto k = static_cast<std::size_t>(cellIndex({x, y, z}));
-        for (int i = cell_start_[k]; i < cell_start_[k + 1]; ++i) {
-          const int ip = cell_ips_[static_cast<std::size_t>(i)];
-          const Eigen::Vector3d& Xi = ip_rest_[static_cast<std::size_t>(ip)];
-          if (belowPlanes(Xi, straddling)) below.emplace_back((Xi - X).squaredNorm(), ip);
-        }
-      }
+  forIpsInCells(lo, hi - Eigen::Vector3i::Ones(), [&](const Eigen::Vector3i&, int ip) {
+    const Eigen::Vector3d& Xi = ip_rest_[static_cast<std::size_t>(ip)];
+    if (belowPlanes(Xi, straddling)) below.emplace_back((Xi - X).squaredNorm(), ip);
+  });
 }
 
 int SurfaceRemapper::nearest(const Eigen::Vector3d& X) const {
@@ -213,21 +205,14 @@ int SurfaceRemapper::nearest(const Eigen::Vector3d& X) const {
   for (int r = 0;; ++r) {
     const Eigen::Vector3i lo = (c0.array() - r).max(0),
                           hi = (c0.array() + r).min(dims_.array() - 1);
-    for (int z = lo.z(); z <= hi.z(); ++z)
-      for (int y = lo.y(); y <= hi.y(); ++y)
-        for (int x = lo.x(); x <= hi.x(); ++x) {
-          const Eigen::Vector3i c(x, y, z);
-          if ((c - c0).cwiseAbs().maxCoeff() != r) continue;  // visited with a smaller r
-          const auto k = static_cast<std::size_t>(cellIndex(c));
-          for (int i = cell_start_[k]; i < cell_start_[k + 1]; ++i) {
-            const int ip = cell_ips_[static_cast<std::size_t>(i)];
-            const double d2 = (ip_rest_[static_cast<std::size_t>(ip)] - X).squaredNorm();
-            if (d2 < best_d2 || (d2 == best_d2 && ip < best)) {
-              best_d2 = d2;
-              best = ip;
-            }
-          }
-        }
+    forIpsInCells(lo, hi, [&](const Eigen::Vector3i& c, int ip) {
+      if ((c - c0).cwiseAbs().maxCoeff() != r) return;  // visited with a smaller r
+      const double d2 = (ip_rest_[static_cast<std::size_t>(ip)] - X).squaredNorm();
+      if (d2 < best_d2 || (d2 == best_d2 && ip < best)) {
+        best_d2 = d2;
+        best = ip;
+      }
+    });
     // Distance from X to the cells outside the cube (only sides with cells beyond them).
     double bound = INFINITY;
     for (int d = 0; d < 3; ++d) {

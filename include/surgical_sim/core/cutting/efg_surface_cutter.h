@@ -155,6 +155,8 @@ class EfgSurfaceCutter {
   std::uint32_t mortonCode(int e) const;
   /// Clusters of kClusterEdges consecutive edges of `order` ((Morton code, edge), sorted).
   void buildClusters(std::vector<std::pair<std::uint32_t, int>> order);
+  /// Clusters of every edge sorted by its Morton code in `box` (which becomes cluster_box_).
+  void buildClustersFromScratch(const std::array<Eigen::Vector3d, 2>& box);
   int newVertex(Eigen::Vector3d rest);
   void freeVertex(int v);
   bool accept(int edge, double s);

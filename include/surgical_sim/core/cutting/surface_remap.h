@@ -99,6 +99,9 @@ class SurfaceRemapper {
   Eigen::Vector3i cellAt(const Eigen::Vector3d& X) const;
   /// Flat index of grid cell c.
   int cellIndex(const Eigen::Vector3i& c) const;
+  /// Calls f(cell, ip) for every IP in the grid cells c with lo <= c <= hi, cell by cell.
+  template <class F>
+  void forIpsInCells(const Eigen::Vector3i& lo, const Eigen::Vector3i& hi, const F& f) const;
   /// Appends (squared distance to X [m^2], IP) for the IPs below `planes` in the box of grid
   /// cells [lo, hi) (non-empty): a box wholly above a plane is skipped, a plane the box lies
   /// wholly below is dropped, and the box is halved along its longest side down to single cells
