@@ -262,6 +262,13 @@ void TissueSimulatorNode::onBladeSweep(const surgical_sim::BladeSweep::ConstPtr&
     std::lock_guard<std::mutex> lock(sim_mutex_);
     if (sync_) {
       core::validateBladeSweep(sweep);
+      if (deferred_sweeps_.size() >= kMaxDeferredSweeps) {
+        ROS_WARN_THROTTLE_NAMED(1.0, "tissue_simulator",
+                                "dropped a cutting/blade_sweep: %zu sweeps wait for a tool pose "
+                                "stamped after them (stamps ahead of the poses?)",
+                                deferred_sweeps_.size());
+        deferred_sweeps_.erase(deferred_sweeps_.begin());
+      }
       deferred_sweeps_.emplace_back(msg->stamp_end, sweep);
     } else {
       sim_->requestCut(sweep);

@@ -167,7 +167,9 @@ class TissueSimulatorNode {
   /// Lockstep with tools: sweeps not yet handed to sim_, each with its stamp_end. A sweep ending
   /// at a pose is cut at the first step of a later pose set, whichever of the sweep and that
   /// pose reached the node first, so a replay cuts the same way on a loaded machine.
+  /// At most kMaxDeferredSweeps wait (the oldest is dropped, with a warning).
   std::vector<std::pair<ros::Time, core::BladeSweep>> deferred_sweeps_;
+  static constexpr std::size_t kMaxDeferredSweeps = 1000;
   ros::NodeHandle nh_;
   ros::WallTimer resume_timer_;  ///< one-shot: resumes lockstep on the main thread after un-pause
   ros::Publisher surface_pub_, tool_marker_pub_, stats_pub_, rigid_node_pub_;
