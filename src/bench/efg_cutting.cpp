@@ -275,7 +275,12 @@ std::vector<EfgCutSweepRecord> runEfgProgressiveCuts(const EfgCutRunSettings& se
                                 std::to_string(settings.sweeps_per_cut) + ")");
   if (!(settings.depth > 0.0 && settings.depth <= 2.0))
     throw std::invalid_argument("depth = " + std::to_string(settings.depth) + " must be in (0, 2]");
+  if (!(settings.blade_length >= 0.0) || !std::isfinite(settings.blade_length))
+    throw std::invalid_argument("blade_length = " + std::to_string(settings.blade_length) +
+                                " must be finite and >= 0");
   const Eigen::Vector3d semi = settings.semi_axes;
+  const double half_blade =
+      settings.blade_length > 0.0 ? 0.5 * settings.blade_length : 3.0 * semi.x();  // [m]
   const TriMesh liver = makeLiverSurface(semi, settings.surface_subdivisions);
   EfgOptions options;
   options.spacing = settings.spacing;
@@ -324,7 +329,7 @@ std::vector<EfgCutSweepRecord> runEfgProgressiveCuts(const EfgCutRunSettings& se
       sweep.start.resize(3, 2);
       sweep.end.resize(3, 2);
       for (int k = 0; k < 2; ++k) {
-        const Eigen::Vector3d p = centre + (k ? 3.0 : -3.0) * semi.x() * along;
+        const Eigen::Vector3d p = centre + (k ? half_blade : -half_blade) * along;
         sweep.start.col(k) = Eigen::Vector3d(p.x(), p.y(), z0);
         sweep.end.col(k) = Eigen::Vector3d(p.x(), p.y(), z1);
       }

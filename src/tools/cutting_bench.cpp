@@ -319,33 +319,40 @@ constexpr const char* kEfgHeader =
     "triangles,dofs,pieces,finite,mass_error,positions_ms,volume_ms,surface_ms,remap_ms,"
     "update_ms,step_ms,solver,linear_iterations";
 
-/// (a) Cut update on ~20k IPs (d = 2.4 mm) with a 327,680-triangle surface, static tissue: 5 cuts
-/// of 10 sweeps through the top half.
+/// (a) Cut update on ~20k IPs (d = 2.4 mm) with a 327,680-triangle surface, static tissue, 5
+/// cuts through the top half each: a scalpel (2 cm blade, 30 sweeps of about 1.1 mm a cut: the
+/// per-frame update) and a blade spanning the body (10 sweeps a cut).
 void efgUpdateTimes(const std::string& dir) {
-  surgical_sim::tools::progress("cutting_bench", "EFG update times, ~20k IPs, 327,680 triangles");
-  ss::EfgCutRunSettings s;
-  s.surface_subdivisions = 7;
-  s.spacing = 0.0024;
-  s.front_width = 0.003;
-  s.cuts = 5;
-  s.sweeps_per_cut = 10;
-  s.simulate = false;
-  ss::EfgCutRunInfo info;
-  const std::vector<ss::EfgCutSweepRecord> records = ss::runEfgProgressiveCuts(s, &info);
   FILE* csv = openCsv(dir, "efg_cut_update.csv", kEfgHeader);
-  writeEfgRecords(csv, "update", records, info, "none");
+  for (const bool scalpel : {true, false}) {
+    const char* run = scalpel ? "update" : "update_span";
+    surgical_sim::tools::progress("cutting_bench",
+                                  std::string("EFG ") + run + ", ~20k IPs, 327,680 triangles");
+    ss::EfgCutRunSettings s;
+    s.surface_subdivisions = 7;
+    s.spacing = 0.0024;
+    s.front_width = 0.003;
+    s.cuts = 5;
+    s.sweeps_per_cut = scalpel ? 30 : 10;
+    s.blade_length = scalpel ? 0.02 : 0.0;
+    s.simulate = false;
+    ss::EfgCutRunInfo info;
+    const std::vector<ss::EfgCutSweepRecord> records = ss::runEfgProgressiveCuts(s, &info);
+    writeEfgRecords(csv, run, records, info, "none");
+    std::vector<ss::EfgCutSweepRecord> cutting;
+    for (const ss::EfgCutSweepRecord& r : records)
+      if (r.severed_links > 0 || r.crossed_edges > 0) cutting.push_back(r);
+    const EfgMeans m = efgMeans(cutting, 0, cutting.size());
+    double worst = 0;
+    for (const ss::EfgCutSweepRecord& r : cutting) worst = std::max(worst, r.times.total());
+    std::printf(
+        "efg %-11s %d IPs, %d particles, %d triangles: %zu of %zu sweeps cut; mean update %.2f "
+        "ms (positions %.2f, volume %.2f, surface %.2f, remap %.2f), worst %.2f ms\n",
+        run, info.ips, info.particles, info.surface_triangles, cutting.size(), records.size(),
+        m.total, m.positions, m.volume, m.surface, m.remap, worst);
+    std::fflush(stdout);
+  }
   std::fclose(csv);
-  std::vector<ss::EfgCutSweepRecord> cutting;
-  for (const ss::EfgCutSweepRecord& r : records)
-    if (r.severed_links > 0 || r.crossed_edges > 0) cutting.push_back(r);
-  const EfgMeans m = efgMeans(cutting, 0, cutting.size());
-  double worst = 0;
-  for (const ss::EfgCutSweepRecord& r : cutting) worst = std::max(worst, r.times.total());
-  std::printf(
-      "efg update %d IPs, %d particles, %d triangles: %zu of %zu sweeps cut; mean update %.2f ms "
-      "(positions %.2f, volume %.2f, surface %.2f, remap %.2f), worst %.2f ms\n",
-      info.ips, info.particles, info.surface_triangles, cutting.size(), records.size(), m.total,
-      m.positions, m.volume, m.surface, m.remap, worst);
 }
 
 /// (b, c) `cuts` progressive cuts of 2 sweeps at ~10k IPs (d = 3 mm) with one implicit step per

@@ -83,7 +83,9 @@ struct EfgCutRunSettings {
   double front_width = 0.005;                    ///< surface cut front width w [m], > 0
   int cuts = 10;                                 ///< cuts, >= 1
   int sweeps_per_cut = 10;                       ///< blade steps per cut, >= 1
-  double depth = 0.5;    ///< fraction of the body's height each cut descends below its top (0, 2]
+  double depth = 0.5;  ///< fraction of the body's height each cut descends below its top (0, 2]
+  /// Blade edge length [m], >= 0; 0: six times semi_axes.x (every cut spans the body).
+  double blade_length = 0.0;
   bool simulate = true;  ///< one implicit Euler step per sweep under gravity
   /// Linear solver of the steps (default PcgSettings; after a cut the integrator is reset, so
   /// cholmod re-analyses and the factor-reusing solvers keep their factor).
@@ -117,7 +119,7 @@ struct EfgCutRunInfo {
   int surface_triangles = 0;  ///< before the cuts
 };
 
-/// cuts x sweeps_per_cut sweeps: cut i is a straight blade (longer than the body) in the vertical
+/// cuts x sweeps_per_cut sweeps: cut i is a straight blade (blade_length, centred) in the vertical
 /// plane at angle i x 137.5 deg about z, offset from the centre by a golden-ratio sequence within
 /// +-a/2, descending from above the top to depth x height below it in sweeps_per_cut equal steps.
 /// With simulate: the particles with rest z below the lowest particle + 2 spacing are clamped,

@@ -108,9 +108,10 @@ EfgSurfaceCutter::EfgSurfaceCutter(const TriMesh& surface, const EfgMappingSourc
                                           surface.triangles(2, t)};
   commit();
   // Initial mapping: nearest IP below the tangent plane (no 1-ring test: no vertex is mapped).
+  ip_vertices_.resize(static_cast<std::size_t>(source_.numIntegrationPoints()));
   for (int v = 0; v < numVertices(); ++v) {
     Vertex& vert = at(verts_, v);
-    vert.ip = remapper_.find(vert.rest, vertexNormal(v), vert.planes, {}).ip;
+    setIp(v, remapper_.find(vert.rest, vertexNormal(v), vert.planes, {}).ip);
     source_.pointWeights(vert.ip, vert.rest, vert.particles, vert.weights);
   }
 }
@@ -404,7 +405,19 @@ int EfgSurfaceCutter::newVertex(Eigen::Vector3d rest) {  // by value: verts_ may
   return v;
 }
 
+void EfgSurfaceCutter::setIp(int v, int ip) {
+  Vertex& vert = at(verts_, v);
+  if (vert.ip >= 0) {
+    std::vector<int>& old = at(ip_vertices_, vert.ip);
+    *std::find(old.begin(), old.end(), v) = old.back();
+    old.pop_back();
+  }
+  vert.ip = ip;
+  if (ip >= 0) at(ip_vertices_, ip).push_back(v);
+}
+
 void EfgSurfaceCutter::freeVertex(int v) {
+  setIp(v, -1);
   at(verts_, v) = Vertex{};
   at(verts_, v).used = false;
   free_.push_back(v);
@@ -723,7 +736,7 @@ void EfgSurfaceCutter::remap(int v, const std::vector<std::uint8_t>* excluded) {
   std::sort(ring.begin(), ring.end());
   ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
   Vertex& vert = at(verts_, v);
-  vert.ip = remapper_.find(vert.rest, vertexNormal(v), vert.planes, ring).ip;
+  setIp(v, remapper_.find(vert.rest, vertexNormal(v), vert.planes, ring).ip);
   source_.pointWeights(vert.ip, vert.rest, vert.particles, vert.weights);
 }
 
@@ -742,9 +755,12 @@ std::vector<int> EfgSurfaceCutter::remapVerticesOfIps(const std::vector<int>& ch
     at(changed, ip) = 1;
   }
   std::vector<int> out;
-  for (int v = 0; v < numVertices(); ++v)
-    if (at(verts_, v).used && at(verts_, v).ip >= 0 && at(changed, at(verts_, v).ip))
-      out.push_back(v);
+  for (int ip : changed_ips)
+    if (at(changed, ip) == 1) {
+      at(changed, ip) = 2;  // listed once
+      out.insert(out.end(), at(ip_vertices_, ip).begin(), at(ip_vertices_, ip).end());
+    }
+  std::sort(out.begin(), out.end());
   // The 1-ring test first ignores the changed IPs (their sets are what changed), then a second
   // pass sees every neighbour's new IP.
   for (int v : out) remap(v, &changed);

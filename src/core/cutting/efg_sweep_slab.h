@@ -17,18 +17,22 @@ struct SweepSlab {
   double lo = 0.0;                                   ///< [m]
   double hi = 0.0;                                   ///< [m]
 
-  /// True when every point lies beyond the same face of the slab: nothing moving within their
-  /// hull comes within the margin of the sweep. False without a slab.
-  bool apart(std::initializer_list<Eigen::Vector3d> points) const {
-    if (normal.squaredNorm() == 0.0) return false;
-    bool below = true, above = true;
+  /// Distance along the normal from the points' extent to the slab [m]: 0 when some point (or
+  /// the segment between two) lies within it, and 0 without a slab.
+  double gap(std::initializer_list<Eigen::Vector3d> points) const {
+    if (normal.squaredNorm() == 0.0) return 0.0;
+    double low = std::numeric_limits<double>::infinity(), high = -low;
     for (const Eigen::Vector3d& p : points) {
       const double h = normal.dot(p);
-      below = below && h < lo;
-      above = above && h > hi;
+      low = std::min(low, h);
+      high = std::max(high, h);
     }
-    return below || above;
+    return std::max({lo - high, low - hi, 0.0});
   }
+
+  /// True when every point lies beyond the same face of the slab: nothing moving within their
+  /// hull comes within the margin of the sweep. False without a slab.
+  bool apart(std::initializer_list<Eigen::Vector3d> points) const { return gap(points) > 0.0; }
 };
 
 /// Slab of segment i (0 <= i < sweep.start.cols() - 1) of `sweep`, grown by margin [m] >= 0 plus

@@ -19,7 +19,7 @@ namespace {
 
 // Largest accepted condition number of a re-selected IP's scaled moment matrix [-].
 constexpr double kSelectionCondition = 1e8;
-// Broad-phase margin in longest rest links [-].
+// Broad-phase margin of a link in its rest lengths: no link stretches further [-].
 constexpr double kStretchMargin = 3.0;
 // Lumped mass below which a particle counts as unused, relative to the total (round-off of the
 // removed shares) [-].
@@ -252,56 +252,69 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
   const EfgGrid& grid = model_.grid();
   EfgCutResult result;
 
-  // 1. Broad phase: particles whose motion box meets the sweep's grown box, then their links.
+  // 1. Broad phase: particles whose motion comes within the stretch margin of the sweep's box
+  // and slabs, then those of their links whose own margin reaches that far.
   const double tolerance = 1e-9 * grid.spacing;  // [m]
   const Eigen::Vector3d sweep_lo =
       sweep.start.rowwise().minCoeff().cwiseMin(sweep.end.rowwise().minCoeff()).array() - tolerance;
   const Eigen::Vector3d sweep_hi =
       sweep.start.rowwise().maxCoeff().cwiseMax(sweep.end.rowwise().maxCoeff()).array() + tolerance;
-  const double margin = kStretchMargin * max_link_length_;
-  const Eigen::Vector3d lo = sweep_lo.array() - margin;
-  const Eigen::Vector3d hi = sweep_hi.array() + margin;
   std::vector<efg_sweep_slab::SweepSlab> slabs;
   for (Eigen::Index i = 0; i + 1 < sweep.start.cols(); ++i)
-    slabs.push_back(efg_sweep_slab::sweepSlab(sweep, i, margin + tolerance));
-  const auto nearASlab = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-    return std::any_of(slabs.begin(), slabs.end(), [&](const efg_sweep_slab::SweepSlab& slab) {
-      return !slab.apart({a, b});
-    });
-  };
+    slabs.push_back(efg_sweep_slab::sweepSlab(sweep, i, tolerance));
   std::vector<int> candidates;
   std::vector<char> marked(graph_.links().size(), 0);
   for (int p = 0; p < n; ++p) {
     const Eigen::Vector3d a = x_start.segment<3>(3 * p);
     const Eigen::Vector3d b = x_end.segment<3>(3 * p);
-    if ((a.cwiseMax(b).array() < lo.array()).any() || (a.cwiseMin(b).array() > hi.array()).any() ||
-        !nearASlab(a, b))
-      continue;
+    // Distance from the motion to the sweep's box and to its nearest slab [m].
+    const double box_gap = (sweep_lo - a.cwiseMax(b))
+                               .cwiseMax(a.cwiseMin(b) - sweep_hi)
+                               .cwiseMax(Eigen::Vector3d::Zero())
+                               .maxCoeff();
+    double slab_gap = slabs.empty() ? 0.0 : std::numeric_limits<double>::infinity();
+    for (const efg_sweep_slab::SweepSlab& slab : slabs)
+      slab_gap = std::min(slab_gap, slab.gap({a, b}));
+    const double reach = std::max(box_gap, slab_gap);
+    if (reach > kStretchMargin * max_link_length_) continue;
     for (const int l : graph_.linksOf(p)) {
-      if (graph_.alive(l) && !marked[static_cast<size_t>(l)]) {
+      if (graph_.alive(l) && !marked[static_cast<size_t>(l)] &&
+          reach <= kStretchMargin * graph_.links()[static_cast<size_t>(l)].rest_length) {
         marked[static_cast<size_t>(l)] = 1;
         candidates.push_back(l);
       }
     }
   }
-  // Narrow phase.
-  const auto position = [&](int v, const Eigen::VectorXd& x) -> Eigen::Vector3d {
-    if (v < n) return x.segment<3>(3 * v);
+  // Positions of graph node v at the step start (end = 0) or end (1); an IP's are computed once
+  // a call.
+  ++calls_;
+  ip_x_call_.resize(static_cast<size_t>(model_.numIntegrationPoints()), 0);
+  ip_x_.resize(3, 2 * model_.numIntegrationPoints());
+  const auto position = [&](int v, int end) -> Eigen::Vector3d {
+    if (v < n) return (end ? x_end : x_start).segment<3>(3 * v);
     const int e = v - n;
-    const std::vector<int>& particles = model_.ipParticles(e);
-    const Eigen::Map<const Eigen::VectorXd> phi = model_.shapeValues(e);
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (size_t a = 0; a < particles.size(); ++a)
-      sum += phi(static_cast<Eigen::Index>(a)) * x.segment<3>(3 * particles[a]);
-    return sum;
+    if (ip_x_call_[static_cast<size_t>(e)] != calls_) {
+      ip_x_call_[static_cast<size_t>(e)] = calls_;
+      const std::vector<int>& particles = model_.ipParticles(e);
+      const Eigen::Map<const Eigen::VectorXd> phi = model_.shapeValues(e);
+      Eigen::Vector3d sum[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+      for (size_t a = 0; a < particles.size(); ++a) {
+        const double w = phi(static_cast<Eigen::Index>(a));
+        sum[0] += w * x_start.segment<3>(3 * particles[a]);
+        sum[1] += w * x_end.segment<3>(3 * particles[a]);
+      }
+      ip_x_.col(2 * e) = sum[0];
+      ip_x_.col(2 * e + 1) = sum[1];
+    }
+    return ip_x_.col(2 * e + end);
   };
   std::map<int, std::vector<Eigen::Vector3d>> crossings;  // IP -> rest crossing points [m]
   std::vector<Eigen::Vector3d> all_crossings;
   std::sort(candidates.begin(), candidates.end());
   for (const int l : candidates) {
     const EfgTopologyGraph::Link& link = graph_.links()[static_cast<size_t>(l)];
-    const Eigen::Vector3d e0s = position(link.a, x_start), e1s = position(link.b, x_start);
-    const Eigen::Vector3d e0e = position(link.a, x_end), e1e = position(link.b, x_end);
+    const Eigen::Vector3d e0s = position(link.a, 0), e1s = position(link.b, 0);
+    const Eigen::Vector3d e0e = position(link.a, 1), e1e = position(link.b, 1);
     // The link's motion box against the sweep's, then each segment's.
     const Eigen::Vector3d link_lo = e0s.cwiseMin(e1s).cwiseMin(e0e.cwiseMin(e1e));
     const Eigen::Vector3d link_hi = e0s.cwiseMax(e1s).cwiseMax(e0e.cwiseMax(e1e));
@@ -362,7 +375,6 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
     selections.emplace(e, select(e));
   }
 
-  // 3. Mid-cell volume and isolated IPs.
   const auto nearestAcross = [&](int e, const Eigen::Vector3d& target,
                                  const std::function<bool(int)>& admissible) {
     int best = -1;
@@ -451,7 +463,6 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
     volumes(e) = 0.0;
   }
 
-  // 4. The changed IPs.
   std::vector<EfgNeighbourhood> changes;
   for (int e = 0; e < model_.numIntegrationPoints(); ++e) {
     const auto sel = selections.find(e);

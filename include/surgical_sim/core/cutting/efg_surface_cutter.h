@@ -140,6 +140,8 @@ class EfgSurfaceCutter {
     std::vector<double> weights;
   };
 
+  /// Maps vertex v to IP ip (-1: none), keeping ip_vertices_.
+  void setIp(int v, int ip);
   /// Ends the running cut (its triangles join the committed surface) and updates the tables.
   void commit();
   /// Edge tables and clusters of tris_ from scratch.
@@ -194,6 +196,7 @@ class EfgSurfaceCutter {
   SurfaceRemapper remapper_;
   std::vector<Vertex> verts_;  ///< per vertex id
   std::vector<int> free_;
+  std::vector<std::vector<int>> ip_vertices_;  ///< per IP, the used vertices mapped to it
   // Committed surface (changes only at commit).
   std::vector<std::array<int, 3>> tris_;
   std::vector<std::array<int, 2>> edges_;      ///< (lower, higher vertex)

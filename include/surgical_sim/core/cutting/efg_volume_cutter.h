@@ -107,6 +107,11 @@ class EfgVolumeCutter {
   /// Remaining volume samples (samples_^3) of the cells a cut has crossed, per IP (empty if none).
   std::vector<std::vector<char>> sample_masks_;
   std::vector<char> has_indirect_;  ///< per IP: uses a particle it has no alive link to
+  /// Narrow-phase scratch: per IP, the cut() call that last computed its positions at the step
+  /// start and end (ip_x_ columns 2e and 2e + 1) [-], [m].
+  std::vector<long long> ip_x_call_;
+  Eigen::Matrix3Xd ip_x_;
+  long long calls_ = 0;
 };
 
 }  // namespace surgical_sim::core
