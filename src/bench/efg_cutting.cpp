@@ -226,17 +226,26 @@ void EfgCutBody::refreshRows(const std::vector<int>& vertices) {
   for (const int v : vertices)
     surface_->mappingRow(v, row_particles_[static_cast<std::size_t>(v)],
                          row_weights_[static_cast<std::size_t>(v)]);
+  if (last_positions_.cols() == 0) return;
+  const Eigen::Index had = last_positions_.cols();
+  last_positions_.conservativeResize(3, static_cast<Eigen::Index>(n));
+  last_positions_.rightCols(static_cast<Eigen::Index>(n) - had).setZero();  // free slots
+  for (const int v : vertices) last_positions_.col(v) = vertexPosition(v, x_);
+}
+
+Eigen::Vector3d EfgCutBody::vertexPosition(int v, const Eigen::VectorXd& x) const {
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  const std::vector<int>& particles = row_particles_[static_cast<std::size_t>(v)];
+  const std::vector<double>& weights = row_weights_[static_cast<std::size_t>(v)];
+  for (std::size_t a = 0; a < particles.size(); ++a)
+    p += weights[a] * x.segment<3>(3 * particles[a]);
+  return p;
 }
 
 Eigen::Matrix3Xd EfgCutBody::surfacePositions(const Eigen::VectorXd& x) const {
   Eigen::Matrix3Xd out(3, static_cast<Eigen::Index>(row_particles_.size()));
-  for (std::size_t v = 0; v < row_particles_.size(); ++v) {
-    Eigen::Vector3d p = Eigen::Vector3d::Zero();
-    const std::vector<int>& particles = row_particles_[v];
-    for (std::size_t a = 0; a < particles.size(); ++a)
-      p += row_weights_[v][a] * x.segment<3>(3 * particles[a]);
-    out.col(static_cast<Eigen::Index>(v)) = p;
-  }
+  for (std::size_t v = 0; v < row_particles_.size(); ++v)
+    out.col(static_cast<Eigen::Index>(v)) = vertexPosition(static_cast<int>(v), x);
   return out;
 }
 
@@ -244,14 +253,18 @@ EfgCutBody::Update EfgCutBody::cut(const BladeSweep& sweep, const Eigen::VectorX
                                    const Eigen::VectorXd& x_end) {
   Update u;
   Clock::time_point t0 = Clock::now();
-  const Eigen::Matrix3Xd s_start = surfacePositions(x_start), s_end = surfacePositions(x_end);
+  // The start's positions are the last end's when the particles start where the last cut left
+  // them (the rows of the vertices it remapped are refreshed there).
+  const bool continues = last_positions_.cols() > 0 && x_start.size() == x_.size() && x_start == x_;
+  const Eigen::Matrix3Xd s_start = continues ? last_positions_ : surfacePositions(x_start);
+  last_positions_ = surfacePositions(x_end);
   u.times.positions_ms = msSince(t0);
   t0 = Clock::now();
   u.volume = volume_.cut(sweep, x_start, x_end);
   u.times.volume_ms = msSince(t0);
   x_ = x_end;
   t0 = Clock::now();
-  u.surface = surface_->cut(sweep, s_start, s_end);
+  u.surface = surface_->cut(sweep, s_start, last_positions_);
   u.times.surface_ms = msSince(t0);
   t0 = Clock::now();
   refreshRows(u.surface.remapped);
@@ -396,7 +409,7 @@ EfgCutFuzzReport runEfgCutFuzz(const EfgCutFuzzSettings& settings) {
     Eigen::VectorXd x = model.restPositions();
     for (int p = 0; p < model.numNodes(); ++p) x.segment<3>(3 * p) += shift;
     const EfgCutBody::Update up = body.cut(sweep, x, x);
-    total_ms += up.times.total();
+    total_ms += up.times.update();
     report.sweeps = i + 1;
     report.severed_links += static_cast<int>(up.volume.severed_links.size());
     report.crossed_edges += up.surface.crossed_edges;

@@ -18,10 +18,13 @@
 //   cutting_*.png       plots (scripts/plot_cutting.py) unless --no-plot
 // With --efg, the meshless (EFG) cutters on the liver-like body (makeLiverSurface) instead:
 //   efg_cut_update.csv       per blade sweep at ~20k IPs with a 327,680-triangle surface (static
-//                            tissue): time of each phase of the cut update [ms]
-//   efg_cut_progressive.csv  per sweep of N progressive cuts (default 1000, 2 sweeps each) at
-//                            ~10k IPs with a 20,480-triangle surface, one implicit Euler step
-//                            (CHOLMOD) per sweep: phase times, step time [ms], DOFs, mass error
+//                            tissue), run "update" (a 2 cm scalpel, ~1.1 mm a sweep) and
+//                            "update_span" (a blade spanning the body): time of each phase of
+//                            the cut update and of the surface positions [ms]
+//   efg_cut_progressive.csv  per sweep of N progressive cuts (default 1000, a 2 cm scalpel, 10
+//                            sweeps each) at ~10k IPs with a 20,480-triangle surface, one
+//                            implicit Euler step per sweep (--solver, default cholmod): phase
+//                            times, step time [ms], DOFs, mass error
 //   cutting_t3c.csv          as above
 //   efg_cut_fuzz.csv         the EFG fuzz campaign (N random sweeps, both cutters)
 //   efg_cut_*.png            plots (scripts/plot_efg_cutting.py) unless --no-plot
@@ -295,7 +298,7 @@ EfgMeans efgMeans(const std::vector<ss::EfgCutSweepRecord>& r, std::size_t from,
     m.volume += r[i].times.volume_ms;
     m.surface += r[i].times.surface_ms;
     m.remap += r[i].times.remap_ms;
-    m.total += r[i].times.total();
+    m.total += r[i].times.update();
     m.step += r[i].step_ms;
   }
   const double n = static_cast<double>(std::max<std::size_t>(to - from, 1));
@@ -311,7 +314,7 @@ void writeEfgRecords(FILE* csv, const char* run, const std::vector<ss::EfgCutSwe
         run, info.ips, info.surface_triangles, r.cut, r.sweep, r.severed_links, r.changed_ips,
         r.crossed_edges, r.remapped, r.triangles, r.dofs, r.pieces, r.finite ? 1 : 0, r.mass_error,
         r.times.positions_ms, r.times.volume_ms, r.times.surface_ms, r.times.remap_ms,
-        r.times.total(), r.step_ms, solver.c_str(), r.linear_iterations);
+        r.times.update(), r.step_ms, solver.c_str(), r.linear_iterations);
 }
 
 constexpr const char* kEfgHeader =
@@ -344,19 +347,19 @@ void efgUpdateTimes(const std::string& dir) {
       if (r.severed_links > 0 || r.crossed_edges > 0) cutting.push_back(r);
     const EfgMeans m = efgMeans(cutting, 0, cutting.size());
     double worst = 0;
-    for (const ss::EfgCutSweepRecord& r : cutting) worst = std::max(worst, r.times.total());
+    for (const ss::EfgCutSweepRecord& r : cutting) worst = std::max(worst, r.times.update());
     std::printf(
-        "efg %-11s %d IPs, %d particles, %d triangles: %zu of %zu sweeps cut; mean update %.2f "
-        "ms (positions %.2f, volume %.2f, surface %.2f, remap %.2f), worst %.2f ms\n",
+        "efg %-11s %d IPs, %d particles, %d triangles: %zu of %zu sweeps cut; mean update %.3f "
+        "ms (volume %.3f, surface %.3f, remap %.3f), worst %.2f ms; surface positions %.2f ms\n",
         run, info.ips, info.particles, info.surface_triangles, cutting.size(), records.size(),
-        m.total, m.positions, m.volume, m.surface, m.remap, worst);
+        m.total, m.volume, m.surface, m.remap, worst, m.positions);
     std::fflush(stdout);
   }
   std::fclose(csv);
 }
 
-/// (b, c) `cuts` progressive cuts of 2 sweeps at ~10k IPs (d = 3 mm) with one implicit step per
-/// sweep.
+/// (b, c) `cuts` progressive cuts at ~10k IPs (d = 3 mm) with one implicit step per sweep: a 2 cm
+/// scalpel descending 2.1 mm a sweep, 10 sweeps a cut.
 void efgProgressive(const std::string& dir, int cuts, ss::SolverKind solver) {
   surgical_sim::tools::progress(
       "cutting_bench", "EFG progressive cuts, ~10k IPs, " + std::to_string(cuts) + " cuts");
@@ -364,7 +367,8 @@ void efgProgressive(const std::string& dir, int cuts, ss::SolverKind solver) {
   s.spacing = 0.003;
   s.front_width = 0.004;
   s.cuts = cuts;
-  s.sweeps_per_cut = 2;
+  s.sweeps_per_cut = 10;
+  s.blade_length = 0.02;
   s.depth = 0.3;
   s.solver = solver;
   ss::EfgCutRunInfo info;

@@ -24,11 +24,14 @@ class EfgCutBody final {
  public:
   /// Wall time of the phases of one cut() [ms].
   struct Times {
-    double positions_ms = 0.0;  ///< surface vertex positions at the step start and end
-    double volume_ms = 0.0;     ///< EfgVolumeCutter::cut
-    double surface_ms = 0.0;    ///< EfgSurfaceCutter::cut
-    double remap_ms = 0.0;      ///< remapVerticesOfIps and the mapping-row refresh
-    double total() const { return positions_ms + volume_ms + surface_ms + remap_ms; }
+    /// Surface vertex positions at the step end: the mapping a display does every step, cut or
+    /// not (the start's are the last end's when the step continues the last cut's).
+    double positions_ms = 0.0;
+    double volume_ms = 0.0;   ///< EfgVolumeCutter::cut
+    double surface_ms = 0.0;  ///< EfgSurfaceCutter::cut
+    double remap_ms = 0.0;    ///< remapVerticesOfIps and the mapping-row refresh
+    /// The cut update: volume, surface and remapping (without the positions) [ms].
+    double update() const { return volume_ms + surface_ms + remap_ms; }
   };
   /// What one cut() changed.
   struct Update {
@@ -47,8 +50,9 @@ class EfgCutBody final {
   EfgCutBody& operator=(const EfgCutBody&) = delete;
 
   /// One sweep in the frame order tool -> CCD -> topology, surface and mapping: the surface
-  /// vertex positions at x_start and x_end, the volume cut, the surface cut, then the vertices of
-  /// the IPs the volume cut changed are remapped.
+  /// vertex positions at x_start (the last call's end positions when x_start is the last call's
+  /// x_end) and x_end, the volume cut, the surface cut, then the vertices of the IPs the volume
+  /// cut changed are remapped.
   /// @param x_start, x_end particle positions at the step start and end [m], size 3n.
   /// @throws std::invalid_argument as the cutters (sweep or position sizes).
   Update cut(const core::BladeSweep& sweep, const Eigen::VectorXd& x_start,
@@ -63,8 +67,11 @@ class EfgCutBody final {
   const core::EfgSurfaceCutter& surface() const { return *surface_; }
 
  private:
-  /// Refreshes the cached mapping rows of `vertices` (and sizes the cache).
+  /// Refreshes the cached mapping rows of `vertices` (and sizes the cache) and their cached end
+  /// positions.
   void refreshRows(const std::vector<int>& vertices);
+  /// Position of surface vertex v for particle positions x [m], by its cached row.
+  Eigen::Vector3d vertexPosition(int v, const Eigen::VectorXd& x) const;
 
   core::EfgModel model_;
   core::EfgVolumeCutter volume_;
@@ -73,6 +80,7 @@ class EfgCutBody final {
   core::EfgModelSource source_{model_, x_};
   std::vector<std::vector<int>> row_particles_;
   std::vector<std::vector<double>> row_weights_;
+  Eigen::Matrix3Xd last_positions_;  ///< surface vertex positions at x_ (none before a cut) [m]
 };
 
 /// Progressive cuts of the liver-like EFG body (makeLiverSurface), optionally simulated.

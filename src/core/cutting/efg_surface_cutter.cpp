@@ -22,12 +22,23 @@ using cutting_index::intSize;
 
 namespace {
 
+/// The segment from a vertex to its IP stretches at most this much [-] (the volume cutter's
+/// margin for its links).
+constexpr double kStretchMargin = 3.0;
 /// Edges per broad-phase cluster.
 constexpr int kClusterEdges = 32;
 /// Crossing parameters are kept this far from the edge ends, and tip barycentric coordinates
 /// at least this large, so no split triangle degenerates to zero area.
 constexpr double kEdgeMargin = 0.02;
 constexpr double kTipMargin = 0.01;
+
+/// Inserts x into the ascending vector v (absent before).
+void insertSorted(std::vector<int>& v, int x) {
+  v.insert(std::upper_bound(v.begin(), v.end(), x), x);
+}
+
+/// Erases x from the ascending vector v (present before).
+void eraseSorted(std::vector<int>& v, int x) { v.erase(std::lower_bound(v.begin(), v.end(), x)); }
 
 /// Spreads the 10 low bits of x to every third bit (Morton code).
 std::uint32_t spreadBits(std::uint32_t x) {
@@ -130,12 +141,16 @@ Eigen::Matrix3Xd EfgSurfaceCutter::restVertices() const {
 }
 
 Eigen::Matrix3Xi EfgSurfaceCutter::triangles() const {
-  Eigen::Matrix3Xi out(3, intSize(tris_) - intSize(cut_tris_) + intSize(generated_));
+  Eigen::Matrix3Xi out(3, numTriangles());
   Eigen::Index k = 0;
   for (std::size_t t = 0; t < tris_.size(); ++t)
     if (!replaced_[t]) out.col(k++) = Eigen::Map<const Eigen::Vector3i>(tris_[t].data());
   for (const auto& t : generated_) out.col(k++) = Eigen::Map<const Eigen::Vector3i>(t.data());
   return out;
+}
+
+int EfgSurfaceCutter::numTriangles() const {
+  return live_tris_ - intSize(cut_tris_) + intSize(generated_);
 }
 
 std::vector<int> EfgSurfaceCutter::transientVertices() const {
@@ -178,17 +193,49 @@ SurfaceMapping EfgSurfaceCutter::mapping(int nodes) const {
 // Committed surface tables.
 
 void EfgSurfaceCutter::commit() {
-  if (active_ && !options_.rebuild_tables) {
-    updateTables();
-  } else {
-    if (active_) {
-      std::vector<std::array<int, 3>> all;
-      all.reserve(tris_.size() + generated_.size());
-      for (std::size_t t = 0; t < tris_.size(); ++t)
-        if (!replaced_[t]) all.push_back(tris_[t]);
-      all.insert(all.end(), generated_.begin(), generated_.end());
-      tris_ = std::move(all);
+  if (active_) {
+    // The replaced triangles' slots are freed and the generated triangles take the smallest
+    // free slots (the same ids with either table option); then the edge tables follow.
+    std::vector<int> dead = cut_tris_;
+    std::sort(dead.begin(), dead.end());
+    for (int t : dead) {
+      for (int v : at(tris_, t)) eraseSorted(at(vertex_tris_, v), t);
+      if (!options_.rebuild_tables) unlinkEdges(t);
     }
+    tri_free_.insert(tri_free_.end(), dead.begin(), dead.end());
+    std::sort(tri_free_.begin(), tri_free_.end(), std::greater<>());
+    live_tris_ -= intSize(dead);
+    vertex_tris_.resize(verts_.size());
+    std::vector<int> added;
+    for (const auto& g : generated_) {
+      int t = intSize(tris_);
+      if (tri_free_.empty()) {
+        tris_.push_back(g);
+        replaced_.push_back(0);
+        tri_edges_.push_back({-1, -1, -1});
+      } else {
+        t = tri_free_.back();
+        tri_free_.pop_back();
+        at(tris_, t) = g;
+        at(replaced_, t) = 0;
+      }
+      ++live_tris_;
+      for (int v : g) insertSorted(at(vertex_tris_, v), t);
+      added.push_back(t);
+    }
+    if (options_.rebuild_tables) {
+      buildTables();
+    } else {
+      std::vector<int> fresh;
+      for (int t : added) linkEdges(t, fresh);
+      addClusters(fresh);
+    }
+  } else {
+    replaced_.assign(tris_.size(), 0);
+    live_tris_ = intSize(tris_);
+    vertex_tris_.assign(verts_.size(), {});
+    for (std::size_t t = 0; t < tris_.size(); ++t)
+      for (int v : tris_[t]) at(vertex_tris_, v).push_back(static_cast<int>(t));
     buildTables();
   }
   active_ = false;
@@ -204,32 +251,24 @@ void EfgSurfaceCutter::commit() {
   cut_tris_.clear();
   tip_tri_ = {-1, -1};
   tip_vertex_ = {-1, -1};
-  edge_crossing_.assign(edges_.size(), -1);
-  replaced_.assign(tris_.size(), 0);
-  vertex_tri_start_.assign(verts_.size() + 1, 0);
-  for (const auto& t : tris_)
-    for (int v : t) ++at(vertex_tri_start_, v + 1);
-  for (std::size_t v = 1; v < vertex_tri_start_.size(); ++v)
-    vertex_tri_start_[v] += vertex_tri_start_[v - 1];
-  vertex_tris_.resize(3 * tris_.size());
-  std::vector<int> fill(vertex_tri_start_.begin(), vertex_tri_start_.end() - 1);
-  for (std::size_t t = 0; t < tris_.size(); ++t)
-    for (int v : tris_[t]) at(vertex_tris_, at(fill, v)++) = static_cast<int>(t);
 }
 
 void EfgSurfaceCutter::buildTables() {
   // Edges: (lower, higher, triangle, local edge), sorted.
   std::vector<std::array<int, 4>> uses;
-  uses.reserve(3 * tris_.size());
-  for (std::size_t t = 0; t < tris_.size(); ++t)
+  uses.reserve(3 * static_cast<std::size_t>(live_tris_));
+  for (std::size_t t = 0; t < tris_.size(); ++t) {
+    if (replaced_[t]) continue;  // a free slot
     for (int k = 0; k < 3; ++k) {
       const int a = tris_[t][static_cast<std::size_t>(k)];
       const int b = tris_[t][static_cast<std::size_t>((k + 1) % 3)];
       uses.push_back({std::min(a, b), std::max(a, b), static_cast<int>(t), k});
     }
+  }
   std::sort(uses.begin(), uses.end());
   edges_.clear();
   edge_tris_.clear();
+  edge_free_.clear();
   tri_edges_.assign(tris_.size(), {-1, -1, -1});
   for (std::size_t i = 0; i < uses.size(); ++i) {
     if (i == 0 || uses[i][0] != uses[i - 1][0] || uses[i][1] != uses[i - 1][1]) {
@@ -240,111 +279,73 @@ void EfgSurfaceCutter::buildTables() {
     }
     at(tri_edges_, uses[i][2])[static_cast<std::size_t>(uses[i][3])] = intSize(edges_) - 1;
   }
-  buildClustersFromScratch(edgeBox());
+  edge_crossing_.assign(edges_.size(), -1);
+  // Clusters: every edge in Morton order of its midpoint in the edges' rest box.
+  cluster_box_ = edgeBox();
+  std::vector<int> all(edges_.size());
+  for (std::size_t e = 0; e < edges_.size(); ++e) all[e] = static_cast<int>(e);
+  cluster_edges_.clear();
+  cluster_verts_.clear();
+  edge_cluster_.assign(edges_.size(), -1);
+  addClusters(all);
 }
 
-void EfgSurfaceCutter::buildClustersFromScratch(const std::array<Eigen::Vector3d, 2>& box) {
-  cluster_box_ = box;
-  std::vector<std::pair<std::uint32_t, int>> order(edges_.size());
-  for (std::size_t e = 0; e < edges_.size(); ++e)
-    order[e] = {mortonCode(static_cast<int>(e)), static_cast<int>(e)};
-  std::sort(order.begin(), order.end());
-  buildClusters(std::move(order));
+void EfgSurfaceCutter::unlinkEdges(int t) {
+  for (int& e : at(tri_edges_, t)) {
+    auto& et = at(edge_tris_, e);
+    if (et[0] == t) {
+      et[0] = et[1];
+      et[1] = -1;
+    } else if (et[1] == t) {
+      et[1] = -1;
+    }
+    if (et[0] < 0) {  // no triangle left: free the slot
+      std::vector<int>& cluster = at(cluster_edges_, at(edge_cluster_, e));
+      *std::find(cluster.begin(), cluster.end(), e) = cluster.back();
+      cluster.pop_back();
+      at(edge_cluster_, e) = -1;
+      at(edges_, e) = {-1, -1};
+      at(edge_crossing_, e) = -1;
+      edge_free_.push_back(e);
+    }
+    e = -1;
+  }
 }
 
-void EfgSurfaceCutter::updateTables() {
-  // The edges of the replaced triangles: their uses by kept and generated triangles are sorted
-  // again; every other edge keeps its two (kept) triangles and its place in the sorted order.
-  std::vector<char> affected(edges_.size(), 0);
-  for (int t : cut_tris_)
-    for (int e : at(tri_edges_, t)) at(affected, e) = 1;
-  std::vector<int> new_tri(tris_.size(), -1);
-  int kept = 0;
-  for (std::size_t t = 0; t < tris_.size(); ++t) {
-    if (replaced_[t]) continue;
-    new_tri[t] = kept;
-    at(tris_, kept) = tris_[t];
-    at(tri_edges_, kept) = tri_edges_[t];
-    ++kept;
-  }
-  std::vector<std::array<int, 4>> uses;  // (lower, higher, new triangle, local edge)
-  for (std::size_t e = 0; e < edges_.size(); ++e) {
-    if (!affected[e]) continue;
-    for (int t : edge_tris_[e]) {
-      if (t < 0 || at(replaced_, t)) continue;
-      const auto& te = at(tri_edges_, at(new_tri, t));
-      const int k =
-          static_cast<int>(std::find(te.begin(), te.end(), static_cast<int>(e)) - te.begin());
-      uses.push_back({edges_[e][0], edges_[e][1], at(new_tri, t), k});
+void EfgSurfaceCutter::linkEdges(int t, std::vector<int>& fresh) {
+  const auto& tri = at(tris_, t);
+  for (std::size_t k = 0; k < 3; ++k) {
+    const std::array<int, 2> key = {std::min(tri[k], tri[(k + 1) % 3]),
+                                    std::max(tri[k], tri[(k + 1) % 3])};
+    // The edge of a linked triangle at the first vertex, if any.
+    int e = -1;
+    for (int other : at(vertex_tris_, key[0])) {
+      if (other == t) continue;
+      for (int f : at(tri_edges_, other))
+        if (f >= 0 && at(edges_, f) == key) e = f;
+      if (e >= 0) break;
     }
-  }
-  tris_.resize(static_cast<std::size_t>(kept));
-  tri_edges_.resize(static_cast<std::size_t>(kept));
-  for (const auto& g : generated_) {
-    for (int k = 0; k < 3; ++k) {
-      const int a = g[static_cast<std::size_t>(k)], b = g[static_cast<std::size_t>((k + 1) % 3)];
-      uses.push_back({std::min(a, b), std::max(a, b), intSize(tris_), k});
-    }
-    tris_.push_back(g);
-    tri_edges_.push_back({-1, -1, -1});
-  }
-  std::sort(uses.begin(), uses.end());
-  // Merge the unaffected edges (sorted) with the re-sorted uses.
-  std::vector<int> new_edge(edges_.size(), -1);
-  std::vector<std::array<int, 2>> edges, edge_tris;
-  edges.reserve(edges_.size() + uses.size() / 2);
-  edge_tris.reserve(edges.capacity());
-  std::vector<std::pair<int, int>> local;  // (use, new edge)
-  std::vector<int> fresh;                  // new ids of the edges from `uses`
-  std::size_t i = 0;
-  for (std::size_t e = 0; e <= edges_.size(); ++e) {
-    for (; i < uses.size() &&
-           (e == edges_.size() || std::array<int, 2>{uses[i][0], uses[i][1]} < edges_[e]);
-         ++i) {
-      if (i == 0 || uses[i][0] != uses[i - 1][0] || uses[i][1] != uses[i - 1][1]) {
-        fresh.push_back(intSize(edges));
-        edges.push_back({uses[i][0], uses[i][1]});
-        edge_tris.push_back({uses[i][2], -1});
+    if (e < 0) {
+      if (edge_free_.empty()) {
+        e = intSize(edges_);
+        edges_.push_back(key);
+        edge_tris_.push_back({t, -1});
+        edge_crossing_.push_back(-1);
+        edge_cluster_.push_back(-1);
       } else {
-        edge_tris.back()[1] = uses[i][2];
+        e = edge_free_.back();
+        edge_free_.pop_back();
+        at(edges_, e) = key;
+        at(edge_tris_, e) = {t, -1};
       }
-      local.emplace_back(static_cast<int>(i), intSize(edges) - 1);
+      fresh.push_back(e);
+    } else {
+      auto& et = at(edge_tris_, e);  // the lower triangle id first, as buildTables
+      et[1] = std::max(et[0], t);
+      et[0] = std::min(et[0], t);
     }
-    if (e == edges_.size() || affected[e]) continue;
-    new_edge[e] = intSize(edges);
-    edges.push_back(edges_[e]);
-    const auto renumbered = [&](int t) { return t < 0 ? -1 : at(new_tri, t); };
-    edge_tris.push_back({renumbered(edge_tris_[e][0]), renumbered(edge_tris_[e][1])});
+    at(tri_edges_, t)[k] = e;
   }
-  for (auto& te : tri_edges_)
-    for (int& e : te)
-      if (e >= 0 && !at(affected, e)) e = at(new_edge, e);
-  for (const auto& [u, e] : local)
-    at(tri_edges_, uses[static_cast<std::size_t>(u)]
-                       [2])[static_cast<std::size_t>(uses[static_cast<std::size_t>(u)][3])] = e;
-  edges_ = std::move(edges);
-  edge_tris_ = std::move(edge_tris);
-  // Clusters: the kept order with the new edges merged in, unless the edges' box moved (then
-  // every Morton code changes).
-  const std::array<Eigen::Vector3d, 2> box = edgeBox();
-  if (box[0] != cluster_box_[0] || box[1] != cluster_box_[1]) {
-    buildClustersFromScratch(box);
-    return;
-  }
-  std::vector<std::pair<std::uint32_t, int>> added;
-  for (int e : fresh) added.emplace_back(mortonCode(e), e);
-  std::sort(added.begin(), added.end());
-  std::vector<std::pair<std::uint32_t, int>> order;
-  order.reserve(edges_.size());
-  std::size_t j = 0;
-  for (const auto& [code, e] : cluster_order_) {
-    if (at(affected, e)) continue;
-    const std::pair<std::uint32_t, int> moved{code, at(new_edge, e)};
-    for (; j < added.size() && added[j] < moved; ++j) order.push_back(added[j]);
-    order.push_back(moved);
-  }
-  order.insert(order.end(), added.begin() + static_cast<long>(j), added.end());
-  buildClusters(std::move(order));
 }
 
 std::array<Eigen::Vector3d, 2> EfgSurfaceCutter::edgeBox() const {
@@ -362,31 +363,30 @@ std::uint32_t EfgSurfaceCutter::mortonCode(int e) const {
   const Eigen::Vector3d scale = 1023.0 / (cluster_box_[1] - lo).cwiseMax(1e-300).array();
   const Eigen::Vector3d mid =
       0.5 * (at(verts_, at(edges_, e)[0]).rest + at(verts_, at(edges_, e)[1]).rest);
-  const Eigen::Vector3d q = (mid - lo).cwiseProduct(scale);
+  const Eigen::Vector3d q =
+      (mid - lo).cwiseProduct(scale).cwiseMax(0.0).cwiseMin(1023.0);  // a cut stays inside
   return spreadBits(static_cast<std::uint32_t>(q.x())) |
          (spreadBits(static_cast<std::uint32_t>(q.y())) << 1) |
          (spreadBits(static_cast<std::uint32_t>(q.z())) << 2);
 }
 
-void EfgSurfaceCutter::buildClusters(std::vector<std::pair<std::uint32_t, int>> order) {
-  cluster_order_ = std::move(order);
-  cluster_start_.assign(1, 0);
-  cluster_edges_.clear();
-  cluster_vstart_.assign(1, 0);
-  cluster_verts_.clear();
-  std::vector<int> vs;
-  for (std::size_t i = 0; i < cluster_order_.size(); i += kClusterEdges) {
-    vs.clear();
-    for (std::size_t j = i; j < std::min(cluster_order_.size(), i + kClusterEdges); ++j) {
-      cluster_edges_.push_back(cluster_order_[j].second);
-      vs.push_back(at(edges_, cluster_order_[j].second)[0]);
-      vs.push_back(at(edges_, cluster_order_[j].second)[1]);
+void EfgSurfaceCutter::addClusters(const std::vector<int>& edges) {
+  std::vector<std::pair<std::uint32_t, int>> order;
+  order.reserve(edges.size());
+  for (int e : edges) order.emplace_back(mortonCode(e), e);
+  std::sort(order.begin(), order.end());
+  for (std::size_t i = 0; i < order.size(); i += kClusterEdges) {
+    std::vector<int>& members = cluster_edges_.emplace_back();
+    std::vector<int>& vs = cluster_verts_.emplace_back();
+    for (std::size_t j = i; j < std::min(order.size(), i + kClusterEdges); ++j) {
+      const int e = order[j].second;
+      members.push_back(e);
+      at(edge_cluster_, e) = intSize(cluster_edges_) - 1;
+      vs.push_back(at(edges_, e)[0]);
+      vs.push_back(at(edges_, e)[1]);
     }
     std::sort(vs.begin(), vs.end());
     vs.erase(std::unique(vs.begin(), vs.end()), vs.end());
-    cluster_verts_.insert(cluster_verts_.end(), vs.begin(), vs.end());
-    cluster_start_.push_back(intSize(cluster_edges_));
-    cluster_vstart_.push_back(intSize(cluster_verts_));
   }
 }
 
@@ -413,7 +413,10 @@ void EfgSurfaceCutter::setIp(int v, int ip) {
     old.pop_back();
   }
   vert.ip = ip;
-  if (ip >= 0) at(ip_vertices_, ip).push_back(v);
+  vert.ip_reach = 0.0;
+  if (ip < 0) return;
+  at(ip_vertices_, ip).push_back(v);
+  vert.ip_reach = kStretchMargin * (source_.ipRestPosition(ip) - vert.rest).norm();
 }
 
 void EfgSurfaceCutter::freeVertex(int v) {
@@ -690,11 +693,9 @@ EfgSurfaceCutter::generatedOf(int v) const {
 
 template <class F>
 void EfgSurfaceCutter::forIncident(int v, const F& f) const {
-  if (v + 1 < intSize(vertex_tri_start_))
-    for (int k = at(vertex_tri_start_, v); k < at(vertex_tri_start_, v + 1); ++k) {
-      const int t = at(vertex_tris_, k);
+  if (v < intSize(vertex_tris_))
+    for (int t : at(vertex_tris_, v))
       if (!at(replaced_, t)) f(at(tris_, t));
-    }
   const auto [first, last] = generatedOf(v);
   for (auto it = first; it != last; ++it) f(at(generated_, it->second));
 }
@@ -786,18 +787,26 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
   const Eigen::Index segments = sweep.start.cols() - 1;
 
   // Outcodes: bit d (d + 3) when the vertex stays below (above) the blade's swept box along axis
-  // d over the step. One pass over the positions, which also checks them.
+  // d over the step. One pass over the positions, which also checks them and lists the
+  // committed surface's vertices whose segment to their IP may reach the box (`near`: the
+  // vertex's motion grown by its IP reach meets it), ascending.
   outcode_.resize(verts_.size());
   bool finite = true;
+  std::vector<int> near;
   for (int v = 0; v < numVertices(); ++v) {
     std::uint8_t code = 0;
+    const double reach = at(verts_, v).ip_reach;
+    bool reaches = at(verts_, v).ip >= 0 && v < intSize(vertex_tris_) && !vertex_tris_[v].empty();
     for (int d = 0; d < 3; ++d) {
       const double a = x_start(d, v), b = x_end(d, v);
       finite = finite && a - a == 0.0 && b - b == 0.0;
-      code |= static_cast<std::uint8_t>((std::max(a, b) < blade_lo[d] ? 1 : 0) << d);
-      code |= static_cast<std::uint8_t>((std::min(a, b) > blade_hi[d] ? 1 : 0) << (d + 3));
+      const double lo = std::min(a, b), hi = std::max(a, b);
+      code |= static_cast<std::uint8_t>((hi < blade_lo[d] ? 1 : 0) << d);
+      code |= static_cast<std::uint8_t>((lo > blade_hi[d] ? 1 : 0) << (d + 3));
+      reaches = reaches && hi + reach >= blade_lo[d] && lo - reach <= blade_hi[d];
     }
     at(outcode_, v) = code;
+    if (reaches) near.push_back(v);
   }
   if (!finite)
     throw std::invalid_argument(
@@ -814,20 +823,12 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
   for (Eigen::Index i = 0; i < segments; ++i)
     slabs.push_back(efg_sweep_slab::sweepSlab(sweep, i, tol));
   std::vector<Hit> hits;
-  std::vector<int> near;  // distinct vertices of the clusters tested
-  vertex_mark_.resize(verts_.size(), 0);
-  for (int c = 0; c + 1 < intSize(cluster_start_); ++c) {
+  for (std::size_t c = 0; c < cluster_edges_.size(); ++c) {
+    // Every vertex of the cluster's edges (and maybe a few more) on one side of the box.
     std::uint8_t common = 0x3f;
-    for (int k = at(cluster_vstart_, c); k < at(cluster_vstart_, c + 1) && common; ++k)
-      common &= at(outcode_, at(cluster_verts_, k));
+    for (int v : cluster_verts_[c]) common &= at(outcode_, v);
     if (common) continue;
-    for (int k = at(cluster_vstart_, c); k < at(cluster_vstart_, c + 1); ++k) {
-      const int v = at(cluster_verts_, k);
-      if (!at(vertex_mark_, v)) near.push_back(v);
-      at(vertex_mark_, v) = 1;
-    }
-    for (int k = at(cluster_start_, c); k < at(cluster_start_, c + 1); ++k) {
-      const int e = at(cluster_edges_, k);
+    for (int e : cluster_edges_[c]) {
       if (at(edge_crossing_, e) >= 0) continue;
       const int a = at(edges_, e)[0], b = at(edges_, e)[1];
       if (at(outcode_, a) & at(outcode_, b)) continue;
@@ -846,11 +847,8 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
   }
   // Blade crossing the segment from a vertex to its IP (IP held at its current position).
   std::vector<std::pair<int, CutPlane>> ip_hits;
-  for (int v : near) at(vertex_mark_, v) = 0;
-  std::sort(near.begin(), near.end());
   for (int v : near) {
     const Vertex& vert = at(verts_, v);
-    if (!vert.used || vert.ip < 0) continue;
     const Eigen::Vector3d x_ip = source_.ipPosition(vert.ip);
     for (Eigen::Index i = 0; i < segments; ++i) {
       if (at(slabs, static_cast<int>(i)).apart({x_start.col(v), x_end.col(v), x_ip})) continue;
@@ -866,8 +864,9 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
   if (hits.empty() && ip_hits.empty() && !active_) return out;
 
   // Accept crossings in time order; one pass may enable others (a tip moved next to them).
-  std::sort(hits.begin(), hits.end(), [](const Hit& x, const Hit& y) {
-    return x.t < y.t || (x.t == y.t && x.edge < y.edge);
+  // Ties in time by the edge's vertices (edge ids depend on the table option).
+  std::sort(hits.begin(), hits.end(), [this](const Hit& x, const Hit& y) {
+    return x.t < y.t || (x.t == y.t && at(edges_, x.edge) < at(edges_, y.edge));
   });
   const int first_crossing = intSize(crossings_);
   // Passes over the hits in that order, accepting what accept() takes, until a pass takes none.

@@ -19,8 +19,8 @@ struct EfgSurfaceCutOptions {
   double front_width = 0.0;  ///< w [m] > 0: desired largest width of an exposed-surface triangle
   double tolerance = 0.0;    ///< blade-edge contact distance [m], >= 0 (edgeSweepCrossing)
   /// Rebuild the committed surface's edge tables and clusters from scratch when a cut is
-  /// committed (O(t log t)) instead of updating the replaced triangles' edges in place (the
-  /// reference the update is tested against; both give the same tables).
+  /// committed (O(t log t)) instead of updating the edges of the replaced and new triangles in
+  /// place (the reference the update is tested against; both cut the same way).
   bool rebuild_tables = false;
 };
 
@@ -45,10 +45,11 @@ struct EfgSurfaceCutStep {
 /// ends meet. While it runs:
 /// - Crossings: blade polyline segments vs the committed surface's uncut edges, both moving
 ///   linearly over the step (edgeSweepCrossing, current configuration). Broad phase: one pass
-///   gives each vertex an outcode against the blade's swept box; edge clusters (32 edges,
-///   spatially sorted at commit) whose vertices all share a bit are skipped, so only the
-///   clusters touching the swept box are tested edge by edge. A crossing is kept as
-///   its edge parameter s and applied in the rest configuration.
+///   gives each vertex an outcode against the blade's swept box; edge clusters (up to 32 edges
+///   in Morton order, built when edges are created) whose vertices all share a bit are
+///   skipped, so only the clusters touching the swept box are tested edge by edge. Ties in
+///   time go by the edges' vertex ids. A crossing is kept as its edge parameter s and applied
+///   in the rest configuration.
 /// - Each crossed edge gets a pair of vertices at s, one per side. The crossed triangles form
 ///   one path whose two end (tip) triangles hold a blade-tip vertex at the blade's piercing
 ///   point: a triangle cut through becomes 3 triangles, a tip triangle 4. A crossing is accepted
@@ -64,18 +65,21 @@ struct EfgSurfaceCutStep {
 ///   for a straight blade under a locally affine deformation).
 /// - Completion: the last chain closes into a polygon, filled by a strip from the last fixed row
 ///   (without a row: the polygon's first half) to the rest of the polygon;
-///   transient vertices are freed and the edge tables and clusters are updated: the edges of the
-///   replaced triangles are re-derived and merged into the kept sorted order (linear in the
-///   surface with small constants, no sort of it; rebuild_tables: from scratch, O(t log t)).
+///   transient vertices are freed and the tables are updated in the cut's size: the replaced
+///   triangles' slots are freed and the new triangles take the smallest free slots (triangle
+///   and edge ids are stable), an edge left without triangles is freed, the new triangles find
+///   their kept edges through the vertices' triangle lists, and the new edges form new
+///   clusters (rebuild_tables: edges and clusters from scratch, O(t log t)).
 /// - A step whose blade pierces neither tip triangle (the blade left the body) ends the cut as a
 ///   crack: the surface is committed as it is, front and tip vertices stay, shared by both lips.
 /// Remapping (SurfaceRemapper criteria): new vertices; the endpoints and copies of a cut edge,
 /// each with a plane through the crossing whose normal is the cut's (the side A sheet's normal
 /// there, or the edge direction if that does not separate the endpoints); a fixed row vertex with
-/// its sheet's normal; a vertex whose segment to its IP the blade crosses (plane
-/// through the crossing, normal along vertex -> IP); tips and transient vertices each step;
-/// remapVerticesOfIps() after a volume cut (first ignoring neighbours on the changed IPs in the
-/// 1-ring test, then once more with every neighbour's new IP for those still on a changed IP).
+/// its sheet's normal; a committed vertex whose segment to its IP the blade crosses (plane
+/// through the crossing, normal along vertex -> IP; tested for the vertices whose motion comes
+/// within 3 times their rest distance to the IP of the swept box); tips and transient vertices each
+/// step; remapVerticesOfIps() after a volume cut (first ignoring neighbours on the changed IPs in
+/// the 1-ring test, then once more with every neighbour's new IP for those still on a changed IP).
 /// The surface stays closed and edge-manifold at every step (checkSurfaceClosure).
 class EfgSurfaceCutter {
  public:
@@ -89,8 +93,8 @@ class EfgSurfaceCutter {
 
   /// One step: finds the crossings of `sweep` (tissue frame, current configuration) and updates
   /// surface, front and mapping. No crossing and no running cut: nothing changes. Cost: one pass
-  /// over the positions, the edges of the clusters the swept box touches, the running cut's
-  /// size; a step that ends a cut also updates the edge tables (see the class comment).
+  /// over the positions and one over the clusters, the edges of the clusters the swept box
+  /// touches, the running cut's size (also when a step ends a cut, see the class comment).
   /// @param x_start, x_end current vertex positions at the step start and end [m], shape
   ///        3 x numVertices() (free slots: any finite value).
   /// @throws std::invalid_argument for a sweep failing validateBladeSweep or positions of the
@@ -107,8 +111,9 @@ class EfgSurfaceCutter {
   bool vertexUsed(int v) const;
   /// Rest positions [m], shape 3 x numVertices().
   Eigen::Matrix3Xd restVertices() const;
-  /// Current triangles (vertex ids), shape 3 x t, outward-oriented.
+  /// Current triangles (vertex ids), shape 3 x numTriangles(), outward-oriented.
   Eigen::Matrix3Xi triangles() const;
+  int numTriangles() const;
   int vertexIp(int v) const;
   const std::vector<CutPlane>& vertexPlanes(int v) const;
   /// The other side's vertex of a crossing or fixed-row vertex, -1 for any other vertex.
@@ -133,6 +138,7 @@ class EfgSurfaceCutter {
   struct Vertex {
     Eigen::Vector3d rest = Eigen::Vector3d::Zero();
     int ip = -1;
+    double ip_reach = 0.0;  ///< kStretchMargin x rest distance to the IP (0 without) [m]
     int twin = -1;
     bool used = true;
     std::vector<CutPlane> planes;
@@ -144,21 +150,19 @@ class EfgSurfaceCutter {
   void setIp(int v, int ip);
   /// Ends the running cut (its triangles join the committed surface) and updates the tables.
   void commit();
-  /// Edge tables and clusters of tris_ from scratch.
+  /// Edge tables (ids in sorted order) and clusters of the current triangle slots from scratch.
   void buildTables();
-  /// Edge tables and clusters after the running cut's triangles replace cut_tris_: tris_ keeps
-  /// its kept triangles in order, then the generated ones; edges keep their sorted order and
-  /// clusters their Morton order, with the edges of the replaced triangles re-derived. Linear in
-  /// the surface (no sort of it) plus the cut's size.
-  void updateTables();
+  /// Removes triangle slot t from its edges' triangles; an edge left without one is freed.
+  void unlinkEdges(int t);
+  /// Links the new triangle in slot t to its edges: an edge of a linked triangle, else a new
+  /// edge (its id appended to `fresh`).
+  void linkEdges(int t, std::vector<int>& fresh);
   /// Bounding box (lower, upper corner) of the edges' rest vertices [m].
   std::array<Eigen::Vector3d, 2> edgeBox() const;
-  /// Morton code of edge e's midpoint in cluster_box_ (10 bits per axis).
+  /// Morton code of edge e's midpoint in cluster_box_ (10 bits per axis, clamped to it).
   std::uint32_t mortonCode(int e) const;
-  /// Clusters of kClusterEdges consecutive edges of `order` ((Morton code, edge), sorted).
-  void buildClusters(std::vector<std::pair<std::uint32_t, int>> order);
-  /// Clusters of every edge sorted by its Morton code in `box` (which becomes cluster_box_).
-  void buildClustersFromScratch(const std::array<Eigen::Vector3d, 2>& box);
+  /// New clusters of up to kClusterEdges of `edges` each, in their Morton order.
+  void addClusters(const std::vector<int>& edges);
   int newVertex(Eigen::Vector3d rest);
   void freeVertex(int v);
   bool accept(int edge, double s);
@@ -197,16 +201,20 @@ class EfgSurfaceCutter {
   std::vector<Vertex> verts_;  ///< per vertex id
   std::vector<int> free_;
   std::vector<std::vector<int>> ip_vertices_;  ///< per IP, the used vertices mapped to it
-  // Committed surface (changes only at commit).
-  std::vector<std::array<int, 3>> tris_;
-  std::vector<std::array<int, 2>> edges_;      ///< (lower, higher vertex)
-  std::vector<std::array<int, 3>> tri_edges_;  ///< edge k = (tri[k], tri[k+1])
-  std::vector<std::array<int, 2>> edge_tris_;
-  std::vector<int> vertex_tri_start_, vertex_tris_;           ///< CSR vertex -> committed triangles
-  std::vector<int> cluster_start_, cluster_edges_;            ///< CSR cluster -> edges
-  std::vector<int> cluster_vstart_, cluster_verts_;           ///< CSR cluster -> distinct vertices
-  std::vector<std::pair<std::uint32_t, int>> cluster_order_;  ///< (Morton code, edge), sorted
-  std::array<Eigen::Vector3d, 2> cluster_box_;                ///< box of the Morton codes [m]
+  // Committed surface (changes only at commit). Triangle and edge ids are stable: a removed
+  // one's slot is reused.
+  std::vector<std::array<int, 3>> tris_;       ///< per slot (replaced_: free or being replaced)
+  std::vector<int> tri_free_;                  ///< free triangle slots, descending
+  int live_tris_ = 0;                          ///< committed triangles
+  std::vector<std::array<int, 2>> edges_;      ///< (lower, higher vertex); free slot {-1, -1}
+  std::vector<int> edge_free_;                 ///< free edge slots
+  std::vector<std::array<int, 3>> tri_edges_;  ///< edge k = (tri[k], tri[k+1]); free: -1
+  std::vector<std::array<int, 2>> edge_tris_;  ///< lower triangle id first; -1: none
+  std::vector<std::vector<int>> vertex_tris_;  ///< per vertex, its committed triangles, ascending
+  /// Broad-phase clusters: per cluster its edges and (a superset of) their vertices.
+  std::vector<std::vector<int>> cluster_edges_, cluster_verts_;
+  std::vector<int> edge_cluster_;               ///< per edge slot, its cluster (free: -1)
+  std::array<Eigen::Vector3d, 2> cluster_box_;  ///< box of the Morton codes [m]
   // Running cut.
   bool active_ = false;
   std::vector<Crossing> crossings_;
@@ -219,7 +227,7 @@ class EfgSurfaceCutter {
   std::array<int, 2> row_attach_ = {-1, -1};     ///< crossings the row's ends attach to
   std::vector<int> front_;                       ///< interior transient vertices, L to R
   std::vector<std::array<int, 3>> fixed_sheet_;  ///< side A sheet triangles behind the chain
-  std::vector<std::uint8_t> replaced_;           ///< per committed triangle
+  std::vector<std::uint8_t> replaced_;           ///< per triangle slot: free or being replaced
   std::vector<int> cut_tris_;                    ///< committed triangles replaced by splits
   std::vector<std::array<int, 3>> generated_;    ///< triangles of the running cut
   /// (vertex, index in generated_) of each corner of the running cut's triangles, sorted.
