@@ -266,6 +266,7 @@ EfgCutBody::Update EfgCutBody::cut(const BladeSweep& sweep, const Eigen::VectorX
   t0 = Clock::now();
   u.surface = surface_->cut(sweep, s_start, last_positions_);
   u.times.surface_ms = msSince(t0);
+  u.times.detect_ms = 1e3 * (u.volume.detect_seconds + u.surface.detect_seconds);
   t0 = Clock::now();
   refreshRows(u.surface.remapped);
   if (!u.volume.changed_ips.empty()) {

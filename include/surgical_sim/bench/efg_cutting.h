@@ -30,8 +30,12 @@ class EfgCutBody final {
     double volume_ms = 0.0;   ///< EfgVolumeCutter::cut
     double surface_ms = 0.0;  ///< EfgSurfaceCutter::cut
     double remap_ms = 0.0;    ///< remapVerticesOfIps and the mapping-row refresh
+    /// Crossing detection of both cutters (part of volume_ms and surface_ms) [ms].
+    double detect_ms = 0.0;
     /// The cut update: volume, surface and remapping (without the positions) [ms].
     double update() const { return volume_ms + surface_ms + remap_ms; }
+    /// The topology update: the cut update without the crossing detection [ms].
+    double topology() const { return update() - detect_ms; }
   };
   /// What one cut() changed.
   struct Update {

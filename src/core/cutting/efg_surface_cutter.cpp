@@ -11,6 +11,7 @@
 
 #include "efg_sweep_slab.h"
 #include "index_at.h"
+#include "surgical_sim/core/common/stopwatch.h"
 #include "surgical_sim/core/cutting/cut_front.h"
 #include "surgical_sim/core/cutting/edge_sweep_ccd.h"
 #include "surgical_sim/core/mesh/surface_closure.h"
@@ -779,6 +780,7 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
   checkShape("x_start", x_start, numVertices());
   checkShape("x_end", x_end, numVertices());
   EfgSurfaceCutStep out;
+  const Stopwatch detect;
   const double tol = options_.tolerance;
   const Eigen::Vector3d blade_lo =
       sweep.start.rowwise().minCoeff().cwiseMin(sweep.end.rowwise().minCoeff()).array() - tol;
@@ -861,6 +863,7 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
       break;
     }
   }
+  out.detect_seconds = detect.seconds();
   if (hits.empty() && ip_hits.empty() && !active_) return out;
 
   // Accept crossings in time order; one pass may enable others (a tip moved next to them).

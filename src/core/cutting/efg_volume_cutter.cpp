@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "efg_sweep_slab.h"
+#include "surgical_sim/core/common/stopwatch.h"
 #include "surgical_sim/core/cutting/edge_sweep_ccd.h"
 #include "surgical_sim/core/tissue/efg_shape_functions.h"
 
@@ -251,6 +252,7 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
   requirePositions("x_end", x_end, n);
   const EfgGrid& grid = model_.grid();
   EfgCutResult result;
+  const Stopwatch detect;
 
   // 1. Broad phase: particles whose motion comes within the stretch margin of the sweep's box
   // and slabs, then those of their links whose own margin reaches that far.
@@ -349,6 +351,7 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
       break;
     }
   }
+  result.detect_seconds = detect.seconds();
   if (result.severed_links.empty()) {
     result.pieces = pieces_;
     return result;

@@ -32,6 +32,8 @@ struct EfgSurfaceCutStep {
   bool crack = false;  ///< the blade left a running cut without closing it: the cut is kept as a
                        ///< crack (its front and tip vertices stay, shared by both lips)
   std::vector<int> remapped;  ///< vertices whose mapping row changed or that are new, sorted
+  /// Crossing detection (outcodes, clusters, edge and vertex-IP tests), wall clock [s].
+  double detect_seconds = 0.0;
 };
 
 /// Progressive cutting of the explicit surface of a meshless (EFG) body (Magnoux §4.2.4, §5.2).

@@ -23,6 +23,7 @@ struct EfgCutResult {
   std::vector<int> unused_particles;
   int pieces = 0;               ///< connected pieces holding volume after the cut
   bool pieces_changed = false;  ///< pieces differs from before the cut
+  double detect_seconds = 0.0;  ///< crossing detection (broad and narrow phase), wall clock [s]
 };
 
 /// Progressive volume cutting of an EfgModel (Magnoux): the blade's swept surface severs the links
