@@ -338,7 +338,9 @@ TEST(EfgVolumeCutter, TorusSectionCutFreeFallsAtGWhileTheHeldPartStays) {
   for (int p = 0; p < model.numNodes(); ++p) {
     const bool pinned = std::find(unused.begin(), unused.end(), p) != unused.end();
     if (X(0, p) >= -R / 2 && !pinned) continue;
-    if (!pinned) ASSERT_NE(label[static_cast<size_t>(p)], free_piece);
+    if (!pinned) {
+      ASSERT_NE(label[static_cast<size_t>(p)], free_piece);
+    }
     for (int k = 0; k < 3; ++k) problem.dirichlet.dofs.push_back(3 * p + k);
   }
   problem.dirichlet.positions.resize(static_cast<Eigen::Index>(problem.dirichlet.dofs.size()));
