@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <queue>
 #include <unordered_map>
 #include <utility>
 
@@ -51,34 +50,6 @@ EfgTopologyGraph::EfgTopologyGraph(const EfgModel& model)
 
 int EfgTopologyGraph::numSevered() const {
   return static_cast<int>(std::count(alive_.begin(), alive_.end(), 0));
-}
-
-void EfgTopologyGraph::searchFrom(int source, const std::function<bool(int, double)>& visit) const {
-  using Entry = std::pair<double, int>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
-  distance_[static_cast<size_t>(source)] = 0.0;
-  touched_.push_back(source);
-  queue.emplace(0.0, source);
-  while (!queue.empty()) {
-    const auto [d, v] = queue.top();
-    queue.pop();
-    if (d > distance_[static_cast<size_t>(v)]) continue;
-    if (!visit(v, d)) break;
-    for (const int l : linksOf(v)) {
-      if (!alive(l)) continue;
-      const int w = otherEnd(l, v);
-      const double dw = d + links_[static_cast<size_t>(l)].rest_length;
-      double& best = distance_[static_cast<size_t>(w)];
-      if (dw < best) {
-        if (std::isinf(best)) touched_.push_back(w);
-        best = dw;
-        queue.emplace(dw, w);
-      }
-    }
-  }
-  for (const int v : touched_)
-    distance_[static_cast<size_t>(v)] = std::numeric_limits<double>::infinity();
-  touched_.clear();
 }
 
 int EfgTopologyGraph::components(std::vector<int>& labels) const {

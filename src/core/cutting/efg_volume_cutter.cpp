@@ -28,11 +28,18 @@ constexpr double kUnusedMassFraction = 1e-14;
 // Visible particles a re-selection considers at most [-].
 constexpr int kMaxCandidates = 4 * EfgOptions::kMaxNeighbours;
 
+// Points of a re-selection: at most EfgOptions::kMaxNeighbours, no heap allocation [m].
+using SelectedPoints =
+    Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::ColMajor, 3, EfgOptions::kMaxNeighbours>;
+
 // Affine rank (0 to 3) of points (3 x k) at relative tolerance 1e-9 of `scale` [m].
-int affineRank(const Eigen::Matrix3Xd& points, double scale) {
+template <class Points>
+int affineRank(const Points& points, double scale) {
   if (points.cols() < 2) return 0;
-  const Eigen::Matrix3Xd q = points.colwise() - points.rowwise().mean();
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(q);
+  using Centred =
+      Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::ColMajor, 3, Points::MaxColsAtCompileTime>;
+  const Centred q = points.colwise() - points.rowwise().mean();
+  const Eigen::JacobiSVD<Centred> svd(q);
   return static_cast<int>((svd.singularValues().array() > 1e-9 * scale).count());
 }
 
@@ -197,7 +204,7 @@ EfgVolumeCutter::Selection EfgVolumeCutter::select(int e) const {
   const Eigen::Vector3d x_e = grid.integration_points.col(e);
   const int target = model_.options().neighbours;
   Selection out;
-  Eigen::Matrix3Xd points(3, 0);
+  SelectedPoints points(3, 0);
   // A set of `target` particles (fewer when no other particle is visible) with a well-conditioned
   // moment matrix.
   const auto accepted = [&](bool exhausted) {
@@ -210,8 +217,8 @@ EfgVolumeCutter::Selection EfgVolumeCutter::select(int e) const {
       detours(a) = std::max(0.0, r - (points.col(a) - x_e).norm());
       r_max = std::max(r_max, r);
     }
-    const MlsShapeFunctions mls =
-        computeMlsShapeFunctions(x_e, points, model_.options().kernel_support * r_max, detours);
+    const MlsShapeFunctions mls = computeMlsShapeFunctions(
+        x_e, Eigen::Matrix3Xd(points), model_.options().kernel_support * r_max, detours);
     return mls.status == MlsStatus::Ok && mls.condition <= kSelectionCondition;
   };
   int visited = 0;
@@ -223,7 +230,7 @@ EfgVolumeCutter::Selection EfgVolumeCutter::select(int e) const {
       return true;
     }
     ++visited;
-    Eigen::Matrix3Xd with(3, points.cols() + 1);
+    SelectedPoints with(3, points.cols() + 1);
     with << points, grid.particles.col(v);
     const int size = static_cast<int>(with.cols());
     const int free_places = std::max(target - size, 0);

@@ -1,7 +1,11 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 #include <functional>
+#include <limits>
+#include <utility>
 #include <vector>
 
 #include "surgical_sim/core/tissue/efg_model.h"
@@ -49,7 +53,8 @@ class EfgTopologyGraph {
   /// calls visit(node, distance [m]) for every reached node in order of increasing distance
   /// (source first, at 0) until visit returns false. Cost grows with the nodes reached, not the
   /// graph (work arrays are reused; not for concurrent calls).
-  void searchFrom(int source, const std::function<bool(int, double)>& visit) const;
+  template <class Visit>
+  void searchFrom(int source, const Visit& visit) const;
 
   /// Connected components over alive links: labels (size numNodes(), in [0, count)) and count.
   /// Linear in the graph.
@@ -63,6 +68,38 @@ class EfgTopologyGraph {
   std::vector<std::vector<int>> incident_;
   mutable std::vector<double> distance_;  ///< Dijkstra work array, +inf outside a search
   mutable std::vector<int> touched_;
+  mutable std::vector<std::pair<double, int>> heap_;  ///< Dijkstra queue (min-heap)
 };
+
+template <class Visit>
+void EfgTopologyGraph::searchFrom(int source, const Visit& visit) const {
+  const std::greater<> later;  // min-heap on (distance, node)
+  heap_.clear();
+  distance_[static_cast<size_t>(source)] = 0.0;
+  touched_.push_back(source);
+  heap_.emplace_back(0.0, source);
+  while (!heap_.empty()) {
+    std::pop_heap(heap_.begin(), heap_.end(), later);
+    const auto [d, v] = heap_.back();
+    heap_.pop_back();
+    if (d > distance_[static_cast<size_t>(v)]) continue;
+    if (!visit(v, d)) break;
+    for (const int l : linksOf(v)) {
+      if (!alive(l)) continue;
+      const int w = otherEnd(l, v);
+      const double dw = d + links_[static_cast<size_t>(l)].rest_length;
+      double& best = distance_[static_cast<size_t>(w)];
+      if (dw < best) {
+        if (std::isinf(best)) touched_.push_back(w);
+        best = dw;
+        heap_.emplace_back(dw, w);
+        std::push_heap(heap_.begin(), heap_.end(), later);
+      }
+    }
+  }
+  for (const int v : touched_)
+    distance_[static_cast<size_t>(v)] = std::numeric_limits<double>::infinity();
+  touched_.clear();
+}
 
 }  // namespace surgical_sim::core
