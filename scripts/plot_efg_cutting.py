@@ -3,8 +3,8 @@
 
 usage: plot_efg_cutting.py DIR
 Reads those of DIR/efg_cut_update.csv, DIR/efg_cut_progressive.csv and DIR/cutting_t3c.csv that
-exist and writes DIR/efg_cut_update.png (time of each cut-update phase per blade sweep that cut,
-~20k IPs), DIR/efg_cut_progressive.png (cut update and implicit step time per sweep over the
+exist and writes DIR/efg_cut_update.png (crossing detection and topology update per blade sweep
+that cut, ~20k IPs, for the scalpel and the spanning blade), DIR/efg_cut_progressive.png (cut update and implicit step time per sweep over the
 progressive cuts, raw and as a moving mean over 50 sweeps) and DIR/cutting_t3c.png (T3(c) tip
 error of the cut beams against the fine duplicated-node reference, against ms per step, per
 cutter and load).
@@ -24,9 +24,6 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from plot_cutting import finish, rows  # noqa: E402  (same folder)
 
-PHASES = ("positions_ms", "volume_ms", "surface_ms", "remap_ms")
-
-
 def moving_mean(values, width):
     out, total = [], 0.0
     for i, v in enumerate(values):
@@ -40,18 +37,25 @@ def moving_mean(values, width):
 def plot_update(d):
     data = [r for r in rows(os.path.join(d, "efg_cut_update.csv"))
             if int(r["severed_links"]) > 0 or int(r["crossed_edges"]) > 0]
-    fig, ax = plt.subplots(figsize=(7.5, 5))
-    bottom = [0.0] * len(data)
-    for phase in PHASES:
-        values = [float(r[phase]) for r in data]
-        ax.bar(range(len(data)), values, bottom=bottom, label=phase[:-3])
-        bottom = [b + v for b, v in zip(bottom, values)]
+    runs = [("update", "2 cm scalpel"), ("update_span", "blade spanning the body")]
+    fig, axes = plt.subplots(1, len(runs), figsize=(11, 5))
+    for ax, (run, label) in zip(axes, runs):
+        part = [r for r in data if r["run"] == run]
+        bottom = [0.0] * len(part)
+        for key, name in (("detect_ms", "crossing detection"), ("topology_ms", "topology update")):
+            values = [float(r[key]) for r in part]
+            ax.bar(range(len(part)), values, bottom=bottom, label=name)
+            bottom = [b + v for b, v in zip(bottom, values)]
+        ax.plot(range(len(part)), [float(r["positions_ms"]) for r in part], "k.", markersize=3,
+                label="surface positions (display)")
+        ax.set_title(label)
+        ax.set_xlabel("blade sweep that cut")
+        ax.grid(True, alpha=0.3)
     if data:
-        title = "EFG cut update per sweep: %s IPs, %s surface triangles" % (
-            data[0]["ips"], data[0]["surface_triangles"])
-    else:
-        title = "EFG cut update (no sweep cut)"
-    finish(fig, ax, d, "efg_cut_update.png", "blade sweep that cut", "time [ms]", title)
+        fig.suptitle("EFG cut update per sweep: %s IPs, %s surface triangles" % (
+            data[0]["ips"], data[0]["surface_triangles"]))
+    finish(fig, axes[0], d, "efg_cut_update.png", "blade sweep that cut", "time [ms]",
+           runs[0][1])
 
 
 def plot_progressive(d):
