@@ -272,7 +272,7 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
   for (Eigen::Index i = 0; i + 1 < sweep.start.cols(); ++i)
     slabs.push_back(efg_sweep_slab::sweepSlab(sweep, i, tolerance));
   std::vector<int> candidates;
-  std::vector<char> marked(graph_.links().size(), 0);
+  link_mark_.resize(graph_.links().size(), 0);
   for (int p = 0; p < n; ++p) {
     const Eigen::Vector3d a = x_start.segment<3>(3 * p);
     const Eigen::Vector3d b = x_end.segment<3>(3 * p);
@@ -287,13 +287,14 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
     const double reach = std::max(box_gap, slab_gap);
     if (reach > kStretchMargin * max_link_length_) continue;
     for (const int l : graph_.linksOf(p)) {
-      if (graph_.alive(l) && !marked[static_cast<size_t>(l)] &&
+      if (graph_.alive(l) && !link_mark_[static_cast<size_t>(l)] &&
           reach <= kStretchMargin * graph_.links()[static_cast<size_t>(l)].rest_length) {
-        marked[static_cast<size_t>(l)] = 1;
+        link_mark_[static_cast<size_t>(l)] = 1;
         candidates.push_back(l);
       }
     }
   }
+  for (const int l : candidates) link_mark_[static_cast<size_t>(l)] = 0;
   // Positions of graph node v at the step start (end = 0) or end (1); an IP's are computed once
   // a call.
   ++calls_;
@@ -366,8 +367,8 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
   for (const int l : result.severed_links) graph_.sever(l);
 
   // 2. Affected IPs: a severed link of their own, or indirect particles near a crossing.
-  std::vector<char> affected(static_cast<size_t>(model_.numIntegrationPoints()), 0);
-  for (const auto& entry : crossings) affected[static_cast<size_t>(entry.first)] = 1;
+  std::vector<int> affected;
+  for (const auto& entry : crossings) affected.push_back(entry.first);
   const int reach = 4;  // integration cells: two DOF cells
   for (const Eigen::Vector3d& X : all_crossings) {
     const Eigen::Vector3i c = ((X - grid.origin) / grid.spacing).array().floor().cast<int>();
@@ -375,15 +376,20 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
       for (int j = -reach; j <= reach; ++j)
         for (int i = -reach; i <= reach; ++i) {
           const int e = ipAt(c + Eigen::Vector3i(i, j, k));
-          if (e >= 0 && has_indirect_[static_cast<size_t>(e)]) affected[static_cast<size_t>(e)] = 1;
+          if (e >= 0 && has_indirect_[static_cast<size_t>(e)]) affected.push_back(e);
         }
   }
-  Eigen::VectorXd volumes = grid.volumes;
+  std::sort(affected.begin(), affected.end());
+  affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
+  // The volumes this cut changes, over the grid's [m^3].
+  std::map<int, double> new_volumes;
+  const auto volume = [&](int e) {
+    const auto it = new_volumes.find(e);
+    return it == new_volumes.end() ? grid.volumes(e) : it->second;
+  };
   std::map<int, Selection> selections;
-  for (int e = 0; e < model_.numIntegrationPoints(); ++e) {
-    if (!affected[static_cast<size_t>(e)] || grid.volumes(e) <= 0.0) continue;
-    selections.emplace(e, select(e));
-  }
+  for (const int e : affected)
+    if (grid.volumes(e) > 0.0) selections.emplace(e, select(e));
 
   const auto nearestAcross = [&](int e, const Eigen::Vector3d& target,
                                  const std::function<bool(int)>& admissible) {
@@ -394,7 +400,7 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
       for (int j = -1; j <= 1; ++j)
         for (int i = -1; i <= 1; ++i) {
           const int r = ipAt(c + Eigen::Vector3i(i, j, k));
-          if (r < 0 || r == e || volumes(r) <= 0.0 || !admissible(r)) continue;
+          if (r < 0 || r == e || volume(r) <= 0.0 || !admissible(r)) continue;
           const auto it = selections.find(r);
           if (it != selections.end() && it->second.particles.empty()) continue;
           const double d = (grid.integration_points.col(r) - target).norm();
@@ -407,7 +413,7 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
   };
   std::vector<std::pair<int, std::vector<char>>> old_masks;  // restored if the cut is rejected
   for (const auto& [e, points] : crossings) {
-    if (volumes(e) <= 0.0) continue;
+    if (volume(e) <= 0.0) continue;
     const auto sel = selections.find(e);
     if (sel != selections.end() && sel->second.particles.empty()) continue;  // isolated: below
     Eigen::Matrix3Xd P(3, static_cast<Eigen::Index>(points.size()));
@@ -453,13 +459,14 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
       return normal.dot(grid.integration_points.col(r) - centre) > 0.0;
     });
     if (receiver < 0) continue;
-    const double moved = volumes(e) * far / remaining;  // [m^3]
-    volumes(e) -= moved;
-    volumes(receiver) += moved;
+    const double moved = volume(e) * far / remaining;  // [m^3]
+    const double kept = volume(e) - moved, received = volume(receiver) + moved;
+    new_volumes[e] = kept;
+    new_volumes[receiver] = received;
     for (const int q : far_samples) mask[static_cast<size_t>(q)] = 0;
   }
   for (const auto& [e, sel] : selections) {
-    if (!sel.particles.empty() || volumes(e) <= 0.0) continue;
+    if (!sel.particles.empty() || volume(e) <= 0.0) continue;
     result.isolated_ips.push_back(e);
     int receiver = sel.nearest_ip;
     if (receiver >= 0) {
@@ -469,21 +476,28 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
     if (receiver < 0)
       receiver = nearestAcross(e, grid.integration_points.col(e), [](int) { return true; });
     if (receiver < 0) continue;  // nothing to hand the volume to: it stays
-    volumes(receiver) += volumes(e);
-    volumes(e) = 0.0;
+    const double received = volume(receiver) + volume(e);
+    new_volumes[receiver] = received;
+    new_volumes[e] = 0.0;
   }
 
+  // Only re-selected IPs and those whose volume changed can change (ascending).
+  std::vector<int> candidate_ips;
+  for (const auto& entry : selections) candidate_ips.push_back(entry.first);
+  for (const auto& entry : new_volumes) candidate_ips.push_back(entry.first);
+  std::sort(candidate_ips.begin(), candidate_ips.end());
+  candidate_ips.erase(std::unique(candidate_ips.begin(), candidate_ips.end()), candidate_ips.end());
   std::vector<EfgNeighbourhood> changes;
-  for (int e = 0; e < model_.numIntegrationPoints(); ++e) {
+  for (const int e : candidate_ips) {
     const auto sel = selections.find(e);
     const bool reselected = sel != selections.end() && !sel->second.particles.empty();
     EfgNeighbourhood c;
     c.ip = e;
-    c.volume = volumes(e);
+    c.volume = volume(e);
     if (reselected) {
       c.particles = sel->second.particles;
       c.distances = sel->second.distances;
-    } else if (volumes(e) != grid.volumes(e)) {
+    } else if (volume(e) != grid.volumes(e)) {
       c.particles = model_.ipParticles(e);
       const Eigen::Map<const Eigen::VectorXd> detours = model_.detours(e);
       for (size_t a = 0; a < c.particles.size(); ++a)
@@ -493,7 +507,7 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
     } else {
       continue;
     }
-    if (reselected && volumes(e) == grid.volumes(e)) {
+    if (reselected && volume(e) == grid.volumes(e)) {
       // Unchanged set and distances: nothing to do.
       std::vector<std::pair<int, double>> now, before;
       for (size_t a = 0; a < c.particles.size(); ++a)

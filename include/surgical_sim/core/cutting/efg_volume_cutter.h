@@ -110,6 +110,7 @@ class EfgVolumeCutter {
   std::vector<char> has_indirect_;  ///< per IP: uses a particle it has no alive link to
   /// Narrow-phase scratch: per IP, the cut() call that last computed its positions at the step
   /// start and end (ip_x_ columns 2e and 2e + 1) [-], [m].
+  std::vector<char> link_mark_;  ///< broad-phase scratch per link, all 0 between calls
   std::vector<long long> ip_x_call_;
   Eigen::Matrix3Xd ip_x_;
   long long calls_ = 0;
