@@ -46,13 +46,10 @@ struct EfgSurfaceCutStep {
 /// One cut at a time. A cut starts when the blade crosses a surface edge and ends when its two
 /// ends meet. While it runs:
 /// - Crossings: blade polyline segments vs the committed surface's uncut edges, both moving
-///   linearly over the step (edgeSweepCrossing, current configuration). Broad phase over edge
-///   clusters (up to 32 edges in Morton order, built when edges are created): a cluster whose
-///   representative vertex's motion, grown by 3 times the cluster's rest radius (no vertex
-///   stretches further from it), stays clear of the blade's swept box or slabs is skipped
-///   without reading its other vertices; in the others, outcodes against the swept box skip a
-///   cluster whose vertices all share a bit and an edge whose ends do, so only the edges near
-///   the sweep are tested. Ties in
+///   linearly over the step (edgeSweepCrossing, current configuration). Broad phase: one pass
+///   gives each vertex an outcode against the blade's swept box; edge clusters (up to 32 edges
+///   in Morton order, built when edges are created) whose vertices all share a bit are
+///   skipped, so only the clusters touching the swept box are tested edge by edge. Ties in
 ///   time go by the edges' vertex ids. A crossing is kept as its edge parameter s and applied
 ///   in the rest configuration.
 /// - Each crossed edge gets a pair of vertices at s, one per side. The crossed triangles form
@@ -97,14 +94,13 @@ class EfgSurfaceCutter {
                    const EfgSurfaceCutOptions& options);
 
   /// One step: finds the crossings of `sweep` (tissue frame, current configuration) and updates
-  /// surface, front and mapping. No crossing and no running cut: nothing changes. Cost: one test
-  /// per cluster (its representative), the vertices and edges of the clusters near the sweep,
-  /// the running cut's size (also when a step ends a cut, see the class comment).
+  /// surface, front and mapping. No crossing and no running cut: nothing changes. Cost: one pass
+  /// over the positions and one over the clusters, the edges of the clusters the swept box
+  /// touches, the running cut's size (also when a step ends a cut, see the class comment).
   /// @param x_start, x_end current vertex positions at the step start and end [m], shape
   ///        3 x numVertices() (free slots: any finite value).
   /// @throws std::invalid_argument for a sweep failing validateBladeSweep or positions of the
-  ///         wrong shape or not finite where the cut reads them (the clusters' representatives,
-  ///         the vertices of the clusters near the sweep, the running cut's tip triangles).
+  ///         wrong shape or not finite.
   EfgSurfaceCutStep cut(const BladeSweep& sweep, const Eigen::Matrix3Xd& x_start,
                         const Eigen::Matrix3Xd& x_end);
 
