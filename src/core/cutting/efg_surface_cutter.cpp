@@ -287,10 +287,6 @@ void EfgSurfaceCutter::buildTables() {
   for (std::size_t e = 0; e < edges_.size(); ++e) all[e] = static_cast<int>(e);
   cluster_edges_.clear();
   cluster_verts_.clear();
-  cluster_rep_.clear();
-  cluster_radius_.clear();
-  cluster_ip_reach_.clear();
-  vertex_clusters_.assign(verts_.size(), {});
   edge_cluster_.assign(edges_.size(), -1);
   addClusters(all);
 }
@@ -380,44 +376,19 @@ void EfgSurfaceCutter::addClusters(const std::vector<int>& edges) {
   order.reserve(edges.size());
   for (int e : edges) order.emplace_back(mortonCode(e), e);
   std::sort(order.begin(), order.end());
-  vertex_clusters_.resize(verts_.size());
   for (std::size_t i = 0; i < order.size(); i += kClusterEdges) {
-    const int c = intSize(cluster_edges_);
     std::vector<int>& members = cluster_edges_.emplace_back();
     std::vector<int>& vs = cluster_verts_.emplace_back();
     for (std::size_t j = i; j < std::min(order.size(), i + kClusterEdges); ++j) {
       const int e = order[j].second;
       members.push_back(e);
-      at(edge_cluster_, e) = c;
+      at(edge_cluster_, e) = intSize(cluster_edges_) - 1;
       vs.push_back(at(edges_, e)[0]);
       vs.push_back(at(edges_, e)[1]);
     }
     std::sort(vs.begin(), vs.end());
     vs.erase(std::unique(vs.begin(), vs.end()), vs.end());
-    // Representative: the vertex nearest the rest centroid.
-    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-    for (int v : vs) centroid += at(verts_, v).rest;
-    centroid /= static_cast<double>(vs.size());
-    int rep = vs.front();
-    for (int v : vs)
-      if ((at(verts_, v).rest - centroid).squaredNorm() <
-          (at(verts_, rep).rest - centroid).squaredNorm())
-        rep = v;
-    cluster_rep_.push_back(rep);
-    cluster_radius_.push_back(0.0);
-    cluster_ip_reach_.push_back(0.0);
-    for (int v : vs) {
-      at(vertex_clusters_, v).push_back(c);
-      growClusterReach(c, v);
-    }
   }
-}
-
-void EfgSurfaceCutter::growClusterReach(int c, int v) {
-  const double spread =
-      kStretchMargin * (at(verts_, v).rest - at(verts_, at(cluster_rep_, c)).rest).norm();
-  at(cluster_radius_, c) = std::max(at(cluster_radius_, c), spread);
-  at(cluster_ip_reach_, c) = std::max(at(cluster_ip_reach_, c), spread + at(verts_, v).ip_reach);
 }
 
 int EfgSurfaceCutter::newVertex(Eigen::Vector3d rest) {  // by value: verts_ may reallocate
@@ -447,8 +418,6 @@ void EfgSurfaceCutter::setIp(int v, int ip) {
   if (ip < 0) return;
   at(ip_vertices_, ip).push_back(v);
   vert.ip_reach = kStretchMargin * (source_.ipRestPosition(ip) - vert.rest).norm();
-  if (v < intSize(vertex_clusters_))
-    for (int c : vertex_clusters_[static_cast<std::size_t>(v)]) growClusterReach(c, v);
 }
 
 void EfgSurfaceCutter::freeVertex(int v) {
@@ -819,75 +788,52 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
       sweep.start.rowwise().maxCoeff().cwiseMax(sweep.end.rowwise().maxCoeff()).array() + tol;
   const Eigen::Index segments = sweep.start.cols() - 1;
 
-  // Positions are read where the broad phase goes: each cluster's representative vertex, the
-  // vertices of the clusters near the sweep and the running cut's tip triangles.
-  bool finite = true;
-  const auto motion = [&](int v) {
-    const Eigen::Vector3d a = x_start.col(v), b = x_end.col(v);
-    finite = finite && a.allFinite() && b.allFinite();
-    return std::array<Eigen::Vector3d, 2>{a.cwiseMin(b), a.cwiseMax(b)};
-  };
-  std::vector<efg_sweep_slab::SweepSlab> slabs;
-  for (Eigen::Index i = 0; i < segments; ++i)
-    slabs.push_back(efg_sweep_slab::sweepSlab(sweep, i, tol));
-  // True when v's motion, grown by margin [m], stays clear of the swept box or of every slab.
-  const auto apart = [&](int v, double margin) {
-    const auto [lo, hi] = motion(v);
-    if ((hi.array() + margin < blade_lo.array()).any() ||
-        (lo.array() - margin > blade_hi.array()).any())
-      return true;
-    return !slabs.empty() &&
-           std::all_of(slabs.begin(), slabs.end(), [&](const efg_sweep_slab::SweepSlab& slab) {
-             return slab.gap({x_start.col(v), x_end.col(v)}) > margin;
-           });
-  };
-  // Outcodes, computed once a call when first needed: bit d (d + 3) when the vertex stays below
-  // (above) the blade's swept box along axis d over the step.
-  ++calls_;
+  // Outcodes: bit d (d + 3) when the vertex stays below (above) the blade's swept box along axis
+  // d over the step. One pass over the positions, which also checks them and lists the
+  // committed surface's vertices whose segment to their IP may reach the box (`near`: the
+  // vertex's motion grown by its IP reach meets it), ascending.
   outcode_.resize(verts_.size());
-  outcode_call_.resize(verts_.size(), 0);
-  const auto outcode = [&](int v) {
-    if (at(outcode_call_, v) != calls_) {
-      const auto [lo, hi] = motion(v);
-      std::uint8_t code = 0;
-      for (int d = 0; d < 3; ++d) {
-        code |= static_cast<std::uint8_t>((hi[d] < blade_lo[d] ? 1 : 0) << d);
-        code |= static_cast<std::uint8_t>((lo[d] > blade_hi[d] ? 1 : 0) << (d + 3));
-      }
-      at(outcode_, v) = code;
-      at(outcode_call_, v) = calls_;
+  bool finite = true;
+  std::vector<int> near;
+  for (int v = 0; v < numVertices(); ++v) {
+    std::uint8_t code = 0;
+    const double reach = at(verts_, v).ip_reach;
+    bool reaches = at(verts_, v).ip >= 0 && v < intSize(vertex_tris_) && !vertex_tris_[v].empty();
+    for (int d = 0; d < 3; ++d) {
+      const double a = x_start(d, v), b = x_end(d, v);
+      finite = finite && a - a == 0.0 && b - b == 0.0;
+      const double lo = std::min(a, b), hi = std::max(a, b);
+      code |= static_cast<std::uint8_t>((hi < blade_lo[d] ? 1 : 0) << d);
+      code |= static_cast<std::uint8_t>((lo > blade_hi[d] ? 1 : 0) << (d + 3));
+      reaches = reaches && hi + reach >= blade_lo[d] && lo - reach <= blade_hi[d];
     }
-    return at(outcode_, v);
-  };
+    at(outcode_, v) = code;
+    if (reaches) near.push_back(v);
+  }
+  if (!finite)
+    throw std::invalid_argument(
+        "EfgSurfaceCutter::cut: x_start or x_end has a non-finite coordinate");
 
-  // Broad phase: a cluster whose representative's motion, grown by the cluster's radius, stays
-  // clear of the sweep is skipped (its vertices stretch no further from it); in the others, a
-  // cluster whose vertices all stay on one side of the swept box is skipped, and every blade
-  // segment is tested against the uncut edges. The vertices of the clusters that the same test
-  // with their IP reach keeps may have their segment to their IP crossed (`near`).
+  // Broad phase: a cluster whose vertices all stay on one side of the swept box is skipped; the
+  // others test every blade segment against their uncut edges.
   struct Hit {
     double t;
     int edge;
     double s;
   };
+  std::vector<efg_sweep_slab::SweepSlab> slabs;
+  for (Eigen::Index i = 0; i < segments; ++i)
+    slabs.push_back(efg_sweep_slab::sweepSlab(sweep, i, tol));
   std::vector<Hit> hits;
-  std::vector<int> near;
-  vertex_mark_.resize(verts_.size(), 0);
   for (std::size_t c = 0; c < cluster_edges_.size(); ++c) {
-    if (cluster_edges_[c].empty() || apart(cluster_rep_[c], cluster_ip_reach_[c])) continue;
-    for (int v : cluster_verts_[c]) {
-      if (at(vertex_mark_, v)) continue;
-      at(vertex_mark_, v) = 1;
-      near.push_back(v);
-    }
-    if (apart(cluster_rep_[c], cluster_radius_[c])) continue;
+    // Every vertex of the cluster's edges (and maybe a few more) on one side of the box.
     std::uint8_t common = 0x3f;
-    for (int v : cluster_verts_[c]) common &= outcode(v);
+    for (int v : cluster_verts_[c]) common &= at(outcode_, v);
     if (common) continue;
     for (int e : cluster_edges_[c]) {
       if (at(edge_crossing_, e) >= 0) continue;
       const int a = at(edges_, e)[0], b = at(edges_, e)[1];
-      if (outcode(a) & outcode(b)) continue;
+      if (at(outcode_, a) & at(outcode_, b)) continue;
       std::optional<EdgeSweepHit> best;
       for (Eigen::Index i = 0; i < segments; ++i) {
         if (at(slabs, static_cast<int>(i))
@@ -901,28 +847,6 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
       if (best) hits.push_back({best->t, e, best->s});
     }
   }
-  for (int v : near) at(vertex_mark_, v) = 0;
-  // The committed vertices whose motion, grown by their IP reach, meets the swept box.
-  near.erase(
-      std::remove_if(near.begin(), near.end(),
-                     [&](int v) {
-                       const Vertex& vert = at(verts_, v);
-                       if (vert.ip < 0 || v >= intSize(vertex_tris_) || vertex_tris_[v].empty())
-                         return true;
-                       const auto [lo, hi] = motion(v);
-                       return (hi.array() + vert.ip_reach < blade_lo.array()).any() ||
-                              (lo.array() - vert.ip_reach > blade_hi.array()).any();
-                     }),
-      near.end());
-  std::sort(near.begin(), near.end());
-  if (active_ && !completed_)
-    for (int tri : tip_tri_)
-      for (int v : at(tris_, tri)) motion(v);
-  if (!finite)
-    throw std::invalid_argument(
-        "EfgSurfaceCutter::cut: x_start or x_end has a non-finite coordinate where the cut "
-        "reads it");
-
   // Blade crossing the segment from a vertex to its IP (IP held at its current position).
   std::vector<std::pair<int, CutPlane>> ip_hits;
   for (int v : near) {

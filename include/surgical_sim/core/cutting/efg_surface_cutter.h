@@ -165,8 +165,6 @@ class EfgSurfaceCutter {
   std::uint32_t mortonCode(int e) const;
   /// New clusters of up to kClusterEdges of `edges` each, in their Morton order.
   void addClusters(const std::vector<int>& edges);
-  /// Grows cluster c's radius and IP reach to hold vertex v.
-  void growClusterReach(int c, int v);
   int newVertex(Eigen::Vector3d rest);
   void freeVertex(int v);
   bool accept(int edge, double s);
@@ -215,16 +213,10 @@ class EfgSurfaceCutter {
   std::vector<std::array<int, 3>> tri_edges_;  ///< edge k = (tri[k], tri[k+1]); free: -1
   std::vector<std::array<int, 2>> edge_tris_;  ///< lower triangle id first; -1: none
   std::vector<std::vector<int>> vertex_tris_;  ///< per vertex, its committed triangles, ascending
-  /// Broad-phase clusters: per cluster its edges and (a superset of) their vertices, its
-  /// representative vertex, its radius (kStretchMargin x the largest rest distance of its
-  /// vertices to the representative) and its IP reach (the largest such distance plus the
-  /// vertex's ip_reach) [m]. Edges only leave a cluster, so both stay bounds.
+  /// Broad-phase clusters: per cluster its edges and (a superset of) their vertices.
   std::vector<std::vector<int>> cluster_edges_, cluster_verts_;
-  std::vector<int> cluster_rep_;
-  std::vector<double> cluster_radius_, cluster_ip_reach_;
-  std::vector<std::vector<int>> vertex_clusters_;  ///< per vertex, the clusters listing it
-  std::vector<int> edge_cluster_;                  ///< per edge slot, its cluster (free: -1)
-  std::array<Eigen::Vector3d, 2> cluster_box_;     ///< box of the Morton codes [m]
+  std::vector<int> edge_cluster_;               ///< per edge slot, its cluster (free: -1)
+  std::array<Eigen::Vector3d, 2> cluster_box_;  ///< box of the Morton codes [m]
   // Running cut.
   bool active_ = false;
   std::vector<Crossing> crossings_;
@@ -243,8 +235,6 @@ class EfgSurfaceCutter {
   /// (vertex, index in generated_) of each corner of the running cut's triangles, sorted.
   std::vector<std::pair<int, int>> generated_of_;
   std::vector<std::uint8_t> outcode_;      ///< per vertex, broad-phase scratch of cut()
-  std::vector<long long> outcode_call_;    ///< per vertex, the cut() call its outcode is from
-  long long calls_ = 0;                    ///< cut() calls
   std::vector<std::uint8_t> vertex_mark_;  ///< per vertex, cut() scratch, all 0 between uses
   int sheet_start_ = 0;  ///< first sheet triangle in generated_ (side A, B alternating)
   bool completed_ = false;
