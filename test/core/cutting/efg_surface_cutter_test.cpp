@@ -195,6 +195,32 @@ TEST(EfgSurfaceCutter, EveryVertexMapsToAnIpOnItsOwnSideAndPairsSplitAcrossTheCu
   EXPECT_EQ(m.numSlots(), box.cutter.numVertices());
 }
 
+TEST(EfgSurfaceCutter, CrossingsFollowThePiecesWhereTheyAreNotWhereTheyRest) {
+  // Two boxes cut in two at x = kCutX. In one, the larger piece is moved 50 m along x: a blade
+  // through where it rests cuts nothing, and a blade through it crosses the same edges as the
+  // same blade 50 m back crosses in the box left in place.
+  UnitBox moved, still;
+  moved.descendSteps(kTop, 0.05, 40);
+  still.descendSteps(kTop, 0.05, 40);
+  ASSERT_FALSE(moved.cutter.cutActive());
+  std::vector<int> piece;
+  const std::vector<double> volume = pieceVolumes(moved.cutter, piece);
+  Eigen::Matrix3Xd x = moved.cutter.restVertices();
+  for (int v = 0; v < moved.cutter.numVertices(); ++v)
+    if (moved.cutter.vertexUsed(v) &&
+        volume[static_cast<std::size_t>(piece[static_cast<std::size_t>(v)])] > 0.5)
+      x(0, v) += 50.0;
+  EXPECT_EQ(moved.cutter.cut(verticalSweep(0.7, -0.5, 1.5, 1.5, 1.4, kTilt), x, x).crossed_edges,
+            0);
+  const EfgSurfaceCutStep there =
+      moved.cutter.cut(verticalSweep(50.7, -0.5, 1.5, 1.5, -0.5, kTilt), x, x);
+  const EfgSurfaceCutStep here = still.step(verticalSweep(0.7, -0.5, 1.5, 1.5, -0.5, kTilt));
+  EXPECT_GT(here.crossed_edges, 0);
+  EXPECT_EQ(there.crossed_edges, here.crossed_edges);
+  EXPECT_EQ(there.completed, here.completed);
+  expectClosed(moved.cutter);
+}
+
 TEST(EfgSurfaceCutter, BladeThatMissesChangesNothingBitForBit) {
   UnitBox box;
   const Eigen::Matrix3Xd X0 = box.cutter.restVertices();
