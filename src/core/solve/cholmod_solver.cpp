@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <vector>
 
 namespace surgical_sim::core {
 
@@ -59,62 +58,7 @@ void CholmodSolver::analyzePattern(const Eigen::SparseMatrix<double>& A) {
   matrix_.makeCompressed();
   residual_.resize(A.rows());
   cholmod_sparse view = viewOf(matrix_);
-  std::vector<int> ordering;
-  if (common_.method[0].ordering == CHOLMOD_METIS) ordering = nodeBlockOrdering(matrix_);
-  if (ordering.empty()) {
-    factor_ = cholmod_analyze(&view, &common_);
-    return;
-  }
-  common_.method[0].ordering = CHOLMOD_GIVEN;
-  factor_ = cholmod_analyze_p(&view, ordering.data(), nullptr, 0, &common_);
-  common_.method[0].ordering = CHOLMOD_METIS;
-}
-
-std::vector<int> CholmodSolver::nodeBlockOrdering(const Eigen::SparseMatrix<double>& A) {
-  const Eigen::Index n = A.rows();
-  if (n % 3 != 0 || n == 0 || A.cols() != n) return {};
-  const int* outer = A.outerIndexPtr();
-  const int* inner = A.innerIndexPtr();
-  // Node pattern from the first column of each node, if every node's three columns have the same
-  // rows and those come in whole node triples.
-  const Eigen::Index nodes = n / 3;
-  std::vector<int> node_outer(static_cast<size_t>(nodes) + 1, 0), node_inner;
-  node_inner.reserve(static_cast<size_t>(A.nonZeros() / 9));
-  for (Eigen::Index k = 0; k < nodes; ++k) {
-    const int begin = outer[3 * k], length = outer[3 * k + 1] - begin;
-    if (length % 3 != 0) return {};
-    for (int c = 1; c < 3; ++c) {
-      const int other = outer[3 * k + c];
-      if (outer[3 * k + c + 1] - other != length ||
-          !std::equal(inner + begin, inner + begin + length, inner + other)) {
-        return {};
-      }
-    }
-    for (int p = begin; p < begin + length; p += 3) {
-      if (inner[p] % 3 != 0 || inner[p + 1] != inner[p] + 1 || inner[p + 2] != inner[p] + 2)
-        return {};
-      node_inner.push_back(inner[p] / 3);
-    }
-    node_outer[static_cast<size_t>(k) + 1] = static_cast<int>(node_inner.size());
-  }
-  cholmod_sparse graph{};
-  graph.nrow = graph.ncol = static_cast<size_t>(nodes);
-  graph.nzmax = node_inner.size();
-  graph.p = node_outer.data();
-  graph.i = node_inner.data();
-  graph.stype = -1;
-  graph.itype = CHOLMOD_INT;
-  graph.xtype = CHOLMOD_PATTERN;
-  graph.dtype = CHOLMOD_DOUBLE;
-  graph.sorted = 1;
-  graph.packed = 1;
-  std::vector<int> node_order(static_cast<size_t>(nodes));
-  if (cholmod_metis(&graph, nullptr, 0, 1, node_order.data(), &common_) == 0) return {};
-  std::vector<int> ordering(static_cast<size_t>(n));
-  for (Eigen::Index k = 0; k < nodes; ++k) {
-    for (int c = 0; c < 3; ++c) ordering[static_cast<size_t>(3 * k + c)] = 3 * node_order[k] + c;
-  }
-  return ordering;
+  factor_ = cholmod_analyze(&view, &common_);
 }
 
 bool CholmodSolver::factorize(const Eigen::SparseMatrix<double>& A) {

@@ -5,7 +5,6 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <string>
-#include <vector>
 
 #include "surgical_sim/core/solve/linear_solver.h"
 #include "surgical_sim/core/solve/single_precision_cholesky.h"
@@ -15,8 +14,7 @@ namespace surgical_sim::core {
 /// Fill-reducing ordering of a CholmodSolver.
 enum class CholmodOrdering {
   /// METIS nested dissection: less fill and fewer factorization flops than AMD on 3D tissue
-  /// meshes, for a longer analysis. For 3D tissue meshes. A matrix of 3 x 3 node blocks (3 DOFs
-  /// per node) is ordered on the graph of its nodes, its nodes' unknowns kept together.
+  /// meshes, for a longer analysis. For 3D tissue meshes.
   Metis,
   /// AMD only: the cheapest analysis, for small or slab-like matrices analysed often (the local
   /// correction of a cut; CHOLMOD's own default would also try METIS when AMD fills much).
@@ -77,10 +75,6 @@ class CholmodSolver final : public LinearSolver {
 
  private:
   void releaseFactor();
-  /// METIS ordering of A's 3 x 3 node blocks (the graph of the nodes, nine times smaller than A's),
-  /// each node's three unknowns consecutive; empty if A is not made of whole node blocks (every
-  /// node's three columns with the same rows, in whole node triples) or METIS fails.
-  std::vector<int> nodeBlockOrdering(const Eigen::SparseMatrix<double>& A);
   cholmod_sparse viewOf(const Eigen::SparseMatrix<double>& A) const;
 
   cholmod_common common_;
