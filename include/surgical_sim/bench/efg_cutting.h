@@ -99,8 +99,9 @@ struct EfgCutRunSettings {
   /// Blade edge length [m], >= 0; 0: six times semi_axes.x (every cut spans the body).
   double blade_length = 0.0;
   bool simulate = true;  ///< one implicit Euler step per sweep under gravity
-  /// Linear solver of the steps (default PcgSettings; after a cut the integrator is reset, so
-  /// cholmod re-analyses and the factor-reusing solvers keep their factor).
+  /// Linear solver of the steps (PcgSettings with adaptive_refresh; after a cut the integrator
+  /// is told modelChanged(): cholmod re-analyses a changed pattern and the factor-reusing solvers
+  /// keep their factor).
   core::SolverKind solver = core::SolverKind::Cholmod;
   double dt = 0.01;    ///< time step [s], > 0
   double young = 5e3;  ///< [Pa]

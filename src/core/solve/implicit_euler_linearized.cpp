@@ -17,10 +17,15 @@ void ImplicitEulerLinearized::resizeWorkspace(Eigen::Index size) {
   for (Eigen::VectorXd* v : {&rhs_, &dv_, &product_, &start_, &direction_, &offset_}) {
     v->setZero(size);
   }
-  last_x_.resize(0);
   end_force_.resize(0);
   end_stiffness_.resize(0, 0);
+  forgetModelEvaluations();
+}
+
+void ImplicitEulerLinearized::forgetModelEvaluations() {
+  last_x_.resize(0);
   end_valid_ = false;
+  end_pattern_checked_ = false;
 }
 
 double ImplicitEulerLinearized::incrementalPotential(const DynamicsProblem& problem, double dt,
@@ -42,10 +47,9 @@ double ImplicitEulerLinearized::incrementalPotential(const DynamicsProblem& prob
 
 double ImplicitEulerLinearized::endForceStiffnessAndEnergy(const TissueModel& model,
                                                            const Eigen::VectorXd& x) {
-  if (end_stiffness_.rows() != stiffness_.rows() ||
-      end_stiffness_.nonZeros() != stiffness_.nonZeros()) {
+  if (!end_pattern_checked_ && !samePattern(end_stiffness_, stiffness_))
     end_stiffness_ = stiffness_;
-  }
+  end_pattern_checked_ = true;
   end_force_.setZero(x.size());
   return model.addInternalForceStiffnessAndEnergy(x, TangentMode::ProjectedSpd, end_force_,
                                                   end_stiffness_);

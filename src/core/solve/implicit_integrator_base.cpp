@@ -23,18 +23,27 @@ void ImplicitIntegratorBase::reset() {
   compliance_.invalidate();
 }
 
+void ImplicitIntegratorBase::modelChanged() {
+  compliance_.invalidate();
+  forgetModelEvaluations();
+  model_changed_ = true;
+}
+
 void ImplicitIntegratorBase::setUp(const TissueModel& model) {
-  const Eigen::SparseMatrix<double>& pattern = model.stiffnessPattern();
-  const Eigen::Index size = pattern.rows();
+  const Eigen::Index size = model.stiffnessPattern().rows();
   model_ = &model;
-  stiffness_ = pattern;
-  stiffness_.makeCompressed();
-  system_.setPattern(stiffness_);
-  solver_->analyzePattern(system_.matrix());
+  adoptPattern(model);
   mask_.assign(static_cast<size_t>(size), 0);
   x0_.setZero(size);
   v0_.setZero(size);
   resizeWorkspace(size);
+}
+
+void ImplicitIntegratorBase::adoptPattern(const TissueModel& model) {
+  stiffness_ = model.stiffnessPattern();
+  stiffness_.makeCompressed();
+  system_.setPattern(stiffness_);
+  solver_->analyzePattern(system_.matrix());
 }
 
 bool ImplicitIntegratorBase::beginStep(const DynamicsProblem& problem, double dt,
@@ -45,7 +54,14 @@ bool ImplicitIntegratorBase::beginStep(const DynamicsProblem& problem, double dt
     return false;
   }
   const TissueModel& model = *problem.model;
-  if (model_ != &model || !system_.matchesPattern(model.stiffnessPattern())) setUp(model);
+  const Eigen::SparseMatrix<double>& pattern = model.stiffnessPattern();
+  if (model_ != &model || pattern.rows() != stiffness_.rows()) {
+    setUp(model);
+  } else if (model_changed_ ? !samePattern(pattern, stiffness_)
+                            : !system_.matchesPattern(pattern)) {
+    model_changed_ ? adoptPattern(model) : setUp(model);
+  }
+  model_changed_ = false;
   markDirichletDofs(problem.dirichlet.dofs, mask_);
   x0_ = state.x;
   v0_ = state.v;

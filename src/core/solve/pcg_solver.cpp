@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "surgical_sim/core/common/stopwatch.h"
 #include "surgical_sim/core/common/validate.h"
 
 namespace surgical_sim::core {
@@ -57,6 +58,10 @@ void PcgSolver::setLinearizationState(const TissueModel& model, const Eigen::Vec
 }
 
 void PcgSolver::analyzePattern(const Eigen::SparseMatrix<double>& A) {
+  timed(call_seconds_, [&] { analyzeNewPattern(A); });
+}
+
+void PcgSolver::analyzeNewPattern(const Eigen::SparseMatrix<double>& A) {
   const bool cholesky = preconditioner_ == PcgPreconditioner::CholeskyReuse ||
                         preconditioner_ == PcgPreconditioner::CholeskyWarped;
   if (cholesky && cholesky_valid_ && A.rows() == matrix_.rows() && A.cols() == matrix_.cols()) {
@@ -108,6 +113,7 @@ void PcgSolver::analyzePattern(const Eigen::SparseMatrix<double>& A) {
 }
 
 bool PcgSolver::factorize(const Eigen::SparseMatrix<double>& A) {
+  const Stopwatch watch;
   factorized_ = false;
   if (!copyValuesOfSamePattern(A, matrix_)) return false;
   switch (preconditioner_) {
@@ -126,6 +132,7 @@ bool PcgSolver::factorize(const Eigen::SparseMatrix<double>& A) {
       break;
   }
   state_announced_ = false;
+  call_seconds_ += watch.seconds();
   return factorized_;
 }
 
@@ -151,7 +158,7 @@ bool PcgSolver::buildCholeskyReuse() {
   const bool rotations =
       state_announced_ && 3 * static_cast<Eigen::Index>(state_rotations_.size()) == matrix_.rows();
   warped_ = false;
-  if (!cholesky_valid_ || calls_since_refresh_ >= settings_.refresh_interval) {
+  if (refreshDue()) {
     refactorizeCholesky(rotations);
   } else if (rotations && factor_has_rotations_) {
     warp_.resize(state_rotations_.size());
@@ -165,6 +172,14 @@ bool PcgSolver::buildCholeskyReuse() {
   return cholesky_valid_;
 }
 
+bool PcgSolver::refreshDue() {
+  const double previous = call_seconds_;
+  call_seconds_ = 0.0;
+  cycle_seconds_ += previous;
+  if (!cholesky_valid_ || calls_since_refresh_ >= settings_.refresh_interval) return true;
+  return settings_.adaptive_refresh && previous * calls_since_refresh_ > cycle_seconds_;
+}
+
 void PcgSolver::refactorizeCholesky(bool rotations) {
   if (stale_pattern_ || cholesky_.analysedMatrix().rows() != matrix_.rows()) {
     cholesky_.analyzePattern(matrix_);
@@ -173,6 +188,7 @@ void PcgSolver::refactorizeCholesky(bool rotations) {
     local_.setUnknowns(matrix_, {});
   }
   calls_since_refresh_ = 0;
+  cycle_seconds_ = 0.0;
   cholesky_valid_ = cholesky_.factorize(matrix_);
   ++cholesky_factorizations_;
   factor_has_rotations_ = rotations;
@@ -235,6 +251,10 @@ bool PcgSolver::applyPreconditioner(const Eigen::VectorXd& r, Eigen::VectorXd& z
 }
 
 LinearSolveReport PcgSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  return timed(call_seconds_, [&] { return solveWithPreconditioner(b, x); });
+}
+
+LinearSolveReport PcgSolver::solveWithPreconditioner(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   if (!factorized_) return {};
   const PreconditionerApply precondition = [this](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
     return applyPreconditioner(r, z);

@@ -6,6 +6,15 @@
 
 namespace surgical_sim::core {
 
+bool samePattern(const Eigen::SparseMatrix<double>& A, const Eigen::SparseMatrix<double>& B) {
+  if (!A.isCompressed() || !B.isCompressed() || A.rows() != B.rows() || A.cols() != B.cols() ||
+      A.nonZeros() != B.nonZeros()) {
+    return false;
+  }
+  return std::equal(A.outerIndexPtr(), A.outerIndexPtr() + A.cols() + 1, B.outerIndexPtr()) &&
+         std::equal(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros(), B.innerIndexPtr());
+}
+
 void SystemMatrix::setPattern(const Eigen::SparseMatrix<double>& stiffness_pattern) {
   Eigen::SparseMatrix<double> compressed;
   const Eigen::SparseMatrix<double>* K = &stiffness_pattern;

@@ -2,8 +2,10 @@
 
 #include <Eigen/Dense>
 #include <memory>
+#include <random>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "solve_test_util.h"
 #include "surgical_sim/core/solve/cholmod_solver.h"
@@ -153,6 +155,73 @@ TEST(PcgSolver, CholeskyReuseRefreshesAfterInterval) {
   const int refreshed = solver.solve(b, x).iterations;
   EXPECT_LE(refreshed, 2);  // exact factor, applied in single precision
   EXPECT_GT(reused, refreshed);
+}
+
+// 2D five-point operator on an n x n grid with edge conductances c(i, j) drawn from [1, contrast]
+// (seeded), plus a small identity: SPD; another contrast field makes a poor preconditioner.
+Eigen::SparseMatrix<double> gridOperator(int n, double contrast, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(1.0, contrast);
+  std::vector<Eigen::Triplet<double>> t;
+  const auto id = [n](int i, int j) { return i + n * j; };
+  const auto link = [&](int a, int b) {
+    const double c = u(rng);
+    t.emplace_back(a, a, c);
+    t.emplace_back(b, b, c);
+    t.emplace_back(a, b, -c);
+    t.emplace_back(b, a, -c);
+  };
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      t.emplace_back(id(i, j), id(i, j), 1e-2);
+      if (i + 1 < n) link(id(i, j), id(i + 1, j));
+      if (j + 1 < n) link(id(i, j), id(i, j + 1));
+    }
+  }
+  Eigen::SparseMatrix<double> A(n * n, n * n);
+  A.setFromTriplets(t.begin(), t.end());
+  A.makeCompressed();
+  return A;
+}
+
+// The kept factor of A0 needs hundreds of iterations on A1, far more than a refactorization costs:
+// with adaptive_refresh the next factorize() refreshes it, then keeps the fresh factor; without,
+// it is kept until refresh_interval. Every solve meets the tolerance either way.
+TEST(PcgSolver, AdaptiveRefreshRefactorizesWhenTheKeptFactorCostsMoreThanARefresh) {
+  const Eigen::SparseMatrix<double> A0 = gridOperator(60, 1.0, 1);
+  const Eigen::SparseMatrix<double> A1 = gridOperator(60, 1e5, 2);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A0.rows(), -1.0, 2.0);
+  CholmodSolver direct;
+  direct.analyzePattern(A1);
+  ASSERT_TRUE(direct.factorize(A1));
+  Eigen::VectorXd expected(A1.rows());
+  ASSERT_TRUE(direct.solve(b, expected).ok);
+  for (const bool adaptive : {false, true}) {
+    SCOPED_TRACE(adaptive ? "adaptive" : "interval");
+    PcgSettings pcg;
+    pcg.relative_tolerance = 1e-10;
+    pcg.refresh_interval = 1000;
+    pcg.adaptive_refresh = adaptive;
+    PcgSolver solver(PcgPreconditioner::CholeskyReuse, pcg);
+    solver.analyzePattern(A0);
+    ASSERT_TRUE(solver.factorize(A0));
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(A0.rows());
+    ASSERT_TRUE(solver.solve(b, x).ok);
+    int stale_iterations = 0;
+    for (int call = 0; call < 3; ++call) {
+      ASSERT_TRUE(solver.factorize(A1));
+      x.setZero();
+      const LinearSolveReport report = solver.solve(b, x);
+      ASSERT_TRUE(report.ok);
+      EXPECT_LT((x - expected).norm(), 1e-7 * expected.norm());
+      if (call == 0) stale_iterations = report.iterations;
+      if (call > 0 && adaptive) {
+        EXPECT_LE(report.iterations, 4);  // fresh factor, single precision
+      }
+    }
+    EXPECT_GT(stale_iterations, 50);
+    EXPECT_EQ(solver.choleskyFactorizations(), adaptive ? 2 : 1);
+  }
 }
 
 TEST(LinearSolverSettings, InvalidSettingsThrowNamingTheParameter) {

@@ -25,7 +25,7 @@ namespace surgical_sim::core {
 /// state in between), its full step's energy is evaluated together with the force and stiffness
 /// there (TissueModel::addInternalForceStiffnessAndEnergy), and the next step reuses them if it
 /// too starts there: one element pass per step instead of two for models that combine them.
-/// Changing the model in place (a cut) must be followed by reset().
+/// Changing the model in place (a cut) must be followed by reset() or modelChanged().
 class ImplicitEulerLinearized final : public ImplicitIntegratorBase {
  public:
   /// @throws std::invalid_argument naming "solver" if linear_solver is null
@@ -43,6 +43,8 @@ class ImplicitEulerLinearized final : public ImplicitIntegratorBase {
 
  private:
   void resizeWorkspace(Eigen::Index size) override;
+  /// Forgets W, f_int and K at the last step's end (and whether end_stiffness_'s pattern is K's).
+  void forgetModelEvaluations() override;
   /// Phi at `x` (see the class comment), given W(x) [J].
   double incrementalPotential(const DynamicsProblem& problem, double dt, const Eigen::VectorXd& x,
                               double elastic_energy);
@@ -59,6 +61,8 @@ class ImplicitEulerLinearized final : public ImplicitIntegratorBase {
   Eigen::VectorXd end_force_;
   Eigen::SparseMatrix<double> end_stiffness_;
   bool end_valid_ = false;
+  /// end_stiffness_ has stiffness_'s pattern (checked once after a set-up or modelChanged()).
+  bool end_pattern_checked_ = false;
 };
 
 }  // namespace surgical_sim::core

@@ -31,6 +31,8 @@ class ImplicitIntegratorBase : public Integrator {
   std::string name() const final;
   /// Forgets the pattern and the compliance (the next step re-analyses, re-sizes every buffer).
   void reset() override;
+  /// See Integrator::modelChanged: the next beginStep re-reads the model's pattern.
+  void modelChanged() final;
   /// dx = scale A^-1 f through compliance_ (see Integrator::applyStepCompliance); a stale
   /// compliance is factorized by factorizeCompliance().
   bool applyStepCompliance(const Eigen::VectorXd& f, Eigen::VectorXd& dx) final;
@@ -43,7 +45,8 @@ class ImplicitIntegratorBase : public Integrator {
 
   /// Starts a step: invalidates the compliance; checks the problem against the state and dt
   /// (finite, and > 0 if dt_must_be_positive); on a new model or stiffness pattern sets up the
-  /// pattern, A's analysis and all buffers (resizeWorkspace); marks the Dirichlet DOFs in mask_;
+  /// pattern, A's analysis and all buffers (resizeWorkspace), except that after modelChanged() a
+  /// changed pattern of the same size is adopted (adoptPattern); marks the Dirichlet DOFs in mask_;
   /// saves state.x, state.v in x0_, v0_. Returns false (nothing changed) if the problem or dt is
   /// inconsistent. Allocation-free unless set-up is needed.
   bool beginStep(const DynamicsProblem& problem, double dt, bool dt_must_be_positive,
@@ -56,6 +59,8 @@ class ImplicitIntegratorBase : public Integrator {
   /// Sizes the scheme's own work vectors to size (3n) after a set-up (stiffness_ then holds the
   /// model's compressed pattern). Called by beginStep; may allocate.
   virtual void resizeWorkspace(Eigen::Index size) = 0;
+  /// Forgets the scheme's cached evaluations of the model (modelChanged); default none.
+  virtual void forgetModelEvaluations() {}
   /// Assembles and factorizes the system matrix of the last successful step for a stale
   /// compliance (StepCompliance::markStale); false on failure. Schemes whose step leaves A
   /// factorized (markFactorized) never reach it.
@@ -71,6 +76,11 @@ class ImplicitIntegratorBase : public Integrator {
 
  private:
   void setUp(const TissueModel& model);
+  /// The model's new pattern of the set-up's size: stiffness_, system_ and the solver's analysis
+  /// (which may keep its factor); buffers and the Dirichlet mask stay.
+  void adoptPattern(const TissueModel& model);
+
+  bool model_changed_ = false;  ///< modelChanged() since the last beginStep
 
   std::string name_;
   ComplianceUse compliance_use_;

@@ -21,6 +21,12 @@ class Integrator {
   virtual StepReport step(const DynamicsProblem& problem, double dt, SimulationState& state) = 0;
   /// Forget cached factorizations / patterns (call after a topology change).
   virtual void reset() = 0;
+  /// The model was changed in place with its DOFs kept (a cut that re-selects neighbourhoods, new
+  /// masses): the next step forgets every cached evaluation of the model and the compliance, and
+  /// adopts the stiffness pattern if it changed. Unlike reset(), the linear solver keeps what stays
+  /// valid (a factor-reusing preconditioner its factor, LinearSolver::analyzePattern) and the work
+  /// buffers and an iterative solver's initial guess stay. Default: reset().
+  virtual void modelChanged() { reset(); }
   /// Step compliance: after a successful step(), dx = d(x_{n+1}) / d(f_ext) f, the position
   /// response of the last step to an extra constant nodal force f added to f_ext [m per N].
   /// Exact forms: symplectic Euler dt^2 M^-1 f; linearized implicit Euler dt^2 A^-1 f with

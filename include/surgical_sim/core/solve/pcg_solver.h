@@ -44,6 +44,13 @@ struct PcgSettings {
   double relative_tolerance = 1e-10;  ///< stop when |b - A x| <= tol |b| [-], in (0, 1)
   /// CholeskyReuse, CholeskyWarped: refactorize every this many factorize() calls [-], >= 1
   int refresh_interval = 10;
+  /// CholeskyReuse, CholeskyWarped: also refactorize earlier, at a factorize() whose previous call
+  /// (that factorize(), the solves after it and a pattern analysis before this one) took longer, in
+  /// wall time, than the mean call since the last refactorization, that refactorization included.
+  /// For costs that grow with the factor's age (iterations, a growing local correction after cuts)
+  /// this keeps the mean cost per call near its least; the refresh points then depend on the
+  /// machine's timing.
+  bool adaptive_refresh = false;
 };
 
 /// kMinSizedPcgIterations [-]: the smallest iteration limit pcgIterationCap() gives.
@@ -81,7 +88,7 @@ class PcgSolver final : public LinearSolver {
   /// Stores A's pattern, sizes all work vectors, analyses the preconditioner's pattern.
   /// CholeskyReuse, CholeskyWarped with a factor of the same size and another pattern (a cut of a
   /// model whose DOFs stay, e.g. EfgVolumeCutter): the factor is kept, not re-analysed. Until its
-  /// refresh is due (refresh_interval factorize() calls after it was made) it preconditions the
+  /// refresh is due (refresh_interval, adaptive_refresh) it preconditions the
   /// new pattern through a LocalSchwarzCorrection on the unknowns whose pattern changed
   /// (changedPatternUnknowns() with kLocalRings rings); the refresh re-analyses the new pattern.
   /// The same pattern, or a change on more than half the unknowns, is analysed afresh.
@@ -113,12 +120,19 @@ class PcgSolver final : public LinearSolver {
   /// Refactorizes when due (re-analysing a changed pattern); CholeskyWarped: stores the factor's
   /// rotations or sets the warp; a factor of an older pattern: factorizes the local correction.
   bool buildCholeskyReuse();
+  /// True when the factor is due for a refresh (refresh_interval, adaptive_refresh); starts the
+  /// timing of the current call.
+  bool refreshDue();
   /// Analyses matrix_'s pattern and factorizes it (the refresh of buildCholeskyReuse()).
   void refactorizeCholesky(bool rotations);
   /// z = (warped) factor applied to r: the global part of a kept factor's correction.
   bool applyCholesky(const Eigen::VectorXd& r, Eigen::VectorXd& z);
   /// z = W L^-T L^-1 W^T r with the warp_ blocks.
   bool applyWarpedCholesky(const Eigen::VectorXd& r, Eigen::VectorXd& z);
+  /// analyzePattern(), which times it for adaptive_refresh.
+  void analyzeNewPattern(const Eigen::SparseMatrix<double>& A);
+  /// The CG solve of solve(), which times it for adaptive_refresh.
+  LinearSolveReport solveWithPreconditioner(const Eigen::VectorXd& b, Eigen::VectorXd& x);
   /// z = P^-1 r. Returns false if the preconditioner application failed.
   bool applyPreconditioner(const Eigen::VectorXd& r, Eigen::VectorXd& z);
 
@@ -133,6 +147,11 @@ class PcgSolver final : public LinearSolver {
   Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>> incomplete_cholesky_;
   CholmodSolver cholesky_{CholmodOrdering::Metis, CholmodPreconditioning::SinglePrecision};
   int calls_since_refresh_ = 0;
+  /// Wall time of the current call (the last factorize(), the solves after it and an
+  /// analyzePattern() before the next factorize()) [s].
+  double call_seconds_ = 0.0;
+  /// Wall time of the calls since the last refactorization, before the current one [s].
+  double cycle_seconds_ = 0.0;
   bool cholesky_valid_ = false;
   int cholesky_factorizations_ = 0;
   int cholesky_analyses_ = 0;

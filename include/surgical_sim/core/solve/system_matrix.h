@@ -7,6 +7,10 @@
 
 namespace surgical_sim::core {
 
+/// True if A and B are compressed, of one size, with nonzeros at the same positions (values
+/// ignored). Linear in the nonzeros; allocation-free.
+bool samePattern(const Eigen::SparseMatrix<double>& A, const Eigen::SparseMatrix<double>& B);
+
 /// System matrix A = a diag(m) + b K (+ c K2 ...) of the implicit integrators, stored with a
 /// fixed pattern: the model's stiffness pattern united with the diagonal. setPattern() builds the
 /// pattern and the index maps once per topology; assembly then only writes values (no
