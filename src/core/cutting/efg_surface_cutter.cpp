@@ -318,9 +318,10 @@ void EfgSurfaceCutter::linkEdges(int t, std::vector<int>& fresh) {
   for (std::size_t k = 0; k < 3; ++k) {
     const std::array<int, 2> key = {std::min(tri[k], tri[(k + 1) % 3]),
                                     std::max(tri[k], tri[(k + 1) % 3])};
-    // The edge of a linked triangle at the first vertex, if any.
+    // The edge of a linked triangle at the end with fewer triangles, if any.
+    const int end = at(vertex_tris_, key[0]).size() <= at(vertex_tris_, key[1]).size() ? 0 : 1;
     int e = -1;
-    for (int other : at(vertex_tris_, key[0])) {
+    for (int other : at(vertex_tris_, key[static_cast<std::size_t>(end)])) {
       if (other == t) continue;
       for (int f : at(tri_edges_, other))
         if (f >= 0 && at(edges_, f) == key) e = f;
