@@ -57,9 +57,10 @@ bool ImplicitIntegratorBase::beginStep(const DynamicsProblem& problem, double dt
   const Eigen::SparseMatrix<double>& pattern = model.stiffnessPattern();
   if (model_ != &model || pattern.rows() != stiffness_.rows()) {
     setUp(model);
-  } else if (model_changed_ ? !samePattern(pattern, stiffness_)
-                            : !system_.matchesPattern(pattern)) {
-    model_changed_ ? adoptPattern(model) : setUp(model);
+  } else if (model_changed_) {
+    if (!samePattern(pattern, stiffness_)) adoptPattern(model);
+  } else if (!system_.matchesPattern(pattern)) {
+    setUp(model);
   }
   model_changed_ = false;
   markDirichletDofs(problem.dirichlet.dofs, mask_);
