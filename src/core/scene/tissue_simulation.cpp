@@ -245,7 +245,7 @@ void TissueSimulation::adoptEfgModel() {
     base_dirichlet_.positions[static_cast<Eigen::Index>(k)] = dofs[k].second;
   }
   problem_.dirichlet = base_dirichlet_;
-  integrator_->reset();  // new stiffness pattern and masses, handed to the linear solver
+  integrator_->modelChanged();  // same DOFs: the solver keeps what the changed pattern allows
 }
 
 bool TissueSimulation::applyEfgCuts() {

@@ -11,8 +11,9 @@ ImplicitEulerNewton::ImplicitEulerNewton(const IntegratorSettings& settings,
                                          std::unique_ptr<LinearSolver> solver)
     : NewtonIntegratorBase(settings, std::move(solver), "implicit_euler_newton") {}
 
+void ImplicitEulerNewton::patternAdopted() { damping_stiffness_ = stiffness_; }
+
 void ImplicitEulerNewton::resizeNewtonWorkspace(Eigen::Index size) {
-  damping_stiffness_ = stiffness_;
   for (Eigen::VectorXd* v : {&x_hat_, &force_, &offset_, &damping_product_}) v->setZero(size);
 }
 

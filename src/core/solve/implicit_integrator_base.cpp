@@ -44,6 +44,7 @@ void ImplicitIntegratorBase::adoptPattern(const TissueModel& model) {
   stiffness_.makeCompressed();
   system_.setPattern(stiffness_);
   solver_->analyzePattern(system_.matrix());
+  patternAdopted();
 }
 
 bool ImplicitIntegratorBase::beginStep(const DynamicsProblem& problem, double dt,

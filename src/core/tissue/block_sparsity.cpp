@@ -10,7 +10,7 @@ namespace {
 /// The groups holding each node (compressed rows): occurrences of node i are
 /// entries[offsets[i], offsets[i + 1]), each the position g k + a of groups(a, g).
 struct NodeGroups {
-  NodeGroups(int num_nodes, const Eigen::MatrixXi& groups)
+  NodeGroups(int num_nodes, const Eigen::Ref<const Eigen::MatrixXi>& groups)
       : offsets(static_cast<size_t>(num_nodes + 1), 0),
         entries(static_cast<size_t>(groups.size())) {
     const int* node = groups.data();
@@ -25,6 +25,34 @@ struct NodeGroups {
   std::vector<int> offsets;
   std::vector<int> entries;
 };
+
+/// The 3n x 3n pattern whose column 3 i + c holds rows 3 j + r of the nodes j in
+/// [begin(i), end(i)) (ascending, distinct), values zero.
+template <typename Begin, typename End>
+Eigen::SparseMatrix<double> blockPatternOfRows(int num_nodes, Begin begin, End end) {
+  Eigen::Index blocks = 0;
+  for (int i = 0; i < num_nodes; ++i) blocks += end(i) - begin(i);
+  Eigen::SparseMatrix<double> pattern(3 * num_nodes, 3 * num_nodes);
+  pattern.resizeNonZeros(9 * blocks);
+  int* outer = pattern.outerIndexPtr();
+  int* inner = pattern.innerIndexPtr();
+  outer[0] = 0;
+  int entry = 0;
+  for (int i = 0; i < num_nodes; ++i) {
+    const int column = entry;
+    for (const int* j = begin(i); j != end(i); ++j)
+      for (int r = 0; r < 3; ++r) inner[entry++] = 3 * *j + r;
+    const int length = entry - column;
+    outer[3 * i + 1] = entry;
+    for (int c = 1; c < 3; ++c) {  // the node's other columns have the same rows
+      std::copy(inner + column, inner + column + length, inner + entry);
+      entry += length;
+      outer[3 * i + c + 1] = entry;
+    }
+  }
+  std::fill(pattern.valuePtr(), pattern.valuePtr() + entry, 0.0);
+  return pattern;
+}
 
 }  // namespace
 
@@ -48,26 +76,23 @@ Eigen::SparseMatrix<double> makeBlockPattern(int num_nodes, const Eigen::MatrixX
     std::sort(neighbours.begin() + offsets[i], neighbours.end());
     offsets[i + 1] = static_cast<int>(neighbours.size());
   }
-  // Compressed columns directly: column 3 i + c holds rows 3 j + r of i's neighbours j.
-  Eigen::SparseMatrix<double> pattern(3 * num_nodes, 3 * num_nodes);
-  pattern.resizeNonZeros(static_cast<Eigen::Index>(9 * neighbours.size()));
-  int* outer = pattern.outerIndexPtr();
-  int* inner = pattern.innerIndexPtr();
-  outer[0] = 0;
-  int entry = 0;
-  for (int i = 0; i < num_nodes; ++i) {
-    for (int c = 0; c < 3; ++c) {
-      for (int p = offsets[i]; p < offsets[i + 1]; ++p)
-        for (int r = 0; r < 3; ++r) inner[entry++] = 3 * neighbours[static_cast<size_t>(p)] + r;
-      outer[3 * i + c + 1] = entry;
-    }
-  }
-  std::fill(pattern.valuePtr(), pattern.valuePtr() + entry, 0.0);
-  return pattern;
+  return blockPatternOfRows(
+      num_nodes, [&](int i) { return neighbours.data() + offsets[static_cast<size_t>(i)]; },
+      [&](int i) { return neighbours.data() + offsets[static_cast<size_t>(i) + 1]; });
+}
+
+Eigen::SparseMatrix<double> makeBlockPattern(const std::vector<std::vector<int>>& neighbours) {
+  return blockPatternOfRows(
+      static_cast<int>(neighbours.size()),
+      [&](int i) { return neighbours[static_cast<size_t>(i)].data(); },
+      [&](int i) {
+        const std::vector<int>& row = neighbours[static_cast<size_t>(i)];
+        return row.data() + row.size();
+      });
 }
 
 BlockScatterMap::BlockScatterMap(const Eigen::SparseMatrix<double>& pattern,
-                                 const Eigen::MatrixXi& groups)
+                                 const Eigen::Ref<const Eigen::MatrixXi>& groups)
     : k_(static_cast<int>(groups.rows())),
       map_(static_cast<size_t>(groups.cols()) * static_cast<size_t>(k_ * (k_ + 1))) {
   const auto num_nodes = static_cast<int>(pattern.cols() / 3);
@@ -94,6 +119,57 @@ BlockScatterMap::BlockScatterMap(const Eigen::SparseMatrix<double>& pattern,
       first[k_ * k_ + a] = len;
     }
   }
+}
+
+void BlockScatterMap::setGroup(const Eigen::SparseMatrix<double>& pattern, int group,
+                               const int* nodes) {
+  const size_t size = static_cast<size_t>(k_ * (k_ + 1));
+  if (group == numGroups()) map_.resize(map_.size() + size);
+  int* first = map_.data() + static_cast<size_t>(group) * size;
+  const int* outer = pattern.outerIndexPtr();
+  const int* inner = pattern.innerIndexPtr();
+  for (int a = 0; a < k_; ++a) {
+    const int* column = inner + outer[3 * nodes[a]];
+    const int* column_end = inner + outer[3 * nodes[a] + 1];
+    for (int b = 0; b < k_; ++b) {
+      const int* row = std::lower_bound(column, column_end, 3 * nodes[b]);
+      if (row == column_end || *row != 3 * nodes[b]) {
+        throw std::invalid_argument("BlockScatterMap::setGroup: nodes " + std::to_string(nodes[a]) +
+                                    " and " + std::to_string(nodes[b]) +
+                                    " are not coupled in the pattern");
+      }
+      first[a * k_ + b] = static_cast<int>(row - inner);
+    }
+    first[k_ * k_ + a] = static_cast<int>(column_end - column);
+  }
+}
+
+void BlockScatterMap::followGrownPattern(const Eigen::Ref<const Eigen::MatrixXi>& groups,
+                                         const std::vector<std::vector<int>>& added) {
+  // Column 3 i starts 9 entries later per block added to the nodes before i, and its rows after
+  // row 3 j 3 entries later per block added to node i before j.
+  std::vector<int> shift(added.size() + 1, 0);
+  for (size_t i = 0; i < added.size(); ++i)
+    shift[i + 1] = shift[i] + 9 * static_cast<int>(added[i].size());
+  for (Eigen::Index g = 0; g < groups.cols(); ++g) {
+    int* first = map_.data() + static_cast<size_t>(g) * static_cast<size_t>(k_ * (k_ + 1));
+    for (int a = 0; a < k_; ++a) {
+      const auto node = static_cast<size_t>(groups(a, g));
+      const std::vector<int>& extra = added[node];
+      for (int b = 0; b < k_; ++b) {
+        const auto before = std::lower_bound(extra.begin(), extra.end(), groups(b, g));
+        first[a * k_ + b] += shift[node] + 3 * static_cast<int>(before - extra.begin());
+      }
+      first[k_ * k_ + a] += 3 * static_cast<int>(extra.size());
+    }
+  }
+}
+
+void BlockScatterMap::removeGroup(int group) {
+  const size_t size = static_cast<size_t>(k_ * (k_ + 1));
+  std::copy(map_.end() - static_cast<std::ptrdiff_t>(size), map_.end(),
+            map_.begin() + static_cast<std::ptrdiff_t>(group * size));
+  map_.resize(map_.size() - size);
 }
 
 }  // namespace surgical_sim::core

@@ -29,17 +29,17 @@ template <int K>
 using ElementMatrix = Eigen::Matrix<double, dofs(K), dofs(K), Eigen::ColMajor, 3 * maxNeighbours(K),
                                     3 * maxNeighbours(K)>;
 
+// The positions (or any 3-vectors) of the k nodes `nodes` as columns.
 template <int K>
-NodeMatrix<K> gather(const Eigen::VectorXd& v, const Eigen::MatrixXi& neighbours, int e) {
-  NodeMatrix<K> ve(3, neighbours.rows());
-  for (int a = 0; a < ve.cols(); ++a) ve.col(a) = v.segment<3>(3 * neighbours(a, e));
+NodeMatrix<K> gather(const Eigen::VectorXd& v, const int* nodes, int k) {
+  NodeMatrix<K> ve(3, k);
+  for (int a = 0; a < k; ++a) ve.col(a) = v.segment<3>(3 * nodes[a]);
   return ve;
 }
 
 template <int K>
-void scatter(const NodeMatrix<K>& fe, const Eigen::MatrixXi& neighbours, int e,
-             Eigen::VectorXd& f) {
-  for (int a = 0; a < fe.cols(); ++a) f.segment<3>(3 * neighbours(a, e)) += fe.col(a);
+void scatter(const NodeMatrix<K>& fe, const int* nodes, Eigen::VectorXd& f) {
+  for (int a = 0; a < fe.cols(); ++a) f.segment<3>(3 * nodes[a]) += fe.col(a);
 }
 
 template <int K>
@@ -111,7 +111,16 @@ EfgModel::EfgModel(EfgGrid grid, const Material& material, const EfgOptions& opt
     storeIp(e, std::move(particles), shape);
     addIpMass(e, 1.0);
   }
-  groupIntegrationPoints();
+  buckets_.resize(EfgOptions::kMaxNeighbours + 1);
+  for (int size = 0; size <= EfgOptions::kMaxNeighbours; ++size) {
+    buckets_[static_cast<size_t>(size)].k = size;
+    buckets_[static_cast<size_t>(size)].scatter =
+        BlockScatterMap(Eigen::SparseMatrix<double>(), Eigen::MatrixXi(size, 0));
+  }
+  coupled_.resize(static_cast<size_t>(n));
+  std::vector<int> all(static_cast<size_t>(m));
+  std::iota(all.begin(), all.end(), 0);
+  joinGroups(all);
 }
 
 EfgModel::IpShape EfgModel::computeIp(int e, const std::vector<int>& particles,
@@ -227,63 +236,88 @@ void EfgModel::setNeighbourhoods(const std::vector<EfgNeighbourhood>& changes) {
     IpShape shape = computeIp(c.ip, particles, detours);
     shapes.emplace_back(std::move(particles), std::move(shape));
   }
+  std::vector<int> ips;
   for (size_t i = 0; i < changes.size(); ++i) {
     const int e = changes[i].ip;
+    ips.push_back(e);
+    leaveGroup(e);
     addIpMass(e, -1.0);
     grid_.volumes(e) = changes[i].volume;
     storeIp(e, std::move(shapes[i].first), shapes[i].second);
     addIpMass(e, 1.0);
   }
-  groupIntegrationPoints();
+  joinGroups(ips);
 }
 
-void EfgModel::groupIntegrationPoints() {
-  const int m = numIntegrationPoints();
-  std::vector<int> order(static_cast<size_t>(m));
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-    const std::vector<int>& pa = ipParticles(a);
-    const std::vector<int>& pb = ipParticles(b);
-    return pa.size() != pb.size() ? pa.size() < pb.size() : pa < pb;
-  });
-  buckets_.clear();
-  int width = 0;
-  for (int p = 0; p < m; ++p) {
-    const int e = order[static_cast<size_t>(p)];
+size_t EfgModel::ParticleSetHash::operator()(const std::vector<int>& particles) const {
+  size_t h = particles.size();
+  for (int p : particles) h = h * 0x9e3779b97f4a7c15ULL + static_cast<size_t>(p);
+  return h;
+}
+
+void EfgModel::leaveGroup(int e) {
+  const std::vector<int>& particles = ipParticles(e);
+  GroupBucket& b = buckets_[particles.size()];
+  const auto found = group_of_set_.find(particles);
+  const int g = found->second;
+  std::vector<int>& members = b.members[static_cast<size_t>(g)];
+  members.erase(std::find(members.begin(), members.end(), e));
+  if (!members.empty()) return;
+  // The last group takes the empty group's index.
+  group_of_set_.erase(found);
+  const int last = b.groups() - 1;
+  if (g != last) {
+    std::copy(b.groupNodes(last), b.groupNodes(last) + b.k,
+              b.nodes.begin() + static_cast<std::ptrdiff_t>(b.k) * g);
+    b.members[static_cast<size_t>(g)] = std::move(b.members.back());
+    group_of_set_[ipParticles(b.members[static_cast<size_t>(g)].front())] = g;
+  }
+  b.scatter.removeGroup(g);
+  b.members.pop_back();
+  b.nodes.resize(b.nodes.size() - static_cast<size_t>(b.k));
+}
+
+void EfgModel::joinGroups(const std::vector<int>& ips) {
+  std::vector<std::pair<int, int>> created;  // (k, group)
+  for (int e : ips) {
     const std::vector<int>& particles = ipParticles(e);
-    const int k = static_cast<int>(particles.size());
-    if (buckets_.empty() || buckets_.back().k != k) {
-      buckets_.emplace_back();
-      buckets_.back().k = k;
-      width = std::max(width, k);
+    GroupBucket& b = buckets_[particles.size()];
+    const auto [entry, is_new] = group_of_set_.try_emplace(particles, b.groups());
+    if (is_new) {
+      b.members.emplace_back();
+      b.nodes.insert(b.nodes.end(), particles.begin(), particles.end());
+      created.emplace_back(b.k, entry->second);
     }
-    GroupBucket& b = buckets_.back();
-    if (b.ips.empty() || ipParticles(b.ips.back()) != particles)
-      b.first.push_back(static_cast<int>(b.ips.size()));
-    b.ips.push_back(e);
+    b.members[static_cast<size_t>(entry->second)].push_back(e);
   }
-  // Pattern over all buckets: groups padded to the widest with their first particle.
-  Eigen::Index groups = 0;
-  for (GroupBucket& b : buckets_) {
-    b.first.push_back(static_cast<int>(b.ips.size()));
-    const Eigen::Index g = static_cast<Eigen::Index>(b.first.size()) - 1;
-    b.nodes.resize(b.k, g);
-    for (Eigen::Index j = 0; j < g; ++j) {
-      const std::vector<int>& particles = ipParticles(b.ips[static_cast<size_t>(b.first[j])]);
-      for (int a = 0; a < b.k; ++a) b.nodes(a, j) = particles[static_cast<size_t>(a)];
-    }
-    groups += g;
-  }
-  Eigen::MatrixXi padded(width, groups);
-  Eigen::Index column = 0;
-  for (const GroupBucket& b : buckets_) {
-    for (Eigen::Index j = 0; j < b.nodes.cols(); ++j, ++column) {
-      padded.col(column).head(b.k) = b.nodes.col(j);
-      padded.col(column).tail(width - b.k).setConstant(b.nodes(0, j));
+  // Couple the particles of the new groups.
+  std::vector<std::vector<int>> added(coupled_.size());
+  bool grown = false;
+  for (const auto& [k, g] : created) {
+    const int* nodes = buckets_[static_cast<size_t>(k)].groupNodes(g);
+    for (int a = 0; a < k; ++a) {
+      std::vector<int>& row = coupled_[static_cast<size_t>(nodes[a])];
+      for (int c = 0; c < k; ++c) {
+        const auto at = std::lower_bound(row.begin(), row.end(), nodes[c]);
+        if (at != row.end() && *at == nodes[c]) continue;
+        row.insert(at, nodes[c]);
+        added[static_cast<size_t>(nodes[a])].push_back(nodes[c]);
+        grown = true;
+      }
     }
   }
-  setGroups(static_cast<int>(grid_.particles.cols()), padded);
-  for (GroupBucket& b : buckets_) b.scatter = BlockScatterMap(stiffnessPattern(), b.nodes);
+  if (grown) {
+    setPattern(makeBlockPattern(coupled_));
+    for (std::vector<int>& extra : added) std::sort(extra.begin(), extra.end());
+    for (GroupBucket& b : buckets_) {  // the groups that have a map: all but the new ones
+      b.scatter.followGrownPattern(
+          Eigen::Map<const Eigen::MatrixXi>(b.nodes.data(), b.k, b.scatter.numGroups()), added);
+    }
+  }
+  for (const auto& [k, g] : created) {
+    GroupBucket& b = buckets_[static_cast<size_t>(k)];
+    b.scatter.setGroup(stiffnessPattern(), g, b.groupNodes(g));
+  }
 }
 
 Eigen::Map<const Eigen::VectorXd> EfgModel::shapeValues(int e) const {
@@ -373,6 +407,7 @@ double EfgModel::matchingEnergyDensity(const Eigen::Matrix3d& F, const Eigen::Ma
 template <typename Body>
 void EfgModel::forEachBucket(Body&& body) const {
   for (const GroupBucket& bucket : buckets_) {
+    if (bucket.groups() == 0) continue;
     if (bucket.k == 8) {
       body(bucket, std::integral_constant<int, 8>());
     } else {
@@ -385,10 +420,9 @@ template <int K>
 double EfgModel::energyImpl(const GroupBucket& bucket, const Eigen::VectorXd& x) const {
   const int k = bucket.k;
   double energy = 0.0;
-  for (int g = 0; g < bucket.nodes.cols(); ++g) {
-    const NodeMatrix<K> xe = gather<K>(x, bucket.nodes, g);
-    for (int p = bucket.first[g]; p < bucket.first[g + 1]; ++p) {
-      const int e = bucket.ips[p];
+  for (int g = 0; g < bucket.groups(); ++g) {
+    const NodeMatrix<K> xe = gather<K>(x, bucket.groupNodes(g), k);
+    for (const int e : bucket.members[static_cast<size_t>(g)]) {
       const GradientMap<K> G(gradients_.data() + 3 * slot_[e], k, 3);
       const Eigen::Matrix3d F = xe * G;
       const double psi = options_.rotation == EfgRotation::Polar
@@ -404,11 +438,10 @@ template <int K>
 void EfgModel::forceImpl(const GroupBucket& bucket, const Eigen::VectorXd& x,
                          Eigen::VectorXd& f) const {
   const int k = bucket.k;
-  for (int g = 0; g < bucket.nodes.cols(); ++g) {
-    const NodeMatrix<K> xe = gather<K>(x, bucket.nodes, g);
+  for (int g = 0; g < bucket.groups(); ++g) {
+    const NodeMatrix<K> xe = gather<K>(x, bucket.groupNodes(g), k);
     NodeMatrix<K> fe = NodeMatrix<K>::Zero(3, k);
-    for (int p = bucket.first[g]; p < bucket.first[g + 1]; ++p) {
-      const int e = bucket.ips[p];
+    for (const int e : bucket.members[static_cast<size_t>(g)]) {
       const GradientMap<K> G(gradients_.data() + 3 * slot_[e], k, 3);
       const Eigen::Matrix3d F = xe * G;
       const Eigen::Matrix3d P = options_.rotation == EfgRotation::Polar
@@ -416,7 +449,7 @@ void EfgModel::forceImpl(const GroupBucket& bucket, const Eigen::VectorXd& x,
                                     : rotatedStress(F, matchingRotation(xe, e));
       fe.noalias() -= (grid_.volumes(e) * P) * G.transpose();
     }
-    scatter<K>(fe, bucket.nodes, g, f);
+    scatter<K>(fe, bucket.groupNodes(g), f);
   }
 }
 
@@ -432,12 +465,11 @@ void EfgModel::stiffnessImpl(const GroupBucket& bucket, const Eigen::VectorXd& x
   ElementMatrix<K> L(3 * k, 3 * k);
   NodeMatrix<K> fe(3, k);
   NodeMatrix<K> H(3, k);
-  for (int g = 0; g < bucket.nodes.cols(); ++g) {
-    const NodeMatrix<K> xe = gather<K>(x, bucket.nodes, g);
+  for (int g = 0; g < bucket.groups(); ++g) {
+    const NodeMatrix<K> xe = gather<K>(x, bucket.groupNodes(g), k);
     (rotated_linear ? L : Ke).setZero();
     fe.setZero();
-    for (int p = bucket.first[g]; p < bucket.first[g + 1]; ++p) {
-      const int e = bucket.ips[p];
+    for (const int e : bucket.members[static_cast<size_t>(g)]) {
       const GradientMap<K> G(gradients_.data() + 3 * slot_[e], k, 3);
       const double w = grid_.volumes(e);
       const Eigen::Matrix3d F = xe * G;
@@ -466,7 +498,7 @@ void EfgModel::stiffnessImpl(const GroupBucket& bucket, const Eigen::VectorXd& x
       if (f != nullptr) fe.noalias() -= (w * P) * G.transpose();
     }
     if (rotated_linear) rotatedLinearStiffness<K>(L, mu_, lambda_, Ke);
-    if (f != nullptr) scatter<K>(fe, bucket.nodes, g, *f);
+    if (f != nullptr) scatter<K>(fe, bucket.groupNodes(g), *f);
     sink(g, Ke);
   }
 }
@@ -516,11 +548,11 @@ void EfgModel::applyStiffness(const Eigen::VectorXd& x, TangentMode mode, const 
     constexpr int K = decltype(size)::value;
     const int k = bucket.k;
     stiffnessImpl<K>(bucket, x, mode, nullptr, nullptr, [&](int g, const auto& Ke) {
-      const NodeMatrix<K> ve = gather<K>(v, bucket.nodes, g);
+      const NodeMatrix<K> ve = gather<K>(v, bucket.groupNodes(g), k);
       const Eigen::Map<const RankVector<K>> vv(ve.data(), 3 * k);
       const RankVector<K> ye = Ke * vv;
       for (int a = 0; a < k; ++a)
-        y.segment<3>(3 * bucket.nodes(a, g)) += ye.template segment<3>(3 * a);
+        y.segment<3>(3 * bucket.groupNodes(g)[a]) += ye.template segment<3>(3 * a);
     });
   });
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <utility>
 
 namespace surgical_sim::core {
 
@@ -20,6 +21,10 @@ void GroupAssembledModel::setGroups(int num_nodes, const Eigen::MatrixXi& groups
   pattern_ = makeBlockPattern(num_nodes, groups);
   scatter_ = BlockScatterMap(pattern_, groups);
   schedule_ = GroupSchedule(num_nodes, groups, defaultThreadCount());
+}
+
+void GroupAssembledModel::setPattern(Eigen::SparseMatrix<double> pattern) {
+  pattern_ = std::move(pattern);
 }
 
 double* GroupAssembledModel::zeroedValues(Eigen::SparseMatrix<double>& K) const {

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <iterator>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include "tissue_test_util.h"
@@ -104,6 +107,58 @@ TEST(BlockSparsity, GroupWithARepeatedNode) {
   Eigen::MatrixXi groups(2, 3);
   groups << 3, 0, 3, 3, 3, 2;
   expectScatterAssemblesGroupMatrices<6>(5, groups);
+}
+
+/// The nodes each node couples with in a makeBlockPattern() pattern, ascending.
+std::vector<std::vector<int>> coupledNodes(const Eigen::SparseMatrix<double>& pattern) {
+  std::vector<std::vector<int>> rows(static_cast<size_t>(pattern.cols() / 3));
+  for (Eigen::Index i = 0; i < pattern.cols() / 3; ++i)
+    for (int p = pattern.outerIndexPtr()[3 * i]; p < pattern.outerIndexPtr()[3 * i + 1]; p += 3)
+      rows[static_cast<size_t>(i)].push_back(pattern.innerIndexPtr()[p] / 3);
+  return rows;
+}
+
+/// Values of `pattern` after scatter-adding the same random matrix per group through `map`.
+Eigen::VectorXd scattered(const BlockScatterMap& map, const Eigen::SparseMatrix<double>& pattern) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Eigen::SparseMatrix<double> assembled = pattern;
+  for (int g = 0; g < map.numGroups(); ++g) {
+    Eigen::Matrix<double, 12, 12> Ke;
+    for (Eigen::Index i = 0; i < Ke.size(); ++i) Ke.data()[i] = u(rng);
+    map.add(g, Ke, assembled.valuePtr());
+  }
+  return Eigen::Map<const Eigen::VectorXd>(assembled.valuePtr(), assembled.nonZeros());
+}
+
+// A map edited in place (its pattern grown by a new group's couplings, the group appended, the
+// first group removed) scatters exactly as a map built on the final groups and pattern.
+TEST(BlockSparsity, EditedMapMatchesAMapBuiltOnTheFinalGroups) {
+  Eigen::MatrixXi groups(4, 3);
+  groups << 0, 1, 2, 1, 2, 3, 2, 3, 4, 3, 4, 5;
+  Eigen::MatrixXi all(4, 4);
+  all << groups, Eigen::Vector4i(4, 5, 6, 7);
+  const Eigen::SparseMatrix<double> before = makeBlockPattern(8, groups);
+  const Eigen::SparseMatrix<double> after = makeBlockPattern(8, all);
+  const std::vector<std::vector<int>> coupled_after = coupledNodes(after);
+  expectSameStructure(makeBlockPattern(coupled_after), after);
+  const std::vector<std::vector<int>> coupled_before = coupledNodes(before);
+  std::vector<std::vector<int>> added(8);
+  for (size_t i = 0; i < 8; ++i)
+    std::set_difference(coupled_after[i].begin(), coupled_after[i].end(), coupled_before[i].begin(),
+                        coupled_before[i].end(), std::back_inserter(added[i]));
+  ASSERT_EQ(added[7].size(), 4u);  // 4, 5, 6, 7: node 7 was in no group
+
+  BlockScatterMap map(before, groups);
+  EXPECT_THROW(map.setGroup(before, 3, all.col(3).data()), std::invalid_argument);
+  map.followGrownPattern(groups, added);
+  map.setGroup(after, 3, all.col(3).data());
+  map.removeGroup(0);
+  Eigen::MatrixXi final_groups(4, 3);
+  final_groups << all.col(3), all.col(1), all.col(2);
+  const BlockScatterMap fresh(after, final_groups);
+  ASSERT_EQ(map.numGroups(), 3);
+  EXPECT_EQ(scattered(map, after), scattered(fresh, after));
 }
 
 }  // namespace

@@ -335,6 +335,55 @@ TEST_P(EfgModelTest, ReplacedNeighbourhoodsStayCompleteConservativeAndConsistent
   }
 }
 
+// The current neighbourhood of IP e (particles, Euclidean distances, volume).
+EfgNeighbourhood neighbourhoodOf(const EfgModel& m, int e) {
+  EfgNeighbourhood n;
+  n.ip = e;
+  n.particles = m.ipParticles(e);
+  n.volume = m.grid().volumes(e);
+  return n;
+}
+
+// Changes applied one batch at a time (groups created, joined, emptied and removed) leave the
+// same model as the net change in one batch, on a pattern that only grows: it is kept while no
+// new particle set couples an uncoupled pair, and the entries it keeps beyond the net change's
+// pattern stay zero.
+TEST_P(EfgModelTest, BatchesOfChangesMatchTheirNetChangeOnAKeptPattern) {
+  const EfgModel before = model(irregularBody(), 0.15);
+  EfgModel stepwise = before;
+  stepwise.setNeighbourhoods(replacedNeighbourhoods(before));
+  const Eigen::SparseMatrix<double> grown = stepwise.stiffnessPattern();
+  // IP 0's extra particle is a new coupling unless IP 0 already had the most particles.
+  EXPECT_EQ(samePattern(grown, before.stiffnessPattern()),
+            before.ipParticles(0).size() == EfgOptions::kMaxNeighbours);
+  // IP 1 back to its set; IP 2 into the group of the last IP (another cell), with its volume.
+  const int last = before.numIntegrationPoints() - 1;
+  ASSERT_NE(before.ipParticles(2), before.ipParticles(last));
+  EfgNeighbourhood moved = neighbourhoodOf(before, last);
+  moved.ip = 2;
+  moved.volume = before.grid().volumes(2);
+  stepwise.setNeighbourhoods({neighbourhoodOf(before, 1), moved});
+  EXPECT_TRUE(samePattern(grown, stepwise.stiffnessPattern()));
+  stepwise.setNeighbourhoods({neighbourhoodOf(before, 0)});
+  EXPECT_TRUE(samePattern(grown, stepwise.stiffnessPattern()));
+
+  EfgModel net = before;
+  net.setNeighbourhoods({moved});
+  std::mt19937 rng(5);
+  const Eigen::VectorXd x = test::perturbed(before.restPositions(), 0.05, rng);
+  Eigen::VectorXd fs = Eigen::VectorXd::Zero(x.size()), fn = fs;
+  Eigen::SparseMatrix<double> Ks = stepwise.stiffnessPattern(), Kn = net.stiffnessPattern();
+  const double es = stepwise.addInternalForceStiffnessAndEnergy(x, TangentMode::Exact, fs, Ks);
+  const double en = net.addInternalForceStiffnessAndEnergy(x, TangentMode::Exact, fn, Kn);
+  EXPECT_NEAR(es, en, 1e-12 * std::abs(en));
+  EXPECT_LT((fs - fn).norm(), 1e-12 * fn.norm());
+  EXPECT_LT(Eigen::MatrixXd(Ks - Kn).norm(), 1e-12 * Eigen::MatrixXd(Kn).norm());
+  EXPECT_LT((stepwise.lumpedMass() - net.lumpedMass()).norm(), 1e-14 * net.lumpedMass().norm());
+  const Eigen::Vector3d g(0.0, 0.0, -9.81);
+  EXPECT_LT((stepwise.bodyForce(g) - net.bodyForce(g)).norm(), 1e-14 * net.bodyForce(g).norm());
+  test::expectApplyMatchesAssembled(stepwise, x, rng);
+}
+
 // A cut changes the model in place (new neighbourhoods, pattern and masses): an integrator told
 // modelChanged() keeps its warped Cholesky factor (no new analysis: a local correction on the
 // changed unknowns) and its buffers, and its steps match those of a direct solver re-set by

@@ -33,6 +33,8 @@ class ImplicitEulerNewton final : public NewtonIntegratorBase {
 
  private:
   void resizeNewtonWorkspace(Eigen::Index size) override;
+  /// damping_stiffness_ takes stiffness_'s pattern.
+  void patternAdopted() override;
   /// residual_ = grad Phi(x) on free DOFs; returns |residual_|, sets *scale to the norm sum of
   /// its terms (for the round-off floor).
   double computeResidual(const DynamicsProblem& problem, const Eigen::VectorXd& x,

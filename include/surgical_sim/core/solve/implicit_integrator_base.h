@@ -59,6 +59,9 @@ class ImplicitIntegratorBase : public Integrator {
   /// Sizes the scheme's own work vectors to size (3n) after a set-up (stiffness_ then holds the
   /// model's compressed pattern). Called by beginStep; may allocate.
   virtual void resizeWorkspace(Eigen::Index size) = 0;
+  /// Gives the scheme's own matrices the pattern stiffness_ has just taken (set-up, or a changed
+  /// pattern adopted after modelChanged()); default none.
+  virtual void patternAdopted() {}
   /// Forgets the scheme's cached evaluations of the model (modelChanged); default none.
   virtual void forgetModelEvaluations() {}
   /// Assembles and factorizes the system matrix of the last successful step for a stale

@@ -11,6 +11,9 @@ namespace surgical_sim::core {
 /// @param num_nodes number of nodes n; the pattern is 3n x 3n, compressed column, values zero.
 /// @param groups node indices, shape k x g (one group per column), indices in [0, n).
 Eigen::SparseMatrix<double> makeBlockPattern(int num_nodes, const Eigen::MatrixXi& groups);
+/// The pattern in which node i couples with the nodes neighbours[i] (ascending, distinct, in
+/// [0, n), n = neighbours.size(); symmetric: j in neighbours[i] iff i in neighbours[j]).
+Eigen::SparseMatrix<double> makeBlockPattern(const std::vector<std::vector<int>>& neighbours);
 
 /// Group-to-nonzero map for scatter-adding dense group matrices into the values of a pattern from
 /// makeBlockPattern() over the same groups.
@@ -25,9 +28,24 @@ class BlockScatterMap {
  public:
   BlockScatterMap() = default;
   /// Linear time in the pattern size plus the number of group entries; allocates.
-  /// @param pattern makeBlockPattern(n, groups), compressed (its values are not used).
+  /// @param pattern makeBlockPattern(n, groups) or a pattern that couples at least the same nodes,
+  ///        compressed (its values are not used).
   /// @param groups node indices, shape k x g, indices in [0, n).
-  BlockScatterMap(const Eigen::SparseMatrix<double>& pattern, const Eigen::MatrixXi& groups);
+  BlockScatterMap(const Eigen::SparseMatrix<double>& pattern,
+                  const Eigen::Ref<const Eigen::MatrixXi>& groups);
+
+  /// Sets group `group` (in [0, numGroups()], numGroups() appends one) to the k nodes `nodes`,
+  /// each pair of which must be coupled in `pattern` (k^2 binary searches in its columns).
+  /// @throws std::invalid_argument naming two nodes that the pattern does not couple.
+  void setGroup(const Eigen::SparseMatrix<double>& pattern, int group, const int* nodes);
+  /// Follows the growth of the map's pattern by the couplings `added` (added[i]: the nodes newly
+  /// coupled with node i, ascending, none coupled before; symmetric; size n): each group then
+  /// scatters into the grown pattern. Linear in the map's size plus n.
+  /// @param groups the map's groups, k x numGroups().
+  void followGrownPattern(const Eigen::Ref<const Eigen::MatrixXi>& groups,
+                          const std::vector<std::vector<int>>& added);
+  /// Removes group `group` in [0, numGroups()): the last group takes its index.
+  void removeGroup(int group);
 
   /// Nodes per group k.
   int groupSize() const { return k_; }

@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "surgical_sim/core/mesh/tet_mesh.h"
@@ -106,10 +107,11 @@ class EfgModel final : public GroupAssembledModel {
   /// and recomputes, for those IPs only, phi, grad phi, the shape-matching weights, the support
   /// h = kernel_support x max r_a, and their lumped-mass and body-force contributions (old ones
   /// removed, new ones added: total mass is conserved when the volumes sum to the same total).
-  /// The groups of IPs with equal particle sets and the stiffness pattern are rebuilt: the per-IP
-  /// work is linear in the listed IPs, the regrouping O(m log m) and the pattern linear in its
-  /// size (a new stiffnessPattern(): solvers must re-analyse, e.g. Integrator::reset()). The DOFs
-  /// are unchanged. Strong guarantee: on a throw the model is unchanged.
+  /// Only the listed IPs change group (IPs with equal particle sets form one group). The
+  /// stiffness pattern couples every pair of particles that has shared an IP since construction:
+  /// it grows (linear in its size) only when a new particle set couples an uncoupled pair, and is
+  /// otherwise kept, so a solver keeps its analysis (Integrator::modelChanged()). The DOFs are
+  /// unchanged. Strong guarantee: on a throw the model is unchanged.
   /// @throws std::invalid_argument naming the IP and the problem: index out of range or repeated,
   ///         a particle count outside [4, EfgOptions::kMaxNeighbours], a particle index out of
   ///         range or repeated, distances of the wrong size, non-finite or shorter than the
@@ -121,13 +123,18 @@ class EfgModel final : public GroupAssembledModel {
   EfgModel(EfgGrid grid, const Material& material, const EfgOptions& options);
   /// IPs with the same particles form a group (with 8 neighbours: the 8 IPs of a DOF cell), whose
   /// stiffness and force are summed before one scatter. The groups of one particle count k form a
-  /// bucket: group g holds IPs ips[first[g] .. first[g + 1]) on particles nodes.col(g).
+  /// bucket: group g holds the IPs members[g] on the particles nodes[k g .. k g + k).
   struct GroupBucket {
-    int k = 0;               ///< particles per group
-    std::vector<int> ips;    ///< IPs sorted by group
-    std::vector<int> first;  ///< size groups + 1
-    Eigen::MatrixXi nodes;   ///< k x groups
+    int k = 0;                              ///< particles per group
+    std::vector<std::vector<int>> members;  ///< per group: its IPs
+    std::vector<int> nodes;                 ///< k per group
     BlockScatterMap scatter;
+    int groups() const { return static_cast<int>(members.size()); }
+    const int* groupNodes(int g) const { return nodes.data() + static_cast<size_t>(k) * g; }
+  };
+  /// Hash of a particle set (ipParticles() of an IP).
+  struct ParticleSetHash {
+    size_t operator()(const std::vector<int>& particles) const;
   };
   /// One MLS evaluation of IP e (computeIp's result) before it is stored.
   struct IpShape;
@@ -155,9 +162,12 @@ class EfgModel final : public GroupAssembledModel {
   void storeIp(int e, std::vector<int> particles, const IpShape& shape);
   /// Adds sign x IP e's lumped-mass and body-force contributions.
   void addIpMass(int e, double sign);
-  /// Groups the IPs that share their particles into buckets_, rebuilds the pattern and the
-  /// buckets' scatter maps.
-  void groupIntegrationPoints();
+  /// Takes IP e out of the group of its particles (a group left empty is removed).
+  void leaveGroup(int e);
+  /// Puts the IPs `ips` (in no group) into the groups of their particles, creating the missing
+  /// groups; couples the particles of new groups in the pattern (rebuilt, with every scatter
+  /// map, only when that adds a pair) and sets the new groups' scatter maps.
+  void joinGroups(const std::vector<int>& ips);
   /// One IP pass for the stiffness and, with f, the force.
   void addGroupStiffness(const Eigen::VectorXd& x, TangentMode mode, Eigen::VectorXd* f,
                          double* values) const override;
@@ -186,7 +196,11 @@ class EfgModel final : public GroupAssembledModel {
   std::vector<double> gradients_;     ///< per IP at 3 slot: d phi / dX, k_e x 3 col-major [1/m]
   std::vector<double> matching_;      ///< per IP at 3 slot: shape-matching weights, k_e x 3 [1/m]
   std::vector<double> support_;       ///< per IP: kernel support radius h [m]
-  std::vector<GroupBucket> buckets_;  ///< ascending k
+  std::vector<GroupBucket> buckets_;  ///< index k: groups of k particles (none for k < 4)
+  /// Group index (in bucket size()) of each particle set in use.
+  std::unordered_map<std::vector<int>, int, ParticleSetHash> group_of_set_;
+  /// Per particle: the particles it is coupled with in stiffnessPattern(), ascending.
+  std::vector<std::vector<int>> coupled_;
 };
 
 }  // namespace surgical_sim::core
