@@ -59,6 +59,7 @@ struct EfgVolumeCutter::Selection {
   std::vector<int> particles;
   std::vector<double> distances;  ///< graph distances [m]
   int nearest_ip = -1;            ///< nearest other IP with volume reached in the search
+  std::vector<int> reached;       ///< graph nodes the search settled, in order
 };
 
 EfgVolumeCutter::EfgVolumeCutter(EfgModel& model)
@@ -66,7 +67,8 @@ EfgVolumeCutter::EfgVolumeCutter(EfgModel& model)
       graph_(model),
       samples_(std::max(4, model.options().volume_samples)),
       sample_masks_(static_cast<size_t>(model.numIntegrationPoints())),
-      has_indirect_(static_cast<size_t>(model.numIntegrationPoints()), 0) {
+      has_indirect_(static_cast<size_t>(model.numIntegrationPoints()), 0),
+      search_nodes_(static_cast<size_t>(model.numIntegrationPoints())) {
   for (const EfgTopologyGraph::Link& l : graph_.links())
     max_link_length_ = std::max(max_link_length_, l.rest_length);
   tree_of_.assign(static_cast<size_t>(graph_.numNodes()), -1);
@@ -224,6 +226,7 @@ EfgVolumeCutter::Selection EfgVolumeCutter::select(int e) const {
   int visited = 0;
   bool ok = false, done = false;
   graph_.searchFrom(graph_.ipNode(e), [&](int v, double r) {
+    out.reached.push_back(v);
     if (v >= n) {
       if (v != graph_.ipNode(e) && out.nearest_ip < 0 && grid.volumes(v - n) > 0.0)
         out.nearest_ip = v - n;
@@ -249,6 +252,36 @@ EfgVolumeCutter::Selection EfgVolumeCutter::select(int e) const {
     out.distances.clear();
   }
   return out;
+}
+
+bool EfgVolumeCutter::holds(int e, const Selection& selection) const {
+  const EfgGrid& grid = model_.grid();
+  std::vector<std::pair<int, double>> now, before;
+  for (size_t a = 0; a < selection.particles.size(); ++a)
+    now.emplace_back(selection.particles[a], selection.distances[a]);
+  std::sort(now.begin(), now.end());
+  const std::vector<int>& old = model_.ipParticles(e);
+  const Eigen::Map<const Eigen::VectorXd> detours = model_.detours(e);
+  for (size_t a = 0; a < old.size(); ++a)
+    before.emplace_back(old[a],
+                        (grid.particles.col(old[a]) - grid.integration_points.col(e)).norm() +
+                            detours(static_cast<Eigen::Index>(a)));
+  bool same = now.size() == before.size();
+  for (size_t a = 0; same && a < now.size(); ++a)
+    same = now[a].first == before[a].first &&
+           std::abs(now[a].second - before[a].second) <= 1e-12 * grid.spacing;
+  return same;
+}
+
+std::vector<int> EfgVolumeCutter::staleNeighbourhoods() const {
+  std::vector<int> stale;
+  for (int e = 0; e < model_.numIntegrationPoints(); ++e) {
+    if (search_nodes_[static_cast<size_t>(e)].empty() || !(model_.grid().volumes(e) > 0.0))
+      continue;
+    const Selection selection = select(e);
+    if (!selection.particles.empty() && !holds(e, selection)) stale.push_back(e);
+  }
+  return stale;
 }
 
 EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd& x_start,
@@ -366,9 +399,23 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
   }
   for (const int l : result.severed_links) graph_.sever(l);
 
-  // 2. Affected IPs: a severed link of their own, or indirect particles near a crossing.
+  // 2. Affected IPs: a severed link of their own, or indirect particles near a crossing whose
+  // last search reached an end of a severed link (a search follows only the links of the nodes
+  // it settles: severing any other link changes nothing it saw).
   std::vector<int> affected;
   for (const auto& entry : crossings) affected.push_back(entry.first);
+  std::vector<int> severed_ends;
+  for (const int l : result.severed_links) {
+    severed_ends.push_back(graph_.links()[static_cast<size_t>(l)].a);
+    severed_ends.push_back(graph_.links()[static_cast<size_t>(l)].b);
+  }
+  std::sort(severed_ends.begin(), severed_ends.end());
+  const auto reaches = [&](int e) {
+    const std::vector<int>& reached = search_nodes_[static_cast<size_t>(e)];
+    return reached.empty() || std::any_of(reached.begin(), reached.end(), [&](int v) {
+             return std::binary_search(severed_ends.begin(), severed_ends.end(), v);
+           });
+  };
   const int reach = 4;  // integration cells: two DOF cells
   for (const Eigen::Vector3d& X : all_crossings) {
     const Eigen::Vector3i c = ((X - grid.origin) / grid.spacing).array().floor().cast<int>();
@@ -381,6 +428,9 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
   }
   std::sort(affected.begin(), affected.end());
   affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
+  affected.erase(std::remove_if(affected.begin(), affected.end(),
+                                [&](int e) { return crossings.count(e) == 0 && !reaches(e); }),
+                 affected.end());
   // The volumes this cut changes, over the grid's [m^3].
   std::map<int, double> new_volumes;
   const auto volume = [&](int e) {
@@ -507,24 +557,8 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
     } else {
       continue;
     }
-    if (reselected && volume(e) == grid.volumes(e)) {
-      // Unchanged set and distances: nothing to do.
-      std::vector<std::pair<int, double>> now, before;
-      for (size_t a = 0; a < c.particles.size(); ++a)
-        now.emplace_back(c.particles[a], c.distances[a]);
-      std::sort(now.begin(), now.end());
-      const std::vector<int>& old = model_.ipParticles(e);
-      const Eigen::Map<const Eigen::VectorXd> detours = model_.detours(e);
-      for (size_t a = 0; a < old.size(); ++a)
-        before.emplace_back(old[a],
-                            (grid.particles.col(old[a]) - grid.integration_points.col(e)).norm() +
-                                detours(static_cast<Eigen::Index>(a)));
-      bool same = now.size() == before.size();
-      for (size_t a = 0; same && a < now.size(); ++a)
-        same = now[a].first == before[a].first &&
-               std::abs(now[a].second - before[a].second) <= 1e-12 * grid.spacing;
-      if (same) continue;
-    }
+    // Unchanged set and distances: nothing to do.
+    if (reselected && volume(e) == grid.volumes(e) && holds(e, sel->second)) continue;
     changes.push_back(std::move(c));
   }
   // Particles whose mass the changes can lower (an IP's old particles; an isolated IP's keep
@@ -550,6 +584,7 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
       sample_masks_[static_cast<size_t>(it->first)] = std::move(it->second);
     throw;
   }
+  for (auto& [e, sel] : selections) search_nodes_[static_cast<size_t>(e)] = std::move(sel.reached);
   for (size_t i = 0; i < touched.size(); ++i)
     if (used_before[i] && model_.lumpedMass()(3 * touched[i]) <= kUnusedMassFraction * total_mass)
       result.unused_particles.push_back(touched[i]);

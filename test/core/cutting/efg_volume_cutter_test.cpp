@@ -534,7 +534,7 @@ TEST(EfgVolumeCutter, MidCellCutMovesTheVolumeBeyondThePlane) {
   EXPECT_NEAR(moved_in, moved_out, 1e-15);
 }
 
-TEST(EfgVolumeCutter, RandomSweepsKeepMassCompletenessAndFiniteness) {
+TEST(EfgVolumeCutter, RandomSweepsKeepMassCompletenessFinitenessAndCurrentNeighbourhoods) {
   EfgModel model = cylinder();
   const EfgModel before = model;
   EfgVolumeCutter cutter(model);
@@ -551,6 +551,8 @@ TEST(EfgVolumeCutter, RandomSweepsKeepMassCompletenessAndFiniteness) {
     const EfgCutResult r = cutter.cut(sweep, model.restPositions(), model.restPositions());
     for (const int e : r.changed_ips)
       if (model.grid().volumes(e) > 0.0) changed.push_back(e);
+    // Every IP a cut re-selected (or left, its searches untouched) matches a new search.
+    ASSERT_EQ(cutter.staleNeighbourhoods(), std::vector<int>()) << "sweep " << i;
   }
   std::sort(changed.begin(), changed.end());
   changed.erase(std::unique(changed.begin(), changed.end()), changed.end());

@@ -81,6 +81,10 @@ class EfgVolumeCutter {
   /// Particles with zero lumped mass (no IP with volume uses them: material left on the other
   /// side of a cut), ascending; the caller constrains them. Linear in the particles.
   std::vector<int> unusedParticles() const;
+  /// The IPs holding volume that a cut has re-selected and whose particles or kernel distances
+  /// differ from a new selection on the current graph, ascending (empty: every re-selection is
+  /// current). One graph search per such IP: a check for tests and campaigns.
+  std::vector<int> staleNeighbourhoods() const;
   /// Piece label of each particle (graph component), size n; particles of one piece share it.
   std::vector<int> particlePieces() const;
 
@@ -88,6 +92,8 @@ class EfgVolumeCutter {
   struct Selection;
   /// Particles (by graph distance) for IP e, or an empty selection if e is isolated.
   Selection select(int e) const;
+  /// Whether IP e's particles and kernel distances are those of `selection` (to round-off).
+  bool holds(int e, const Selection& selection) const;
   /// Moves IP e's count of pieces_ (change +1: e holds volume, -1: it no longer does).
   void addVolumeIp(int e, int change);
   /// Relabels the pieces the severed links split (searches from their ends, see cut()).
@@ -108,6 +114,8 @@ class EfgVolumeCutter {
   /// Remaining volume samples (samples_^3) of the cells a cut has crossed, per IP (empty if none).
   std::vector<std::vector<char>> sample_masks_;
   std::vector<char> has_indirect_;  ///< per IP: uses a particle it has no alive link to
+  /// Per IP: the graph nodes its last selection settled (empty: never selected).
+  std::vector<std::vector<int>> search_nodes_;
   /// Narrow-phase scratch: per IP, the cut() call that last computed its positions at the step
   /// start and end (ip_x_ columns 2e and 2e + 1) [-], [m].
   std::vector<char> link_mark_;  ///< broad-phase scratch per link, all 0 between calls
