@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <stdexcept>
-#include <utility>
 
 namespace surgical_sim::core {
 
@@ -18,13 +17,14 @@ void GroupAssembledModel::addInternalForceAndStiffness(const Eigen::VectorXd& x,
 }
 
 void GroupAssembledModel::setGroups(int num_nodes, const Eigen::MatrixXi& groups) {
-  pattern_ = makeBlockPattern(num_nodes, groups);
+  Eigen::SparseMatrix<double> pattern = makeBlockPattern(num_nodes, groups);
+  pattern_.swap(pattern);  // Eigen's SparseMatrix has no move assignment: it would copy
   scatter_ = BlockScatterMap(pattern_, groups);
   schedule_ = GroupSchedule(num_nodes, groups, defaultThreadCount());
 }
 
 void GroupAssembledModel::setPattern(Eigen::SparseMatrix<double> pattern) {
-  pattern_ = std::move(pattern);
+  pattern_.swap(pattern);
 }
 
 double* GroupAssembledModel::zeroedValues(Eigen::SparseMatrix<double>& K) const {
