@@ -29,10 +29,10 @@ struct NodeGroups {
 /// The 3n x 3n pattern whose column 3 i + c holds rows 3 j + r of the nodes j in
 /// [begin(i), end(i)) (ascending, distinct), values zero.
 template <typename Begin, typename End>
-Eigen::SparseMatrix<double> blockPatternOfRows(int num_nodes, Begin begin, End end) {
+void blockPatternOfRows(int num_nodes, Begin begin, End end, Eigen::SparseMatrix<double>& pattern) {
   Eigen::Index blocks = 0;
   for (int i = 0; i < num_nodes; ++i) blocks += end(i) - begin(i);
-  Eigen::SparseMatrix<double> pattern(3 * num_nodes, 3 * num_nodes);
+  pattern.resize(3 * num_nodes, 3 * num_nodes);  // keeps the storage's capacity
   pattern.resizeNonZeros(9 * blocks);
   int* outer = pattern.outerIndexPtr();
   int* inner = pattern.innerIndexPtr();
@@ -51,7 +51,6 @@ Eigen::SparseMatrix<double> blockPatternOfRows(int num_nodes, Begin begin, End e
     }
   }
   std::fill(pattern.valuePtr(), pattern.valuePtr() + entry, 0.0);
-  return pattern;
 }
 
 }  // namespace
@@ -76,19 +75,23 @@ Eigen::SparseMatrix<double> makeBlockPattern(int num_nodes, const Eigen::MatrixX
     std::sort(neighbours.begin() + offsets[i], neighbours.end());
     offsets[i + 1] = static_cast<int>(neighbours.size());
   }
-  return blockPatternOfRows(
+  Eigen::SparseMatrix<double> pattern;
+  blockPatternOfRows(
       num_nodes, [&](int i) { return neighbours.data() + offsets[static_cast<size_t>(i)]; },
-      [&](int i) { return neighbours.data() + offsets[static_cast<size_t>(i) + 1]; });
+      [&](int i) { return neighbours.data() + offsets[static_cast<size_t>(i) + 1]; }, pattern);
+  return pattern;
 }
 
-Eigen::SparseMatrix<double> makeBlockPattern(const std::vector<std::vector<int>>& neighbours) {
-  return blockPatternOfRows(
+void makeBlockPattern(const std::vector<std::vector<int>>& neighbours,
+                      Eigen::SparseMatrix<double>& pattern) {
+  blockPatternOfRows(
       static_cast<int>(neighbours.size()),
       [&](int i) { return neighbours[static_cast<size_t>(i)].data(); },
       [&](int i) {
         const std::vector<int>& row = neighbours[static_cast<size_t>(i)];
         return row.data() + row.size();
-      });
+      },
+      pattern);
 }
 
 BlockScatterMap::BlockScatterMap(const Eigen::SparseMatrix<double>& pattern,

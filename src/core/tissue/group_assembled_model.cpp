@@ -23,7 +23,7 @@ void GroupAssembledModel::setGroups(int num_nodes, const Eigen::MatrixXi& groups
   schedule_ = GroupSchedule(num_nodes, groups, defaultThreadCount());
 }
 
-void GroupAssembledModel::setPattern(Eigen::SparseMatrix<double> pattern) {
+void GroupAssembledModel::swapPattern(Eigen::SparseMatrix<double>& pattern) {
   pattern_.swap(pattern);
 }
 

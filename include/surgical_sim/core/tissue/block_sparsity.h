@@ -11,9 +11,11 @@ namespace surgical_sim::core {
 /// @param num_nodes number of nodes n; the pattern is 3n x 3n, compressed column, values zero.
 /// @param groups node indices, shape k x g (one group per column), indices in [0, n).
 Eigen::SparseMatrix<double> makeBlockPattern(int num_nodes, const Eigen::MatrixXi& groups);
-/// The pattern in which node i couples with the nodes neighbours[i] (ascending, distinct, in
-/// [0, n), n = neighbours.size(); symmetric: j in neighbours[i] iff i in neighbours[j]).
-Eigen::SparseMatrix<double> makeBlockPattern(const std::vector<std::vector<int>>& neighbours);
+/// Sets `pattern` to the one in which node i couples with the nodes neighbours[i] (ascending,
+/// distinct, in [0, n), n = neighbours.size(); symmetric: j in neighbours[i] iff i in
+/// neighbours[j]), reusing its storage (allocates only to grow it).
+void makeBlockPattern(const std::vector<std::vector<int>>& neighbours,
+                      Eigen::SparseMatrix<double>& pattern);
 
 /// Group-to-nonzero map for scatter-adding dense group matrices into the values of a pattern from
 /// makeBlockPattern() over the same groups.

@@ -37,9 +37,9 @@ class GroupAssembledModel : public TissueModel {
   /// [0, num_nodes)).
   /// @throws std::invalid_argument if SURGICAL_SIM_THREADS is invalid (defaultThreadCount).
   void setGroups(int num_nodes, const Eigen::MatrixXi& groups);
-  /// Only the pattern (compressed, values zero), for a model that never calls setGroups: it
-  /// scatters with its own maps and loops over its own groups.
-  void setPattern(Eigen::SparseMatrix<double> pattern);
+  /// Exchanges the pattern with `pattern` (compressed, values zero), for a model that never calls
+  /// setGroups: it scatters with its own maps and loops over its own groups.
+  void swapPattern(Eigen::SparseMatrix<double>& pattern);
   /// The parallel order of the groups passed to setGroups.
   const GroupSchedule& schedule() const { return schedule_; }
   /// Scatter-adds every group's stiffness matrix K_g = -df_g/dx_g at x into `values` (the
