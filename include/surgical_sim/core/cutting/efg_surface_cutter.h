@@ -148,8 +148,10 @@ class EfgSurfaceCutter {
     std::vector<double> weights;
   };
 
-  /// Maps vertex v to IP ip (-1: none), keeping ip_vertices_.
+  /// Maps vertex v to IP ip (-1: none), keeping ip_vertices_ and segment_reach_.
   void setIp(int v, int ip);
+  /// Sets segment_reach_[v] from v's IP and committed triangles.
+  void updateSegmentReach(int v);
   /// Ends the running cut (its triangles join the committed surface) and updates the tables.
   void commit();
   /// Edge tables (ids in sorted order) and clusters of the current triangle slots from scratch.
@@ -213,8 +215,10 @@ class EfgSurfaceCutter {
   std::vector<std::array<int, 3>> tri_edges_;  ///< edge k = (tri[k], tri[k+1]); free: -1
   std::vector<std::array<int, 2>> edge_tris_;  ///< lower triangle id first; -1: none
   std::vector<std::vector<int>> vertex_tris_;  ///< per vertex, its committed triangles, ascending
-  /// Broad-phase clusters: per cluster its edges and (a superset of) their vertices.
-  std::vector<std::vector<int>> cluster_edges_, cluster_verts_;
+  /// Broad-phase clusters: per cluster its edges and (a superset of) their vertices, the
+  /// latter as cluster_vert_ids_[cluster_vert_begin_[c] .. cluster_vert_begin_[c + 1]).
+  std::vector<std::vector<int>> cluster_edges_;
+  std::vector<int> cluster_vert_begin_ = {0}, cluster_vert_ids_;
   std::vector<int> edge_cluster_;               ///< per edge slot, its cluster (free: -1)
   std::array<Eigen::Vector3d, 2> cluster_box_;  ///< box of the Morton codes [m]
   // Running cut.
@@ -234,7 +238,14 @@ class EfgSurfaceCutter {
   std::vector<std::array<int, 3>> generated_;    ///< triangles of the running cut
   /// (vertex, index in generated_) of each corner of the running cut's triangles, sorted.
   std::vector<std::pair<int, int>> generated_of_;
-  std::vector<std::uint8_t> outcode_;      ///< per vertex, broad-phase scratch of cut()
+  std::vector<std::uint8_t> outcode_;  ///< per vertex, broad-phase scratch of cut()
+  /// Per vertex: its ip_reach when it is on the committed surface and mapped (its segment to
+  /// its IP is tested against the blade), else -1.
+  std::vector<double> segment_reach_;
+  /// Per IP, the cut() call that last computed its current position ip_x_ [-], [m].
+  std::vector<long long> ip_x_call_;
+  std::vector<Eigen::Vector3d> ip_x_;
+  long long calls_ = 0;
   std::vector<std::uint8_t> vertex_mark_;  ///< per vertex, cut() scratch, all 0 between uses
   int sheet_start_ = 0;  ///< first sheet triangle in generated_ (side A, B alternating)
   bool completed_ = false;
