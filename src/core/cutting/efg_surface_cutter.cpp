@@ -812,29 +812,31 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
   // Outcodes: bit d (d + 3) when the vertex stays below (above) the blade's swept box along axis
   // d over the step. One pass over the positions, which also checks them and lists the
   // committed surface's vertices whose segment to their IP may reach the box (`near`: the
-  // vertex's motion grown by its IP reach meets it), ascending.
-  // The pass reads only the positions and segment_reach_, contiguous.
+  // vertex's motion grown by its IP reach meets it), ascending. The pass reads only the
+  // positions and segment_reach_, contiguous, without branches but the `near` test (x - x
+  // sums to 0, or NaN after a non-finite coordinate).
   outcode_.resize(verts_.size());
-  bool finite = true;
+  double round_off = 0.0;
   std::vector<int> near;
-  const double* xs = x_start.data();
-  const double* xe = x_end.data();
+  const double box_lo[3] = {blade_lo.x(), blade_lo.y(), blade_lo.z()};
+  const double box_hi[3] = {blade_hi.x(), blade_hi.y(), blade_hi.z()};
   for (int v = 0; v < numVertices(); ++v) {
-    std::uint8_t code = 0;
+    const double* a = x_start.data() + 3 * static_cast<std::ptrdiff_t>(v);
+    const double* b = x_end.data() + 3 * static_cast<std::ptrdiff_t>(v);
     const double reach = segment_reach_[static_cast<std::size_t>(v)];
+    unsigned code = 0;
     bool reaches = reach >= 0.0;
     for (int d = 0; d < 3; ++d) {
-      const double a = xs[3 * static_cast<std::ptrdiff_t>(v) + d];
-      const double b = xe[3 * static_cast<std::ptrdiff_t>(v) + d];
-      finite = finite && a - a == 0.0 && b - b == 0.0;
-      const double lo = std::min(a, b), hi = std::max(a, b);
-      code |= static_cast<std::uint8_t>((hi < blade_lo[d] ? 1 : 0) << d);
-      code |= static_cast<std::uint8_t>((lo > blade_hi[d] ? 1 : 0) << (d + 3));
-      reaches = reaches && hi + reach >= blade_lo[d] && lo - reach <= blade_hi[d];
+      round_off += (a[d] - a[d]) + (b[d] - b[d]);
+      const double lo = std::min(a[d], b[d]), hi = std::max(a[d], b[d]);
+      code |= static_cast<unsigned>(hi < box_lo[d]) << d;
+      code |= static_cast<unsigned>(lo > box_hi[d]) << (d + 3);
+      reaches = reaches & (hi + reach >= box_lo[d]) & (lo - reach <= box_hi[d]);
     }
-    at(outcode_, v) = code;
+    outcode_[static_cast<std::size_t>(v)] = static_cast<std::uint8_t>(code);
     if (reaches) near.push_back(v);
   }
+  const bool finite = round_off == 0.0;
   if (!finite)
     throw std::invalid_argument(
         "EfgSurfaceCutter::cut: x_start or x_end has a non-finite coordinate");
