@@ -298,25 +298,27 @@ TEST(EfgSurfaceCutter, FindsEveryEdgeCrossingOfAPieceMovedFarDeformedAndSweptFar
   expectClosed(box.cutter);
 }
 
-TEST(EfgSurfaceCutter, FindsEveryVertexToIpSegmentCrossingUnderLargeDeformation) {
+TEST(EfgSurfaceCutter, FindsEveryVertexToIpSegmentCrossingUnderLargeMotion) {
   // Every vertex displaced at random by up to 0.08 m along x and y and 0.04 m along z (other
-  // displacements at the step end); a blade inside the box, under its top face, sweeps 0.6 m
-  // across it in one step and crosses no edge: the remapped vertices are exactly those whose
-  // segment to their IP a sweep test of every candidate finds crossed.
+  // displacements at the step end) while the box moves 0.3 m along x over the step (its IPs
+  // stay); a blade inside it, under its top face, sweeps across between two columns of IPs and
+  // crosses no edge. The remapped vertices are exactly those whose segment to their IP a sweep
+  // test of every candidate finds crossed (some only late in the step, the vertex's start and its
+  // IP on the same side of the blade).
   UnitBox box;
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const auto noise = [&] { return V(0.08 * u(rng), 0.08 * u(rng), 0.04 * u(rng)); };
   Eigen::Matrix3Xd x0 = box.cutter.restVertices(), x1 = x0;
   for (int v = 0; v < box.cutter.numVertices(); ++v) {
-    x0.col(v) += noise();
+    x0.col(v) += V(-0.3, 0.0, 0.0) + noise();
     x1.col(v) += noise();
   }
   BladeSweep s;
   s.start.resize(3, 2);
   s.end.resize(3, 2);
-  s.start << 0.2, 0.2, 0.2, 0.8, 0.91, 0.91;
-  s.end << 0.8, 0.8, 0.2, 0.8, 0.91, 0.91;
+  s.start << 0.6, 0.6, 0.2, 0.8, 0.95, 0.95;
+  s.end << 0.4, 0.4, 0.2, 0.8, 0.95, 0.95;
   const Crossings expected = everyCrossing(box.cutter, box.source, s, x0, x1, 1e-9);
   ASSERT_EQ(expected.edges, 0);
   const EfgSurfaceCutStep r = box.cutter.cut(s, x0, x1);
