@@ -113,6 +113,7 @@ EfgSurfaceCutter::EfgSurfaceCutter(const TriMesh& surface, const EfgMappingSourc
                                 std::to_string(closure.pinched_edges) + " pinched edges");
   verts_.resize(static_cast<std::size_t>(n));
   segment_reach_.assign(verts_.size(), -1.0);
+  segment_ip_.assign(verts_.size(), -1);
   for (Eigen::Index v = 0; v < n; ++v)
     verts_[static_cast<std::size_t>(v)].rest = surface.vertices.col(v);
   tris_.resize(static_cast<std::size_t>(surface.triangles.cols()));
@@ -413,6 +414,7 @@ int EfgSurfaceCutter::newVertex(Eigen::Vector3d rest) {  // by value: verts_ may
     v = numVertices();
     verts_.emplace_back();
     segment_reach_.push_back(-1.0);
+    segment_ip_.push_back(-1);
   }
   Vertex& vert = at(verts_, v);
   vert = Vertex{};
@@ -438,7 +440,9 @@ void EfgSurfaceCutter::setIp(int v, int ip) {
 
 void EfgSurfaceCutter::updateSegmentReach(int v) {
   const bool committed = v < intSize(vertex_tris_) && !at(vertex_tris_, v).empty();
-  at(segment_reach_, v) = at(verts_, v).ip >= 0 && committed ? at(verts_, v).ip_reach : -1.0;
+  const bool tested = at(verts_, v).ip >= 0 && committed;
+  at(segment_reach_, v) = tested ? at(verts_, v).ip_reach : -1.0;
+  at(segment_ip_, v) = tested ? at(verts_, v).ip : -1;
 }
 
 void EfgSurfaceCutter::freeVertex(int v) {
@@ -854,6 +858,7 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
   std::vector<Hit> hits;
   for (std::size_t c = 0; c < cluster_edges_.size(); ++c) {
     // Every vertex of the cluster's edges (and maybe a few more) on one side of the box.
+    if (cluster_edges_[c].empty()) continue;  // all its edges freed
     std::uint8_t common = 0x3f;
     for (int k = cluster_vert_begin_[c]; k < cluster_vert_begin_[c + 1]; ++k)
       common &= at(outcode_, at(cluster_vert_ids_, k));
@@ -882,11 +887,11 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
   std::vector<std::pair<int, CutPlane>> ip_hits;
   ++calls_;
   for (int v : near) {
-    const Vertex& vert = at(verts_, v);
-    Eigen::Vector3d& x_ip = at(ip_x_, vert.ip);
-    if (at(ip_x_call_, vert.ip) != calls_) {
-      at(ip_x_call_, vert.ip) = calls_;
-      x_ip = source_.ipPosition(vert.ip);
+    const int ip = at(segment_ip_, v);
+    Eigen::Vector3d& x_ip = at(ip_x_, ip);
+    if (at(ip_x_call_, ip) != calls_) {
+      at(ip_x_call_, ip) = calls_;
+      x_ip = source_.ipPosition(ip);
     }
     const Eigen::Vector3d lo = x_start.col(v).cwiseMin(x_end.col(v)).cwiseMin(x_ip);
     const Eigen::Vector3d hi = x_start.col(v).cwiseMax(x_end.col(v)).cwiseMax(x_ip);
@@ -897,7 +902,8 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
           edgeSweepCrossing(sweep.start.col(i), sweep.start.col(i + 1), sweep.end.col(i),
                             sweep.end.col(i + 1), x_start.col(v), x_ip, x_end.col(v), x_ip, tol);
       if (!hit) continue;
-      const Eigen::Vector3d d = source_.ipRestPosition(vert.ip) - vert.rest;
+      const Vertex& vert = at(verts_, v);
+      const Eigen::Vector3d d = source_.ipRestPosition(ip) - vert.rest;
       if (d.squaredNorm() > 0.0) ip_hits.push_back({v, {vert.rest + hit->s * d, d.normalized()}});
       break;
     }
