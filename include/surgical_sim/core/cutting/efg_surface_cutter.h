@@ -79,7 +79,8 @@ struct EfgSurfaceCutStep {
 /// there, or the edge direction if that does not separate the endpoints); a fixed row vertex with
 /// its sheet's normal; a committed vertex whose segment to its IP the blade crosses (plane
 /// through the crossing, normal along vertex -> IP; tested for the vertices whose motion comes
-/// within 3 times their rest distance to the IP of the swept box); tips and transient vertices each
+/// within 3 times their rest distance to the IP of the swept box and whose segment's hull over the
+/// step, its two positions and the IP's, has a box meeting it); tips and transient vertices each
 /// step; remapVerticesOfIps() after a volume cut (first ignoring neighbours on the changed IPs in
 /// the 1-ring test, then once more with every neighbour's new IP for those still on a changed IP).
 /// The surface stays closed and edge-manifold at every step (checkSurfaceClosure).
