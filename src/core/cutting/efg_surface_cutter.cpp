@@ -112,6 +112,8 @@ EfgSurfaceCutter::EfgSurfaceCutter(const TriMesh& surface, const EfgMappingSourc
                                 std::to_string(closure.open_edges) + " open and " +
                                 std::to_string(closure.pinched_edges) + " pinched edges");
   verts_.resize(static_cast<std::size_t>(n));
+  segment_reach_.assign(verts_.size(), -1.0);
+  segment_ip_.assign(verts_.size(), -1);
   for (Eigen::Index v = 0; v < n; ++v)
     verts_[static_cast<std::size_t>(v)].rest = surface.vertices.col(v);
   tris_.resize(static_cast<std::size_t>(surface.triangles.cols()));
@@ -121,6 +123,8 @@ EfgSurfaceCutter::EfgSurfaceCutter(const TriMesh& surface, const EfgMappingSourc
   commit();
   // Initial mapping: nearest IP below the tangent plane (no 1-ring test: no vertex is mapped).
   ip_vertices_.resize(static_cast<std::size_t>(source_.numIntegrationPoints()));
+  ip_x_call_.assign(ip_vertices_.size(), 0);
+  ip_x_.resize(ip_vertices_.size());
   for (int v = 0; v < numVertices(); ++v) {
     Vertex& vert = at(verts_, v);
     setIp(v, remapper_.find(vert.rest, vertexNormal(v), vert.planes, {}).ip);
@@ -200,7 +204,10 @@ void EfgSurfaceCutter::commit() {
     std::vector<int> dead = cut_tris_;
     std::sort(dead.begin(), dead.end());
     for (int t : dead) {
-      for (int v : at(tris_, t)) eraseSorted(at(vertex_tris_, v), t);
+      for (int v : at(tris_, t)) {
+        eraseSorted(at(vertex_tris_, v), t);
+        updateSegmentReach(v);
+      }
       if (!options_.rebuild_tables) unlinkEdges(t);
     }
     tri_free_.insert(tri_free_.end(), dead.begin(), dead.end());
@@ -221,7 +228,10 @@ void EfgSurfaceCutter::commit() {
         at(replaced_, t) = 0;
       }
       ++live_tris_;
-      for (int v : g) insertSorted(at(vertex_tris_, v), t);
+      for (int v : g) {
+        insertSorted(at(vertex_tris_, v), t);
+        updateSegmentReach(v);
+      }
       added.push_back(t);
     }
     if (options_.rebuild_tables) {
@@ -286,7 +296,8 @@ void EfgSurfaceCutter::buildTables() {
   std::vector<int> all(edges_.size());
   for (std::size_t e = 0; e < edges_.size(); ++e) all[e] = static_cast<int>(e);
   cluster_edges_.clear();
-  cluster_verts_.clear();
+  cluster_vert_begin_ = {0};
+  cluster_vert_ids_.clear();
   edge_cluster_.assign(edges_.size(), -1);
   addClusters(all);
 }
@@ -379,16 +390,18 @@ void EfgSurfaceCutter::addClusters(const std::vector<int>& edges) {
   std::sort(order.begin(), order.end());
   for (std::size_t i = 0; i < order.size(); i += kClusterEdges) {
     std::vector<int>& members = cluster_edges_.emplace_back();
-    std::vector<int>& vs = cluster_verts_.emplace_back();
+    const auto first = static_cast<long>(cluster_vert_ids_.size());
     for (std::size_t j = i; j < std::min(order.size(), i + kClusterEdges); ++j) {
       const int e = order[j].second;
       members.push_back(e);
       at(edge_cluster_, e) = intSize(cluster_edges_) - 1;
-      vs.push_back(at(edges_, e)[0]);
-      vs.push_back(at(edges_, e)[1]);
+      cluster_vert_ids_.push_back(at(edges_, e)[0]);
+      cluster_vert_ids_.push_back(at(edges_, e)[1]);
     }
-    std::sort(vs.begin(), vs.end());
-    vs.erase(std::unique(vs.begin(), vs.end()), vs.end());
+    std::sort(cluster_vert_ids_.begin() + first, cluster_vert_ids_.end());
+    cluster_vert_ids_.erase(std::unique(cluster_vert_ids_.begin() + first, cluster_vert_ids_.end()),
+                            cluster_vert_ids_.end());
+    cluster_vert_begin_.push_back(intSize(cluster_vert_ids_));
   }
 }
 
@@ -400,6 +413,8 @@ int EfgSurfaceCutter::newVertex(Eigen::Vector3d rest) {  // by value: verts_ may
   } else {
     v = numVertices();
     verts_.emplace_back();
+    segment_reach_.push_back(-1.0);
+    segment_ip_.push_back(-1);
   }
   Vertex& vert = at(verts_, v);
   vert = Vertex{};
@@ -416,9 +431,18 @@ void EfgSurfaceCutter::setIp(int v, int ip) {
   }
   vert.ip = ip;
   vert.ip_reach = 0.0;
-  if (ip < 0) return;
-  at(ip_vertices_, ip).push_back(v);
-  vert.ip_reach = kStretchMargin * (source_.ipRestPosition(ip) - vert.rest).norm();
+  if (ip >= 0) {
+    at(ip_vertices_, ip).push_back(v);
+    vert.ip_reach = kStretchMargin * (source_.ipRestPosition(ip) - vert.rest).norm();
+  }
+  updateSegmentReach(v);
+}
+
+void EfgSurfaceCutter::updateSegmentReach(int v) {
+  const bool committed = v < intSize(vertex_tris_) && !at(vertex_tris_, v).empty();
+  const bool tested = at(verts_, v).ip >= 0 && committed;
+  at(segment_reach_, v) = tested ? at(verts_, v).ip_reach : -1.0;
+  at(segment_ip_, v) = tested ? at(verts_, v).ip : -1;
 }
 
 void EfgSurfaceCutter::freeVertex(int v) {
@@ -792,25 +816,31 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
   // Outcodes: bit d (d + 3) when the vertex stays below (above) the blade's swept box along axis
   // d over the step. One pass over the positions, which also checks them and lists the
   // committed surface's vertices whose segment to their IP may reach the box (`near`: the
-  // vertex's motion grown by its IP reach meets it), ascending.
+  // vertex's motion grown by its IP reach meets it), ascending. The pass reads only the
+  // positions and segment_reach_, contiguous, without branches but the `near` test (x - x
+  // sums to 0, or NaN after a non-finite coordinate).
   outcode_.resize(verts_.size());
-  bool finite = true;
+  double round_off = 0.0;
   std::vector<int> near;
+  const double box_lo[3] = {blade_lo.x(), blade_lo.y(), blade_lo.z()};
+  const double box_hi[3] = {blade_hi.x(), blade_hi.y(), blade_hi.z()};
   for (int v = 0; v < numVertices(); ++v) {
-    std::uint8_t code = 0;
-    const double reach = at(verts_, v).ip_reach;
-    bool reaches = at(verts_, v).ip >= 0 && v < intSize(vertex_tris_) && !vertex_tris_[v].empty();
+    const double* a = x_start.data() + 3 * static_cast<std::ptrdiff_t>(v);
+    const double* b = x_end.data() + 3 * static_cast<std::ptrdiff_t>(v);
+    const double reach = segment_reach_[static_cast<std::size_t>(v)];
+    unsigned code = 0;
+    bool reaches = reach >= 0.0;
     for (int d = 0; d < 3; ++d) {
-      const double a = x_start(d, v), b = x_end(d, v);
-      finite = finite && a - a == 0.0 && b - b == 0.0;
-      const double lo = std::min(a, b), hi = std::max(a, b);
-      code |= static_cast<std::uint8_t>((hi < blade_lo[d] ? 1 : 0) << d);
-      code |= static_cast<std::uint8_t>((lo > blade_hi[d] ? 1 : 0) << (d + 3));
-      reaches = reaches && hi + reach >= blade_lo[d] && lo - reach <= blade_hi[d];
+      round_off += (a[d] - a[d]) + (b[d] - b[d]);
+      const double lo = std::min(a[d], b[d]), hi = std::max(a[d], b[d]);
+      code |= static_cast<unsigned>(hi < box_lo[d]) << d;
+      code |= static_cast<unsigned>(lo > box_hi[d]) << (d + 3);
+      reaches = reaches & (hi + reach >= box_lo[d]) & (lo - reach <= box_hi[d]);
     }
-    at(outcode_, v) = code;
+    outcode_[static_cast<std::size_t>(v)] = static_cast<std::uint8_t>(code);
     if (reaches) near.push_back(v);
   }
+  const bool finite = round_off == 0.0;
   if (!finite)
     throw std::invalid_argument(
         "EfgSurfaceCutter::cut: x_start or x_end has a non-finite coordinate");
@@ -828,8 +858,10 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
   std::vector<Hit> hits;
   for (std::size_t c = 0; c < cluster_edges_.size(); ++c) {
     // Every vertex of the cluster's edges (and maybe a few more) on one side of the box.
+    if (cluster_edges_[c].empty()) continue;  // all its edges freed
     std::uint8_t common = 0x3f;
-    for (int v : cluster_verts_[c]) common &= at(outcode_, v);
+    for (int k = cluster_vert_begin_[c]; k < cluster_vert_begin_[c + 1]; ++k)
+      common &= at(outcode_, at(cluster_vert_ids_, k));
     if (common) continue;
     for (int e : cluster_edges_[c]) {
       if (at(edge_crossing_, e) >= 0) continue;
@@ -849,17 +881,29 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
     }
   }
   // Blade crossing the segment from a vertex to its IP (IP held at its current position).
+  // An IP's position is computed once a call. At every time of the step the segment lies in
+  // the hull of the vertex's two positions and the IP's, and a crossing is a point of it within
+  // tol of the blade, so inside the swept box: a hull whose box misses the swept box is skipped.
   std::vector<std::pair<int, CutPlane>> ip_hits;
+  ++calls_;
   for (int v : near) {
-    const Vertex& vert = at(verts_, v);
-    const Eigen::Vector3d x_ip = source_.ipPosition(vert.ip);
+    const int ip = at(segment_ip_, v);
+    Eigen::Vector3d& x_ip = at(ip_x_, ip);
+    if (at(ip_x_call_, ip) != calls_) {
+      at(ip_x_call_, ip) = calls_;
+      x_ip = source_.ipPosition(ip);
+    }
+    const Eigen::Vector3d lo = x_start.col(v).cwiseMin(x_end.col(v)).cwiseMin(x_ip);
+    const Eigen::Vector3d hi = x_start.col(v).cwiseMax(x_end.col(v)).cwiseMax(x_ip);
+    if ((hi.array() < blade_lo.array()).any() || (lo.array() > blade_hi.array()).any()) continue;
     for (Eigen::Index i = 0; i < segments; ++i) {
       if (at(slabs, static_cast<int>(i)).apart({x_start.col(v), x_end.col(v), x_ip})) continue;
       const auto hit =
           edgeSweepCrossing(sweep.start.col(i), sweep.start.col(i + 1), sweep.end.col(i),
                             sweep.end.col(i + 1), x_start.col(v), x_ip, x_end.col(v), x_ip, tol);
       if (!hit) continue;
-      const Eigen::Vector3d d = source_.ipRestPosition(vert.ip) - vert.rest;
+      const Vertex& vert = at(verts_, v);
+      const Eigen::Vector3d d = source_.ipRestPosition(ip) - vert.rest;
       if (d.squaredNorm() > 0.0) ip_hits.push_back({v, {vert.rest + hit->s * d, d.normalized()}});
       break;
     }

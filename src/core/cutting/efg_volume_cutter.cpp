@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -295,39 +296,25 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
   const Stopwatch detect;
 
   // 1. Broad phase: particles whose motion comes within the stretch margin of the sweep's box
-  // and slabs, then those of their links whose own margin reaches that far.
+  // and slabs, then those of their links whose own margin reaches that far and whose motion box
+  // meets the sweep's box.
   const double tolerance = 1e-9 * grid.spacing;  // [m]
   const Eigen::Vector3d sweep_lo =
       sweep.start.rowwise().minCoeff().cwiseMin(sweep.end.rowwise().minCoeff()).array() - tolerance;
   const Eigen::Vector3d sweep_hi =
       sweep.start.rowwise().maxCoeff().cwiseMax(sweep.end.rowwise().maxCoeff()).array() + tolerance;
   std::vector<efg_sweep_slab::SweepSlab> slabs;
-  for (Eigen::Index i = 0; i + 1 < sweep.start.cols(); ++i)
+  std::vector<std::array<Eigen::Vector3d, 2>> segment_boxes;  // (lower, upper corner) [m]
+  for (Eigen::Index i = 0; i + 1 < sweep.start.cols(); ++i) {
     slabs.push_back(efg_sweep_slab::sweepSlab(sweep, i, tolerance));
-  std::vector<int> candidates;
-  link_mark_.resize(graph_.links().size(), 0);
-  for (int p = 0; p < n; ++p) {
-    const Eigen::Vector3d a = x_start.segment<3>(3 * p);
-    const Eigen::Vector3d b = x_end.segment<3>(3 * p);
-    // Distance from the motion to the sweep's box and to its nearest slab [m].
-    const double box_gap = (sweep_lo - a.cwiseMax(b))
-                               .cwiseMax(a.cwiseMin(b) - sweep_hi)
-                               .cwiseMax(Eigen::Vector3d::Zero())
-                               .maxCoeff();
-    double slab_gap = slabs.empty() ? 0.0 : std::numeric_limits<double>::infinity();
-    for (const efg_sweep_slab::SweepSlab& slab : slabs)
-      slab_gap = std::min(slab_gap, slab.gap({a, b}));
-    const double reach = std::max(box_gap, slab_gap);
-    if (reach > kStretchMargin * max_link_length_) continue;
-    for (const int l : graph_.linksOf(p)) {
-      if (graph_.alive(l) && !link_mark_[static_cast<size_t>(l)] &&
-          reach <= kStretchMargin * graph_.links()[static_cast<size_t>(l)].rest_length) {
-        link_mark_[static_cast<size_t>(l)] = 1;
-        candidates.push_back(l);
-      }
-    }
+    const Eigen::Vector3d lo = sweep.start.col(i)
+                                   .cwiseMin(sweep.start.col(i + 1))
+                                   .cwiseMin(sweep.end.col(i).cwiseMin(sweep.end.col(i + 1)));
+    const Eigen::Vector3d hi = sweep.start.col(i)
+                                   .cwiseMax(sweep.start.col(i + 1))
+                                   .cwiseMax(sweep.end.col(i).cwiseMax(sweep.end.col(i + 1)));
+    segment_boxes.push_back({lo.array() - tolerance, hi.array() + tolerance});
   }
-  for (const int l : candidates) link_mark_[static_cast<size_t>(l)] = 0;
   // Positions of graph node v at the step start (end = 0) or end (1); an IP's are computed once
   // a call.
   ++calls_;
@@ -351,32 +338,62 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
     }
     return ip_x_.col(2 * e + end);
   };
+  // Link l's ends at the step start and end: a (start), b (start), a (end), b (end) [m].
+  const auto ends = [&](int l) -> std::array<Eigen::Vector3d, 4> {
+    const EfgTopologyGraph::Link& link = graph_.links()[static_cast<size_t>(l)];
+    return {position(link.a, 0), position(link.b, 0), position(link.a, 1), position(link.b, 1)};
+  };
+  // The ends move linearly, so over the step the link stays in the hull of their four
+  // positions, and a crossing (a point of the link within `tolerance` of the blade) lies in the
+  // sweep's box and in that of the crossed segment: a link whose four positions' box misses
+  // either is not crossed there.
+  struct LinkBox {
+    Eigen::Vector3d lo, hi;
+    explicit LinkBox(const std::array<Eigen::Vector3d, 4>& x)
+        : lo(x[0].cwiseMin(x[1]).cwiseMin(x[2].cwiseMin(x[3]))),
+          hi(x[0].cwiseMax(x[1]).cwiseMax(x[2].cwiseMax(x[3]))) {}
+    bool misses(const Eigen::Vector3d& a_lo, const Eigen::Vector3d& a_hi) const {
+      return (a_hi.array() < lo.array()).any() || (a_lo.array() > hi.array()).any();
+    }
+  };
+  std::vector<int> candidates, marked;
+  link_mark_.resize(graph_.links().size(), 0);
+  for (int p = 0; p < n; ++p) {
+    const Eigen::Vector3d a = x_start.segment<3>(3 * p);
+    const Eigen::Vector3d b = x_end.segment<3>(3 * p);
+    // Distance from the motion to the sweep's box and to its nearest slab [m].
+    const double box_gap = (sweep_lo - a.cwiseMax(b))
+                               .cwiseMax(a.cwiseMin(b) - sweep_hi)
+                               .cwiseMax(Eigen::Vector3d::Zero())
+                               .maxCoeff();
+    double slab_gap = slabs.empty() ? 0.0 : std::numeric_limits<double>::infinity();
+    for (const efg_sweep_slab::SweepSlab& slab : slabs)
+      slab_gap = std::min(slab_gap, slab.gap({a, b}));
+    const double reach = std::max(box_gap, slab_gap);
+    if (reach > kStretchMargin * max_link_length_) continue;
+    for (const int l : graph_.linksOf(p)) {
+      if (graph_.alive(l) && !link_mark_[static_cast<size_t>(l)] &&
+          reach <= kStretchMargin * graph_.links()[static_cast<size_t>(l)].rest_length) {
+        link_mark_[static_cast<size_t>(l)] = 1;
+        marked.push_back(l);
+        if (!LinkBox(ends(l)).misses(sweep_lo, sweep_hi)) candidates.push_back(l);
+      }
+    }
+  }
+  for (const int l : marked) link_mark_[static_cast<size_t>(l)] = 0;
   std::map<int, std::vector<Eigen::Vector3d>> crossings;  // IP -> rest crossing points [m]
   std::vector<Eigen::Vector3d> all_crossings;
   std::sort(candidates.begin(), candidates.end());
   for (const int l : candidates) {
     const EfgTopologyGraph::Link& link = graph_.links()[static_cast<size_t>(l)];
-    const Eigen::Vector3d e0s = position(link.a, 0), e1s = position(link.b, 0);
-    const Eigen::Vector3d e0e = position(link.a, 1), e1e = position(link.b, 1);
-    // The link's motion box against the sweep's, then each segment's.
-    const Eigen::Vector3d link_lo = e0s.cwiseMin(e1s).cwiseMin(e0e.cwiseMin(e1e));
-    const Eigen::Vector3d link_hi = e0s.cwiseMax(e1s).cwiseMax(e0e.cwiseMax(e1e));
-    const auto disjoint = [&](const Eigen::Vector3d& a_lo, const Eigen::Vector3d& a_hi) {
-      return (a_hi.array() < link_lo.array()).any() || (a_lo.array() > link_hi.array()).any();
-    };
-    if (disjoint(sweep_lo, sweep_hi)) continue;
+    const std::array<Eigen::Vector3d, 4> x = ends(l);
+    const auto& [e0s, e1s, e0e, e1e] = x;
+    const LinkBox box(x);
     for (Eigen::Index i = 0; i + 1 < sweep.start.cols(); ++i) {
-      const Eigen::Vector3d seg_lo = sweep.start.col(i)
-                                         .cwiseMin(sweep.start.col(i + 1))
-                                         .cwiseMin(sweep.end.col(i).cwiseMin(sweep.end.col(i + 1)))
-                                         .array() -
-                                     tolerance;
-      const Eigen::Vector3d seg_hi = sweep.start.col(i)
-                                         .cwiseMax(sweep.start.col(i + 1))
-                                         .cwiseMax(sweep.end.col(i).cwiseMax(sweep.end.col(i + 1)))
-                                         .array() +
-                                     tolerance;
-      if (disjoint(seg_lo, seg_hi)) continue;
+      const auto& segment = segment_boxes[static_cast<size_t>(i)];
+      if (box.misses(segment[0], segment[1]) ||
+          slabs[static_cast<size_t>(i)].apart({e0s, e1s, e0e, e1e}))
+        continue;
       const auto hit =
           edgeSweepCrossing(sweep.start.col(i), sweep.start.col(i + 1), sweep.end.col(i),
                             sweep.end.col(i + 1), e0s, e1s, e0e, e1e, tolerance);

@@ -7,9 +7,12 @@
 #include <cmath>
 #include <iostream>
 #include <random>
+#include <set>
 #include <stdexcept>
+#include <utility>
 
 #include "efg_surface_test_util.h"
+#include "surgical_sim/core/cutting/edge_sweep_ccd.h"
 #include "surgical_sim/core/mesh/surface_closure.h"
 #include "surgical_sim/core/mesh/surface_generators.h"
 #include "surgical_sim/core/mesh/surface_inside.h"
@@ -64,6 +67,16 @@ std::vector<double> pieceVolumes(const EfgSurfaceCutter& c, std::vector<int>& pi
     volume[static_cast<std::size_t>(piece[static_cast<std::size_t>(tris(0, t))])] +=
         X.col(tris(0, t)).dot(X.col(tris(1, t)).cross(X.col(tris(2, t)))) / 6.0;
   return volume;
+}
+
+/// Per vertex, the enclosed volume of its piece [m^3] (0 for a vertex in no triangle).
+std::vector<double> vertexPieceVolumes(const EfgSurfaceCutter& c) {
+  std::vector<int> piece;
+  const std::vector<double> volume = pieceVolumes(c, piece);
+  std::vector<double> out(piece.size(), 0.0);
+  for (std::size_t v = 0; v < piece.size(); ++v)
+    if (piece[v] >= 0) out[v] = volume[static_cast<std::size_t>(piece[v])];
+  return out;
 }
 
 /// The unit box cut through at x = kCutX: two pieces of volumes kCutX and 1 - kCutX.
@@ -219,6 +232,106 @@ TEST(EfgSurfaceCutter, CrossingsFollowThePiecesWhereTheyAreNotWhereTheyRest) {
   EXPECT_EQ(there.crossed_edges, here.crossed_edges);
   EXPECT_EQ(there.completed, here.completed);
   expectClosed(moved.cutter);
+}
+
+/// What a sweep test of the blade against every candidate of `c` (no running cut) finds: the
+/// crossed edges of its triangles, and the vertices whose segment to their IP it crosses among
+/// those the class comment lists (mapped, in a triangle, motion grown by 3 times the rest
+/// distance to the IP meeting the swept box), ascending.
+struct Crossings {
+  int edges = 0;
+  std::vector<int> segments;
+};
+
+Crossings everyCrossing(const EfgSurfaceCutter& c, const EfgMappingSource& source,
+                        const BladeSweep& s, const Eigen::Matrix3Xd& x0, const Eigen::Matrix3Xd& x1,
+                        double tol) {
+  const auto crosses = [&](const V& a0, const V& b0, const V& a1, const V& b1) {
+    for (Eigen::Index i = 0; i + 1 < s.start.cols(); ++i)
+      if (edgeSweepCrossing(s.start.col(i), s.start.col(i + 1), s.end.col(i), s.end.col(i + 1), a0,
+                            b0, a1, b1, tol))
+        return true;
+    return false;
+  };
+  const Eigen::Matrix3Xi tris = c.triangles();
+  std::set<std::pair<int, int>> edges;
+  std::vector<char> in_triangle(static_cast<std::size_t>(c.numVertices()), 0);
+  for (Eigen::Index t = 0; t < tris.cols(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      edges.insert(std::minmax(tris(k, t), tris((k + 1) % 3, t)));
+      in_triangle[static_cast<std::size_t>(tris(k, t))] = 1;
+    }
+  Crossings out;
+  for (const auto& [a, b] : edges)
+    out.edges += crosses(x0.col(a), x0.col(b), x1.col(a), x1.col(b)) ? 1 : 0;
+  const V lo = s.start.rowwise().minCoeff().cwiseMin(s.end.rowwise().minCoeff()).array() - tol;
+  const V hi = s.start.rowwise().maxCoeff().cwiseMax(s.end.rowwise().maxCoeff()).array() + tol;
+  const Eigen::Matrix3Xd X = c.restVertices();
+  for (int v = 0; v < c.numVertices(); ++v) {
+    const int ip = c.vertexIp(v);
+    if (!in_triangle[static_cast<std::size_t>(v)] || ip < 0) continue;
+    const double reach = 3.0 * (source.ipRestPosition(ip) - X.col(v)).norm();
+    const V motion_lo = x0.col(v).cwiseMin(x1.col(v)), motion_hi = x0.col(v).cwiseMax(x1.col(v));
+    if (((motion_hi.array() + reach) < lo.array()).any() ||
+        ((motion_lo.array() - reach) > hi.array()).any())
+      continue;
+    const V x_ip = source.ipPosition(ip);
+    if (reach > 0.0 && crosses(x0.col(v), x_ip, x1.col(v), x_ip)) out.segments.push_back(v);
+  }
+  return out;
+}
+
+TEST(EfgSurfaceCutter, FindsEveryEdgeCrossingOfAPieceMovedFarDeformedAndSweptFar) {
+  // The box cut in two; its larger piece moved 50 m along x, every vertex displaced at random by
+  // up to 0.15 m along each axis (other displacements at the step end, where both pieces have
+  // risen 2 m); the blade descends 6 m through the moved piece in one step. The cutter finds
+  // (crosses or ignores) every edge that a sweep test of the whole surface finds crossed.
+  UnitBox box;
+  box.descendSteps(kTop, 0.05, 40);
+  const std::vector<double> volume = vertexPieceVolumes(box.cutter);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-0.15, 0.15);
+  Eigen::Matrix3Xd x0 = box.cutter.restVertices(), x1 = x0;
+  for (int v = 0; v < box.cutter.numVertices(); ++v) {
+    const V shift(volume[static_cast<std::size_t>(v)] > 0.5 ? 50.0 : 0.0, 0.0, 0.0);
+    x0.col(v) += shift + V(u(rng), u(rng), u(rng));
+    x1.col(v) += shift + V(0.0, 0.0, 2.0) + V(u(rng), u(rng), u(rng));
+  }
+  const BladeSweep s = verticalSweep(50.7, -0.5, 1.5, 4.0, -2.0, kTilt);
+  const Crossings expected = everyCrossing(box.cutter, box.source, s, x0, x1, 1e-9);
+  const EfgSurfaceCutStep r = box.cutter.cut(s, x0, x1);
+  EXPECT_GT(expected.edges, 10);
+  EXPECT_EQ(r.crossed_edges + r.ignored_crossings, expected.edges);
+  expectClosed(box.cutter);
+}
+
+TEST(EfgSurfaceCutter, FindsEveryVertexToIpSegmentCrossingUnderLargeMotion) {
+  // Every vertex displaced at random by up to 0.08 m along x and y and 0.04 m along z (other
+  // displacements at the step end) while the box moves 0.3 m along x over the step (its IPs
+  // stay); a blade inside it, under its top face, sweeps across between two columns of IPs and
+  // crosses no edge. The remapped vertices are exactly those whose segment to their IP a sweep
+  // test of every candidate finds crossed (some only late in the step, the vertex's start and its
+  // IP on the same side of the blade).
+  UnitBox box;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const auto noise = [&] { return V(0.08 * u(rng), 0.08 * u(rng), 0.04 * u(rng)); };
+  Eigen::Matrix3Xd x0 = box.cutter.restVertices(), x1 = x0;
+  for (int v = 0; v < box.cutter.numVertices(); ++v) {
+    x0.col(v) += V(-0.3, 0.0, 0.0) + noise();
+    x1.col(v) += noise();
+  }
+  BladeSweep s;
+  s.start.resize(3, 2);
+  s.end.resize(3, 2);
+  s.start << 0.6, 0.6, 0.2, 0.8, 0.95, 0.95;
+  s.end << 0.4, 0.4, 0.2, 0.8, 0.95, 0.95;
+  const Crossings expected = everyCrossing(box.cutter, box.source, s, x0, x1, 1e-9);
+  ASSERT_EQ(expected.edges, 0);
+  const EfgSurfaceCutStep r = box.cutter.cut(s, x0, x1);
+  EXPECT_EQ(r.crossed_edges + r.ignored_crossings, 0);
+  EXPECT_GT(expected.segments.size(), 2u);
+  EXPECT_EQ(r.remapped, expected.segments);
 }
 
 TEST(EfgSurfaceCutter, BladeThatMissesChangesNothingBitForBit) {

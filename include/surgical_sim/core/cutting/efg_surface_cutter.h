@@ -79,7 +79,8 @@ struct EfgSurfaceCutStep {
 /// there, or the edge direction if that does not separate the endpoints); a fixed row vertex with
 /// its sheet's normal; a committed vertex whose segment to its IP the blade crosses (plane
 /// through the crossing, normal along vertex -> IP; tested for the vertices whose motion comes
-/// within 3 times their rest distance to the IP of the swept box); tips and transient vertices each
+/// within 3 times their rest distance to the IP of the swept box and whose segment's hull over the
+/// step, its two positions and the IP's, has a box meeting it); tips and transient vertices each
 /// step; remapVerticesOfIps() after a volume cut (first ignoring neighbours on the changed IPs in
 /// the 1-ring test, then once more with every neighbour's new IP for those still on a changed IP).
 /// The surface stays closed and edge-manifold at every step (checkSurfaceClosure).
@@ -148,8 +149,10 @@ class EfgSurfaceCutter {
     std::vector<double> weights;
   };
 
-  /// Maps vertex v to IP ip (-1: none), keeping ip_vertices_.
+  /// Maps vertex v to IP ip (-1: none), keeping ip_vertices_, segment_reach_ and segment_ip_.
   void setIp(int v, int ip);
+  /// Sets segment_reach_[v] and segment_ip_[v] from v's IP and committed triangles.
+  void updateSegmentReach(int v);
   /// Ends the running cut (its triangles join the committed surface) and updates the tables.
   void commit();
   /// Edge tables (ids in sorted order) and clusters of the current triangle slots from scratch.
@@ -213,8 +216,10 @@ class EfgSurfaceCutter {
   std::vector<std::array<int, 3>> tri_edges_;  ///< edge k = (tri[k], tri[k+1]); free: -1
   std::vector<std::array<int, 2>> edge_tris_;  ///< lower triangle id first; -1: none
   std::vector<std::vector<int>> vertex_tris_;  ///< per vertex, its committed triangles, ascending
-  /// Broad-phase clusters: per cluster its edges and (a superset of) their vertices.
-  std::vector<std::vector<int>> cluster_edges_, cluster_verts_;
+  /// Broad-phase clusters: per cluster its edges and (a superset of) their vertices, the
+  /// latter as cluster_vert_ids_[cluster_vert_begin_[c] .. cluster_vert_begin_[c + 1]).
+  std::vector<std::vector<int>> cluster_edges_;
+  std::vector<int> cluster_vert_begin_ = {0}, cluster_vert_ids_;
   std::vector<int> edge_cluster_;               ///< per edge slot, its cluster (free: -1)
   std::array<Eigen::Vector3d, 2> cluster_box_;  ///< box of the Morton codes [m]
   // Running cut.
@@ -234,7 +239,15 @@ class EfgSurfaceCutter {
   std::vector<std::array<int, 3>> generated_;    ///< triangles of the running cut
   /// (vertex, index in generated_) of each corner of the running cut's triangles, sorted.
   std::vector<std::pair<int, int>> generated_of_;
-  std::vector<std::uint8_t> outcode_;      ///< per vertex, broad-phase scratch of cut()
+  std::vector<std::uint8_t> outcode_;  ///< per vertex, broad-phase scratch of cut()
+  /// Per vertex: its ip_reach and IP when it is on the committed surface and mapped (its
+  /// segment to its IP is tested against the blade), else -1 and -1.
+  std::vector<double> segment_reach_;
+  std::vector<int> segment_ip_;
+  /// Per IP, the cut() call that last computed its current position ip_x_ [-], [m].
+  std::vector<long long> ip_x_call_;
+  std::vector<Eigen::Vector3d> ip_x_;
+  long long calls_ = 0;
   std::vector<std::uint8_t> vertex_mark_;  ///< per vertex, cut() scratch, all 0 between uses
   int sheet_start_ = 0;  ///< first sheet triangle in generated_ (side A, B alternating)
   bool completed_ = false;

@@ -36,8 +36,9 @@ struct EfgCutResult {
 ///    edgeSweepCrossing (so a static blade in moving tissue cuts). Broad phase: only the links of
 ///    particles whose motion box meets the sweep's box and whose motion meets the slab of one
 ///    segment's sweep (its four corners' extent along the swept quad's normal), both grown by
-///    3 x the longest rest link, and whose own motion box meets a segment's sweep box, are tested
-///    (a link stretched to more than 3 x its rest length can be missed).
+///    3 x the link's rest length, and whose own motion box (of its ends' four positions) meets
+///    the sweep's box, are tested against each segment whose box and slab that motion meets (a
+///    link stretched to more than 3 x its rest length can be missed).
 /// 2. Re-selection, for each IP with a severed link and each IP with indirect particles near a
 ///    severed link: a Dijkstra search from the IP over the alive links (rest lengths) lists the
 ///    visible particles by graph distance r. They are taken in that order, skipping one that would
