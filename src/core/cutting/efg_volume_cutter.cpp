@@ -69,7 +69,9 @@ EfgVolumeCutter::EfgVolumeCutter(EfgModel& model)
       samples_(std::max(4, model.options().volume_samples)),
       sample_masks_(static_cast<size_t>(model.numIntegrationPoints())),
       has_indirect_(static_cast<size_t>(model.numIntegrationPoints()), 0),
-      search_nodes_(static_cast<size_t>(model.numIntegrationPoints())) {
+      search_nodes_(static_cast<size_t>(model.numIntegrationPoints())),
+      searchers_(static_cast<size_t>(graph_.numNodes())),
+      search_dirty_(static_cast<size_t>(model.numIntegrationPoints()), 0) {
   for (const EfgTopologyGraph::Link& l : graph_.links())
     max_link_length_ = std::max(max_link_length_, l.rest_length);
   tree_of_.assign(static_cast<size_t>(graph_.numNodes()), -1);
@@ -417,21 +419,17 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
   for (const int l : result.severed_links) graph_.sever(l);
 
   // 2. Affected IPs: a severed link of their own, or indirect particles near a crossing whose
-  // last search reached an end of a severed link (a search follows only the links of the nodes
-  // it settles: severing any other link changes nothing it saw).
+  // last search settled an end of a link severed since (a search follows only the links of the
+  // nodes it settles: severing any other link leaves its result unchanged).
   std::vector<int> affected;
   for (const auto& entry : crossings) affected.push_back(entry.first);
-  std::vector<int> severed_ends;
-  for (const int l : result.severed_links) {
-    severed_ends.push_back(graph_.links()[static_cast<size_t>(l)].a);
-    severed_ends.push_back(graph_.links()[static_cast<size_t>(l)].b);
-  }
-  std::sort(severed_ends.begin(), severed_ends.end());
+  for (const int l : result.severed_links)
+    for (const int v :
+         {graph_.links()[static_cast<size_t>(l)].a, graph_.links()[static_cast<size_t>(l)].b})
+      for (const int e : searchers_[static_cast<size_t>(v)])
+        search_dirty_[static_cast<size_t>(e)] = 1;
   const auto reaches = [&](int e) {
-    const std::vector<int>& reached = search_nodes_[static_cast<size_t>(e)];
-    return reached.empty() || std::any_of(reached.begin(), reached.end(), [&](int v) {
-             return std::binary_search(severed_ends.begin(), severed_ends.end(), v);
-           });
+    return search_nodes_[static_cast<size_t>(e)].empty() || search_dirty_[static_cast<size_t>(e)];
   };
   const int reach = 4;  // integration cells: two DOF cells
   for (const Eigen::Vector3d& X : all_crossings) {
@@ -601,7 +599,19 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
       sample_masks_[static_cast<size_t>(it->first)] = std::move(it->second);
     throw;
   }
-  for (auto& [e, sel] : selections) search_nodes_[static_cast<size_t>(e)] = std::move(sel.reached);
+  // An isolated IP that kept its volume (no receiver) is retried by every cut near it: its
+  // receiver depends on more than its own search.
+  for (auto& [e, sel] : selections) {
+    std::vector<int>& reached = search_nodes_[static_cast<size_t>(e)];
+    for (const int v : reached) {
+      std::vector<int>& ips = searchers_[static_cast<size_t>(v)];
+      *std::find(ips.begin(), ips.end(), e) = ips.back();
+      ips.pop_back();
+    }
+    reached = sel.particles.empty() ? std::vector<int>() : std::move(sel.reached);
+    for (const int v : reached) searchers_[static_cast<size_t>(v)].push_back(e);
+    search_dirty_[static_cast<size_t>(e)] = 0;
+  }
   for (size_t i = 0; i < touched.size(); ++i)
     if (used_before[i] && model_.lumpedMass()(3 * touched[i]) <= kUnusedMassFraction * total_mass)
       result.unused_particles.push_back(touched[i]);
