@@ -113,7 +113,6 @@ EfgSurfaceCutter::EfgSurfaceCutter(const TriMesh& surface, const EfgMappingSourc
                                 std::to_string(closure.pinched_edges) + " pinched edges");
   verts_.resize(static_cast<std::size_t>(n));
   segment_reach_.assign(verts_.size(), -1.0);
-  segment_ip_.assign(verts_.size(), -1);
   for (Eigen::Index v = 0; v < n; ++v)
     verts_[static_cast<std::size_t>(v)].rest = surface.vertices.col(v);
   tris_.resize(static_cast<std::size_t>(surface.triangles.cols()));
@@ -414,7 +413,6 @@ int EfgSurfaceCutter::newVertex(Eigen::Vector3d rest) {  // by value: verts_ may
     v = numVertices();
     verts_.emplace_back();
     segment_reach_.push_back(-1.0);
-    segment_ip_.push_back(-1);
   }
   Vertex& vert = at(verts_, v);
   vert = Vertex{};
@@ -442,7 +440,6 @@ void EfgSurfaceCutter::updateSegmentReach(int v) {
   const bool committed = v < intSize(vertex_tris_) && !at(vertex_tris_, v).empty();
   const bool tested = at(verts_, v).ip >= 0 && committed;
   at(segment_reach_, v) = tested ? at(verts_, v).ip_reach : -1.0;
-  at(segment_ip_, v) = tested ? at(verts_, v).ip : -1;
 }
 
 void EfgSurfaceCutter::freeVertex(int v) {
@@ -887,7 +884,7 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
   std::vector<std::pair<int, CutPlane>> ip_hits;
   ++calls_;
   for (int v : near) {
-    const int ip = at(segment_ip_, v);
+    const int ip = at(verts_, v).ip;
     Eigen::Vector3d& x_ip = at(ip_x_, ip);
     if (at(ip_x_call_, ip) != calls_) {
       at(ip_x_call_, ip) = calls_;

@@ -438,14 +438,11 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
       for (int j = -reach; j <= reach; ++j)
         for (int i = -reach; i <= reach; ++i) {
           const int e = ipAt(c + Eigen::Vector3i(i, j, k));
-          if (e >= 0 && has_indirect_[static_cast<size_t>(e)]) affected.push_back(e);
+          if (e >= 0 && has_indirect_[static_cast<size_t>(e)] && reaches(e)) affected.push_back(e);
         }
   }
   std::sort(affected.begin(), affected.end());
   affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
-  affected.erase(std::remove_if(affected.begin(), affected.end(),
-                                [&](int e) { return crossings.count(e) == 0 && !reaches(e); }),
-                 affected.end());
   // The volumes this cut changes, over the grid's [m^3].
   std::map<int, double> new_volumes;
   const auto volume = [&](int e) {

@@ -149,9 +149,9 @@ class EfgSurfaceCutter {
     std::vector<double> weights;
   };
 
-  /// Maps vertex v to IP ip (-1: none), keeping ip_vertices_, segment_reach_ and segment_ip_.
+  /// Maps vertex v to IP ip (-1: none), keeping ip_vertices_ and segment_reach_.
   void setIp(int v, int ip);
-  /// Sets segment_reach_[v] and segment_ip_[v] from v's IP and committed triangles.
+  /// Sets segment_reach_[v] from v's IP and committed triangles.
   void updateSegmentReach(int v);
   /// Ends the running cut (its triangles join the committed surface) and updates the tables.
   void commit();
@@ -240,10 +240,9 @@ class EfgSurfaceCutter {
   /// (vertex, index in generated_) of each corner of the running cut's triangles, sorted.
   std::vector<std::pair<int, int>> generated_of_;
   std::vector<std::uint8_t> outcode_;  ///< per vertex, broad-phase scratch of cut()
-  /// Per vertex: its ip_reach and IP when it is on the committed surface and mapped (its
-  /// segment to its IP is tested against the blade), else -1 and -1.
+  /// Per vertex: its ip_reach when it is on the committed surface and mapped (its segment to its
+  /// IP is tested against the blade), else -1 (contiguous for the outcode pass).
   std::vector<double> segment_reach_;
-  std::vector<int> segment_ip_;
   /// Per IP, the cut() call that last computed its current position ip_x_ [-], [m].
   std::vector<long long> ip_x_call_;
   std::vector<Eigen::Vector3d> ip_x_;
