@@ -358,6 +358,7 @@ std::vector<EfgCutSweepRecord> runEfgProgressiveCuts(const EfgCutRunSettings& se
         const StepReport report = integrator->step(problem, settings.dt, state);
         r.step_ms = msSince(t0);
         r.linear_iterations = report.linear_iterations;
+        r.phases = report.phases;
         r.finite = report.status == StepStatus::Ok && state.x.allFinite();
       }
       const EfgCutBody::Update u = body.cut(sweep, x_start, state.x);

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "surgical_sim/core/common/status.h"
 #include "surgical_sim/core/cutting/efg_surface_cutter.h"
 #include "surgical_sim/core/cutting/efg_volume_cutter.h"
 #include "surgical_sim/core/solve/make_linear_solver.h"
@@ -121,8 +122,9 @@ struct EfgCutSweepRecord {
   double mass_error = 0.0;  ///< |total mass - initial| / initial [-]
   EfgCutBody::Times times;
   double step_ms = 0.0;  ///< implicit step incl. the re-analysis after a cut (0 if not simulated)
-  int linear_iterations = 0;  ///< of the step's linear solve (1 for cholmod; 0 if not simulated)
-  bool finite = true;         ///< the step converged (status ok) and the positions are finite
+  int linear_iterations = 0;    ///< of the step's linear solve (1 for cholmod; 0 if not simulated)
+  core::StepPhaseTimes phases;  ///< the step's split (0 if not simulated) [s]
+  bool finite = true;           ///< the step converged (status ok) and the positions are finite
 };
 
 /// Model sizes of runEfgProgressiveCuts().

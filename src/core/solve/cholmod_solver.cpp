@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace surgical_sim::core {
 
@@ -53,12 +54,42 @@ cholmod_sparse CholmodSolver::viewOf(const Eigen::SparseMatrix<double>& A) const
 }
 
 void CholmodSolver::analyzePattern(const Eigen::SparseMatrix<double>& A) {
+  analyzeWithOrdering(A, nullptr);
+}
+
+void CholmodSolver::reanalyzeChangedPattern(const Eigen::SparseMatrix<double>& A) {
+  if (factor_ == nullptr || static_cast<Eigen::Index>(factor_->n) != A.rows() ||
+      A.rows() != A.cols()) {
+    analyzePattern(A);
+    return;
+  }
+  const auto* perm = static_cast<const int*>(factor_->Perm);
+  std::vector<int> ordering(perm, perm + factor_->n);
+  analyzeWithOrdering(A, &ordering);
+  if (factor_ == nullptr || fill() > kMaxKeptOrderingFill * ordered_fill_) analyzePattern(A);
+}
+
+void CholmodSolver::analyzeWithOrdering(const Eigen::SparseMatrix<double>& A,
+                                        std::vector<int>* ordering) {
   releaseFactor();
   matrix_ = A;
   matrix_.makeCompressed();
   residual_.resize(A.rows());
   cholmod_sparse view = viewOf(matrix_);
-  factor_ = cholmod_analyze(&view, &common_);
+  if (ordering == nullptr) {
+    factor_ = cholmod_analyze(&view, &common_);
+    ++orderings_;
+    ordered_fill_ = fill();
+    return;
+  }
+  const int method = common_.method[0].ordering;
+  common_.method[0].ordering = CHOLMOD_GIVEN;
+  factor_ = cholmod_analyze_p(&view, ordering->data(), nullptr, 0, &common_);
+  common_.method[0].ordering = method;
+}
+
+double CholmodSolver::fill() const {
+  return factor_ == nullptr ? 0.0 : common_.lnz / std::max<double>(1.0, matrix_.nonZeros());
 }
 
 bool CholmodSolver::factorize(const Eigen::SparseMatrix<double>& A) {

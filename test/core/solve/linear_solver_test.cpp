@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <memory>
 #include <random>
 #include <string>
@@ -95,6 +96,102 @@ TEST(CholmodSolver, MetisOrderingSolvesLikeAmdWithASparserFactorIn3D) {
   EXPECT_LT(metis.factorNonzeros(), 0.9 * amd.factorNonzeros());
 }
 
+// 2D five-point operator on an n x n grid with edge conductances c(i, j) drawn from [1, contrast]
+// (seeded), plus a small identity: SPD; another contrast field makes a poor preconditioner.
+Eigen::SparseMatrix<double> gridOperator(int n, double contrast, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(1.0, contrast);
+  std::vector<Eigen::Triplet<double>> t;
+  const auto id = [n](int i, int j) { return i + n * j; };
+  const auto link = [&](int a, int b) {
+    const double c = u(rng);
+    t.emplace_back(a, a, c);
+    t.emplace_back(b, b, c);
+    t.emplace_back(a, b, -c);
+    t.emplace_back(b, a, -c);
+  };
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      t.emplace_back(id(i, j), id(i, j), 1e-2);
+      if (i + 1 < n) link(id(i, j), id(i + 1, j));
+      if (j + 1 < n) link(id(i, j), id(i, j + 1));
+    }
+  }
+  Eigen::SparseMatrix<double> A(n * n, n * n);
+  A.setFromTriplets(t.begin(), t.end());
+  A.makeCompressed();
+  return A;
+}
+
+// A plus a spring of stiffness c between nodes a and b for each pair, in each of the nodes'
+// `dims` unknowns (node a's: dims a .. dims a + dims - 1): couplings A may not have.
+Eigen::SparseMatrix<double> withLinks(const Eigen::SparseMatrix<double>& A,
+                                      const std::vector<std::pair<int, int>>& pairs, int dims,
+                                      double c) {
+  std::vector<Eigen::Triplet<double>> t;
+  for (const auto& [a, b] : pairs) {
+    for (int k = 0; k < dims; ++k) {
+      const int i = dims * a + k, j = dims * b + k;
+      t.insert(t.end(), {{i, i, c}, {j, j, c}, {i, j, -c}, {j, i, -c}});
+    }
+  }
+  Eigen::SparseMatrix<double> links(A.rows(), A.cols());
+  links.setFromTriplets(t.begin(), t.end());
+  Eigen::SparseMatrix<double> out = A + links;
+  out.makeCompressed();
+  return out;
+}
+
+// A 3D lattice tangent with a few couplings added (diagonal neighbours of a few nodes), as a cut
+// adds them: the re-analysis keeps the ordering, solves as well and fills as little as a fresh one
+// within kMaxKeptOrderingFill.
+TEST(CholmodSolver, ReanalysisOfASmallPatternChangeKeepsTheOrdering) {
+  const SpringLatticeModel lattice =
+      SpringLatticeModel::lattice(8, 8, 8, 0.1, 1000.0, 0.1, SpringLatticeModel::Law::Nonlinear);
+  const Eigen::SparseMatrix<double> A0 = perturbedTangent(lattice, 0.0);
+  const Eigen::SparseMatrix<double> A1 =
+      withLinks(A0, {{0, 9}, {100, 109}, {250, 259}, {400, 409}}, 3, 50.0);  // a to a + 1 + 8
+  ASSERT_GT(A1.nonZeros(), A0.nonZeros());
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A0.rows(), -1.0, 1.0);
+  CholmodSolver kept, fresh;
+  kept.analyzePattern(A0);
+  ASSERT_TRUE(kept.factorize(A0));
+  kept.reanalyzeChangedPattern(A1);
+  fresh.analyzePattern(A1);
+  Eigen::VectorXd x_kept = Eigen::VectorXd::Zero(A1.rows()), x_fresh = x_kept;
+  for (auto [solver, x] : {std::pair{&kept, &x_kept}, std::pair{&fresh, &x_fresh}}) {
+    ASSERT_TRUE(solver->factorize(A1));
+    EXPECT_LT(solver->solve(b, *x).relative_residual, 1e-12);
+  }
+  EXPECT_LT((x_kept - x_fresh).norm(), 1e-10 * x_fresh.norm());
+  EXPECT_EQ(kept.orderings(), 1);
+  EXPECT_LE(kept.factorNonzeros(), CholmodSolver::kMaxKeptOrderingFill * fresh.factorNonzeros());
+}
+
+// The pattern of a 30 x 30 grid with its nodes numbered at random, after a diagonal matrix: the
+// diagonal's ordering fills the grid's factor many times over, so it is ordered afresh.
+TEST(CholmodSolver, ReanalysisOrdersAfreshWhenTheKeptOrderingFillsTooMuch) {
+  const Eigen::SparseMatrix<double> grid = gridOperator(30, 10.0, 1);
+  Eigen::VectorXi order = Eigen::VectorXi::LinSpaced(grid.rows(), 0, grid.rows() - 1);
+  std::shuffle(order.data(), order.data() + order.size(), std::mt19937(3));
+  const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> scramble(order);
+  Eigen::SparseMatrix<double> A1;
+  A1 = grid.twistedBy(scramble);
+  A1.makeCompressed();
+  Eigen::SparseMatrix<double> A0(grid.rows(), grid.cols());
+  A0.setIdentity();
+  A0.makeCompressed();
+  CholmodSolver solver, fresh;
+  solver.analyzePattern(A0);
+  solver.reanalyzeChangedPattern(A1);
+  fresh.analyzePattern(A1);
+  EXPECT_EQ(solver.orderings(), 2);
+  EXPECT_EQ(solver.factorNonzeros(), fresh.factorNonzeros());
+  ASSERT_TRUE(solver.factorize(A1));
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(A1.rows());
+  EXPECT_LT(solver.solve(Eigen::VectorXd::Ones(A1.rows()), x).relative_residual, 1e-12);
+}
+
 TEST(PcgSolver, JacobiFailsOnNegativeDiagonal) {
   Eigen::SparseMatrix<double> A = spdTestMatrix(3);
   A.coeffRef(0, 0) = -1.0;
@@ -157,33 +254,6 @@ TEST(PcgSolver, CholeskyReuseRefreshesAfterInterval) {
   EXPECT_GT(reused, refreshed);
 }
 
-// 2D five-point operator on an n x n grid with edge conductances c(i, j) drawn from [1, contrast]
-// (seeded), plus a small identity: SPD; another contrast field makes a poor preconditioner.
-Eigen::SparseMatrix<double> gridOperator(int n, double contrast, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(1.0, contrast);
-  std::vector<Eigen::Triplet<double>> t;
-  const auto id = [n](int i, int j) { return i + n * j; };
-  const auto link = [&](int a, int b) {
-    const double c = u(rng);
-    t.emplace_back(a, a, c);
-    t.emplace_back(b, b, c);
-    t.emplace_back(a, b, -c);
-    t.emplace_back(b, a, -c);
-  };
-  for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) {
-      t.emplace_back(id(i, j), id(i, j), 1e-2);
-      if (i + 1 < n) link(id(i, j), id(i + 1, j));
-      if (j + 1 < n) link(id(i, j), id(i, j + 1));
-    }
-  }
-  Eigen::SparseMatrix<double> A(n * n, n * n);
-  A.setFromTriplets(t.begin(), t.end());
-  A.makeCompressed();
-  return A;
-}
-
 // The kept factor of A0 needs hundreds of iterations on A1, far more than a refactorization costs:
 // with adaptive_refresh the next factorize() refreshes it, then keeps the fresh factor; without,
 // it is kept until refresh_interval. Every solve meets the tolerance either way.
@@ -222,6 +292,37 @@ TEST(PcgSolver, AdaptiveRefreshRefactorizesWhenTheKeptFactorCostsMoreThanARefres
     EXPECT_GT(stale_iterations, 50);
     EXPECT_EQ(solver.choleskyFactorizations(), adaptive ? 2 : 1);
   }
+}
+
+// A kept factor of an older pattern (a few couplings added): the refresh re-analyses the new
+// pattern with the kept ordering and factorizes it exactly.
+TEST(PcgSolver, RefreshOfAChangedPatternKeepsTheOrdering) {
+  const Eigen::SparseMatrix<double> A0 = gridOperator(30, 10.0, 1);
+  // Node (i, j) to (i + 1, j + 1).
+  const Eigen::SparseMatrix<double> A1 =
+      withLinks(A0, {{31, 62}, {200, 231}, {451, 482}, {700, 731}}, 1, 5.0);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A0.rows(), -1.0, 2.0);
+  const Eigen::VectorXd expected = Eigen::MatrixXd(A1).llt().solve(b);
+  PcgSettings pcg;
+  pcg.relative_tolerance = 1e-12;
+  pcg.refresh_interval = 2;
+  PcgSolver solver(PcgPreconditioner::CholeskyReuse, pcg);
+  solver.analyzePattern(A0);
+  ASSERT_TRUE(solver.factorize(A0));
+  solver.analyzePattern(A1);  // the factor of A0 is kept, with a local correction
+  for (int call = 0; call < 2; ++call) {
+    ASSERT_TRUE(solver.factorize(A1));  // call 1: the refresh
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(A0.rows());
+    const LinearSolveReport report = solver.solve(b, x);
+    ASSERT_TRUE(report.ok);
+    EXPECT_LT((x - expected).norm(), 1e-9 * expected.norm());
+    if (call == 1) {
+      EXPECT_LE(report.iterations, 3);  // exact factor, single precision
+    }
+  }
+  EXPECT_EQ(solver.choleskyFactorizations(), 2);
+  EXPECT_EQ(solver.choleskyAnalyses(), 2);
+  EXPECT_EQ(solver.choleskyOrderings(), 1);
 }
 
 TEST(LinearSolverSettings, InvalidSettingsThrowNamingTheParameter) {

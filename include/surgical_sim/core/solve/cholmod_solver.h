@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <string>
+#include <vector>
 
 #include "surgical_sim/core/solve/linear_solver.h"
 #include "surgical_sim/core/solve/single_precision_cholesky.h"
@@ -51,6 +52,17 @@ class CholmodSolver final : public LinearSolver {
   std::string name() const override;
   /// Symbolic analysis (ordering + supernodal structure) of A's pattern, A square n x n.
   void analyzePattern(const Eigen::SparseMatrix<double>& A) override;
+  /// analyzePattern() of a changed pattern of the same size that keeps the fill-reducing ordering
+  /// of the current analysis (a cut adds or removes a few couplings; the ordering, most of an
+  /// analysis's cost, stays good). Orders afresh without a current analysis of the same size, or
+  /// when the kept ordering's factor entries per matrix entry exceed kMaxKeptOrderingFill times
+  /// those of the last fresh ordering.
+  void reanalyzeChangedPattern(const Eigen::SparseMatrix<double>& A);
+  /// Factor fill growth (entries of L per entry of A, relative to the last fresh ordering) up to
+  /// which reanalyzeChangedPattern() keeps the ordering.
+  static constexpr double kMaxKeptOrderingFill = 1.2;
+  /// Fresh fill-reducing orderings since construction (for tests and benchmarks).
+  int orderings() const { return orderings_; }
   /// Numeric LL^T of A (same pattern as analysed). Returns false if A is not positive definite,
   /// its pattern differs from the analysed one, or CHOLMOD reports an error.
   bool factorize(const Eigen::SparseMatrix<double>& A) override;
@@ -75,6 +87,11 @@ class CholmodSolver final : public LinearSolver {
 
  private:
   void releaseFactor();
+  /// Releases the factor, copies A and analyses it: with a fresh ordering (counted, its fill
+  /// stored) if ordering is null, else with the given one (permuted as CHOLMOD_GIVEN).
+  void analyzeWithOrdering(const Eigen::SparseMatrix<double>& A, std::vector<int>* ordering);
+  /// Entries of L per entry of the analysed matrix (0 without an analysis).
+  double fill() const;
   cholmod_sparse viewOf(const Eigen::SparseMatrix<double>& A) const;
 
   cholmod_common common_;
@@ -87,6 +104,8 @@ class CholmodSolver final : public LinearSolver {
   CholmodPreconditioning preconditioning_;
   SinglePrecisionCholesky single_;  ///< copy of the factor (SinglePrecision only)
   bool factorized_ = false;
+  int orderings_ = 0;
+  double ordered_fill_ = 0.0;  ///< entries of L per entry of A at the last fresh ordering
 };
 
 }  // namespace surgical_sim::core

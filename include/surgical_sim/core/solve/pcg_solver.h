@@ -90,7 +90,8 @@ class PcgSolver final : public LinearSolver {
   /// model whose DOFs stay, e.g. EfgVolumeCutter): the factor is kept, not re-analysed. Until its
   /// refresh is due (refresh_interval, adaptive_refresh) it preconditions the
   /// new pattern through a LocalSchwarzCorrection on the unknowns whose pattern changed
-  /// (changedPatternUnknowns() with kLocalRings rings); the refresh re-analyses the new pattern.
+  /// (changedPatternUnknowns() with kLocalRings rings); the refresh re-analyses the new pattern,
+  /// keeping the fill-reducing ordering (CholmodSolver::reanalyzeChangedPattern).
   /// The same pattern, or a change on more than half the unknowns, is analysed afresh.
   void analyzePattern(const Eigen::SparseMatrix<double>& A) override;
   /// Copies A's values and builds the preconditioner. Returns false if the pattern differs, a
@@ -109,6 +110,9 @@ class PcgSolver final : public LinearSolver {
   /// Symbolic analyses of the Cholesky preconditioner since construction (CholeskyReuse,
   /// CholeskyWarped; for tests and benchmarks).
   int choleskyAnalyses() const { return cholesky_analyses_; }
+  /// Fresh fill-reducing orderings among them (a refresh of a changed pattern keeps the ordering:
+  /// CholmodSolver::reanalyzeChangedPattern).
+  int choleskyOrderings() const { return cholesky_.orderings(); }
   /// Rings of pattern neighbours around the changed unknowns of a kept factor's correction.
   static constexpr int kLocalRings = 1;
   /// Iteration budget of a solve with a factor of an older pattern before it refactorizes.
