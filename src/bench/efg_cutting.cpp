@@ -283,6 +283,9 @@ std::vector<EfgCutSweepRecord> runEfgProgressiveCuts(const EfgCutRunSettings& se
   requirePositive("spacing", settings.spacing);
   requirePositive("front_width", settings.front_width);
   requirePositive("dt", settings.dt);
+  if (settings.settle_steps < 0)
+    throw std::invalid_argument("settle_steps = " + std::to_string(settings.settle_steps) +
+                                " must be >= 0");
   if (settings.cuts < 1 || settings.sweeps_per_cut < 1)
     throw std::invalid_argument("cuts and sweeps_per_cut must be >= 1 (got " +
                                 std::to_string(settings.cuts) + ", " +
@@ -328,6 +331,19 @@ std::vector<EfgCutSweepRecord> runEfgProgressiveCuts(const EfgCutRunSettings& se
   const auto integrator = makeIntegrator(IntegratorKind::ImplicitEulerLinearized, {},
                                          makeLinearSolver(settings.solver, pcg));
 
+  if (settings.simulate && settings.settle_steps > 0) {
+    double settled_ms = 0.0;
+    for (int i = 0; i < settings.settle_steps; ++i) {
+      const Clock::time_point t0 = Clock::now();
+      const StepReport report = integrator->step(problem, settings.dt, state);
+      if (2 * i >= settings.settle_steps) settled_ms += msSince(t0);
+      if (report.status != StepStatus::Ok || !state.x.allFinite())
+        throw std::runtime_error("runEfgProgressiveCuts: settle step " + std::to_string(i) +
+                                 " failed (" + toString(report.status) + ")");
+    }
+    if (info)
+      info->settled_step_ms = settled_ms / (settings.settle_steps - settings.settle_steps / 2);
+  }
   std::vector<EfgCutSweepRecord> records;
   const double golden = 0.5 * (std::sqrt(5.0) - 1.0);
   for (int c = 0; c < settings.cuts; ++c) {

@@ -318,7 +318,7 @@ BenchmarkScene tightReferenceScene(const BenchmarkScene& scene) {
 
 std::vector<BenchmarkVariant> benchVariants(const BenchmarkScene& scene) {
   if (!scene.variants.empty()) return scene.variants;
-  return {{"", scene}};
+  return {{"", scene, {}}};
 }
 
 void applyBenchThreads(const BenchmarkScene& scene) {

@@ -64,29 +64,42 @@ TEST(EfgProgressiveCuts, DofsAndMassStayWhileTheSurfaceOpens) {
 TEST(EfgProgressiveCuts, FactorReusingSolverConvergesThroughTheCuts) {
   EfgCutRunSettings settings = coarseRun(3, 4);
   settings.solver = SolverKind::PcgCholeskyWarped;
-  const std::vector<EfgCutSweepRecord> records = runEfgProgressiveCuts(settings);
+  settings.settle_steps = 4;
+  EfgCutRunInfo info;
+  const std::vector<EfgCutSweepRecord> records = runEfgProgressiveCuts(settings, &info);
   ASSERT_EQ(records.size(), 12u);
+  EXPECT_GT(info.settled_step_ms, 0.0);
   int changed = 0;
   for (const EfgCutSweepRecord& r : records) {
     EXPECT_TRUE(r.finite) << "cut " << r.cut << " sweep " << r.sweep;  // converged to tolerance
     EXPECT_GE(r.linear_iterations, 1);
+    // The phases are parts of the step, each of them timed.
+    EXPECT_GT(r.phases.forces, 0.0);
+    EXPECT_GT(r.phases.linear_solve, 0.0);
+    EXPECT_LE(1e3 * r.phases.sum(), r.step_ms);
     changed += r.changed_ips;
   }
   EXPECT_GT(changed, 0);
 }
 
 TEST(EfgProgressiveCuts, RejectsBadSettingsByName) {
+  const auto expectNamed = [](const EfgCutRunSettings& settings, const std::string& name) {
+    try {
+      runEfgProgressiveCuts(settings);
+      ADD_FAILURE() << "no throw for " << name;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+  };
   EfgCutRunSettings settings;
   settings.depth = 3.0;
-  try {
-    runEfgProgressiveCuts(settings);
-    FAIL() << "no throw";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("depth"), std::string::npos);
-  }
+  expectNamed(settings, "depth");
   settings.depth = 0.5;
+  settings.settle_steps = -1;
+  expectNamed(settings, "settle_steps");
+  settings.settle_steps = 0;
   settings.spacing = -1.0;
-  EXPECT_THROW(runEfgProgressiveCuts(settings), std::invalid_argument);
+  expectNamed(settings, "spacing");
 }
 
 }  // namespace

@@ -100,6 +100,8 @@ struct EfgCutRunSettings {
   /// Blade edge length [m], >= 0; 0: six times semi_axes.x (every cut spans the body).
   double blade_length = 0.0;
   bool simulate = true;  ///< one implicit Euler step per sweep under gravity
+  /// With simulate: uncut steps before the first cut (the body sags onto its clamp) [-], >= 0
+  int settle_steps = 0;
   /// Linear solver of the steps (PcgSettings with adaptive_refresh; after a cut the integrator
   /// is told modelChanged(): cholmod re-analyses a changed pattern and the factor-reusing solvers
   /// keep their factor).
@@ -132,14 +134,17 @@ struct EfgCutRunInfo {
   int ips = 0;
   int particles = 0;
   int surface_triangles = 0;  ///< before the cuts
+  /// Mean step of the second half of the settle steps: the uncut body's step [ms] (0 without)
+  double settled_step_ms = 0.0;
 };
 
 /// cuts x sweeps_per_cut sweeps: cut i is a straight blade (blade_length, centred) in the vertical
 /// plane at angle i x 137.5 deg about z, offset from the centre by a golden-ratio sequence within
 /// +-a/2, descending from above the top to depth x height below it in sweeps_per_cut equal steps.
 /// With simulate: the particles with rest z below the lowest particle + 2 spacing are clamped,
-/// particles the cuts leave unused are pinned where they are, gravity -z; each sweep steps the
-/// dynamics first, then cuts with the step's motion.
+/// particles the cuts leave unused are pinned where they are, gravity -z; settle_steps steps
+/// without a cut, then each sweep steps the dynamics first and cuts with the step's motion.
+/// @throws std::runtime_error if a settle step fails.
 /// @throws std::invalid_argument naming the setting out of range.
 std::vector<EfgCutSweepRecord> runEfgProgressiveCuts(const EfgCutRunSettings& settings,
                                                      EfgCutRunInfo* info = nullptr);

@@ -240,7 +240,7 @@ EfgVolumeCutter::Selection EfgVolumeCutter::select(int e) const {
     with << points, grid.particles.col(v);
     const int size = static_cast<int>(with.cols());
     const int free_places = std::max(target - size, 0);
-    if (size >= target || affineRank(with, scale) + free_places >= 3) {
+    if (size >= target || free_places >= 3 || affineRank(with, scale) + free_places >= 3) {
       points = with;
       out.particles.push_back(v);
       out.distances.push_back(r);
