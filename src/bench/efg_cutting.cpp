@@ -336,7 +336,7 @@ std::vector<EfgCutSweepRecord> runEfgProgressiveCuts(const EfgCutRunSettings& se
     for (int i = 0; i < settings.settle_steps; ++i) {
       const Clock::time_point t0 = Clock::now();
       const StepReport report = integrator->step(problem, settings.dt, state);
-      if (2 * i >= settings.settle_steps) settled_ms += msSince(t0);
+      if (i >= settings.settle_steps / 2) settled_ms += msSince(t0);
       if (report.status != StepStatus::Ok || !state.x.allFinite())
         throw std::runtime_error("runEfgProgressiveCuts: settle step " + std::to_string(i) +
                                  " failed (" + toString(report.status) + ")");
