@@ -331,13 +331,23 @@ std::vector<EfgCutSweepRecord> runEfgProgressiveCuts(const EfgCutRunSettings& se
   const auto integrator = makeIntegrator(IntegratorKind::ImplicitEulerLinearized, {},
                                          makeLinearSolver(settings.solver, pcg));
 
+  // One implicit step, its wall time in ms [ms]; stepOk: converged, positions finite.
+  const auto timedStep = [&](double& ms) {
+    const Clock::time_point t0 = Clock::now();
+    const StepReport report = integrator->step(problem, settings.dt, state);
+    ms = msSince(t0);
+    return report;
+  };
+  const auto stepOk = [&](const StepReport& report) {
+    return report.status == StepStatus::Ok && state.x.allFinite();
+  };
   if (settings.simulate && settings.settle_steps > 0) {
     double settled_ms = 0.0;
     for (int i = 0; i < settings.settle_steps; ++i) {
-      const Clock::time_point t0 = Clock::now();
-      const StepReport report = integrator->step(problem, settings.dt, state);
-      if (i >= settings.settle_steps / 2) settled_ms += msSince(t0);
-      if (report.status != StepStatus::Ok || !state.x.allFinite())
+      double ms = 0.0;
+      const StepReport report = timedStep(ms);
+      if (i >= settings.settle_steps / 2) settled_ms += ms;
+      if (!stepOk(report))
         throw std::runtime_error("runEfgProgressiveCuts: settle step " + std::to_string(i) +
                                  " failed (" + toString(report.status) + ")");
     }
@@ -370,12 +380,10 @@ std::vector<EfgCutSweepRecord> runEfgProgressiveCuts(const EfgCutRunSettings& se
       r.sweep = s;
       Eigen::VectorXd x_start = state.x;
       if (settings.simulate) {
-        const Clock::time_point t0 = Clock::now();
-        const StepReport report = integrator->step(problem, settings.dt, state);
-        r.step_ms = msSince(t0);
+        const StepReport report = timedStep(r.step_ms);
         r.linear_iterations = report.linear_iterations;
         r.phases = report.phases;
-        r.finite = report.status == StepStatus::Ok && state.x.allFinite();
+        r.finite = stepOk(report);
       }
       const EfgCutBody::Update u = body.cut(sweep, x_start, state.x);
       if (!u.volume.changed_ips.empty()) {

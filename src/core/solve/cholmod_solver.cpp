@@ -89,7 +89,7 @@ void CholmodSolver::analyzeWithOrdering(const Eigen::SparseMatrix<double>& A,
 }
 
 double CholmodSolver::fill() const {
-  return factor_ == nullptr ? 0.0 : common_.lnz / std::max<double>(1.0, matrix_.nonZeros());
+  return factorNonzeros() / std::max<double>(1.0, matrix_.nonZeros());
 }
 
 bool CholmodSolver::factorize(const Eigen::SparseMatrix<double>& A) {
