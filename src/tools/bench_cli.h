@@ -7,6 +7,7 @@
 #include <functional>
 #include <initializer_list>
 #include <iostream>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -23,6 +24,17 @@ inline bool wantsHelp(int argc, char** argv) {
     if (arg == "--help" || arg == "-h") return true;
   }
   return false;
+}
+
+/// `text` as a count: decimal digits only, in [1, INT_MAX]; nullopt otherwise (no sign, no
+/// exponent, no overflow to a wrapped value as with atoi).
+inline std::optional<int> parseCount(const std::string& text) {
+  if (text.empty() || text.size() > 10) return std::nullopt;
+  for (const char c : text)
+    if (c < '0' || c > '9') return std::nullopt;
+  const long long value = std::stoll(text);
+  if (value < 1 || value > std::numeric_limits<int>::max()) return std::nullopt;
+  return static_cast<int>(value);
 }
 
 /// Prints "<tool>: <what>" as one line on stderr (unbuffered): a long benchmark shows one line per

@@ -34,7 +34,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
+#include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -447,7 +450,7 @@ constexpr const char* kUsage =
     "  --efg       the meshless (EFG) cutters on the liver-like body: cut-update phase times,\n"
     "              progressive cuts with implicit steps, T3(c), fuzz\n"
     "  --only PART with --efg: only update, progressive, t3c or fuzz\n"
-    "  --out DIR   output folder (default ./report)\n"
+    "  --out DIR   output folder, created if missing (default ./report)\n"
     "  --fuzz N    random sweeps of the fuzz campaign, >= 1 (default 1000)\n"
     "  --cuts N    progressive cuts of --efg, >= 1 (default 1000)\n"
     "  --solver S  linear solver of the progressive cuts' steps (default cholmod)\n"
@@ -469,10 +472,16 @@ int main(int argc, char** argv) {
     const std::string arg = argv[i];
     if (arg == "--out" && i + 1 < argc) {
       dir = argv[++i];
-    } else if (arg == "--fuzz" && i + 1 < argc) {
-      sweeps = std::atoi(argv[++i]);
-    } else if (arg == "--cuts" && i + 1 < argc) {
-      cuts = std::atoi(argv[++i]);
+    } else if ((arg == "--fuzz" || arg == "--cuts") && i + 1 < argc) {
+      const std::string value = argv[++i];
+      const std::optional<int> count = surgical_sim::tools::parseCount(value);
+      if (!count) {
+        std::cerr << "cutting_bench: " << arg << " '" << value
+                  << "' is not a whole number from 1 to " << std::numeric_limits<int>::max()
+                  << "\n";
+        return 2;
+      }
+      (arg == "--fuzz" ? sweeps : cuts) = *count;
     } else if (arg == "--solver" && i + 1 < argc) {
       const std::string name = argv[++i];
       const auto kind = ss::enumFromName(ss::kSolverNames, name);
@@ -493,14 +502,18 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  if (sweeps < 1 || cuts < 1) {
-    std::cerr << "cutting_bench: --fuzz and --cuts must be >= 1\n";
-    return 2;
-  }
   if (!only.empty() &&
       (!efg || (only != "update" && only != "progressive" && only != "t3c" && only != "fuzz"))) {
     std::cerr << "cutting_bench: --only " << only
               << " needs --efg and one of update, progressive, t3c, fuzz\n";
+    return 2;
+  }
+  // Before any work: a benchmark that runs for minutes must not fail only when it writes.
+  std::error_code made;
+  std::filesystem::create_directories(dir, made);
+  if (made || !std::filesystem::is_directory(dir)) {
+    std::cerr << "cutting_bench: cannot create the output folder " << dir
+              << (made ? ": " + made.message() : std::string(": not a folder")) << "\n";
     return 2;
   }
   try {
