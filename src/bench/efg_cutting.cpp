@@ -384,6 +384,11 @@ std::vector<EfgCutSweepRecord> runEfgProgressiveCuts(const EfgCutRunSettings& se
         r.linear_iterations = report.linear_iterations;
         r.phases = report.phases;
         r.finite = stepOk(report);
+        r.max_displacement = (state.x - model.restPositions())
+                                 .reshaped(3, model.numNodes())
+                                 .colwise()
+                                 .norm()
+                                 .maxCoeff();
       }
       const EfgCutBody::Update u = body.cut(sweep, x_start, state.x);
       if (!u.volume.changed_ips.empty()) {

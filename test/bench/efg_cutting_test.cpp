@@ -82,6 +82,26 @@ TEST(EfgProgressiveCuts, FactorReusingSolverConvergesThroughTheCuts) {
   EXPECT_GT(changed, 0);
 }
 
+// Hostile blade: each cut spans the body and goes through it in one sweep (three pieces can
+// come loose at once), under the kept, warped factor. Every step must converge, stay finite and
+// move the liver (75 x 50 x 30 mm, sagging under gravity) by less than its own length.
+TEST(EfgProgressiveCuts, ThroughCutsInOneSweepUnderTheKeptFactorStayOkAndBounded) {
+  EfgCutRunSettings settings = coarseRun(4, 1);
+  settings.blade_length = 0.0;  // spans the body
+  settings.depth = 2.0;         // through it
+  settings.solver = SolverKind::PcgCholeskyWarped;
+  EfgCutRunInfo info;
+  const std::vector<EfgCutSweepRecord> records = runEfgProgressiveCuts(settings, &info);
+  ASSERT_EQ(records.size(), 4u);
+  for (const EfgCutSweepRecord& r : records) {
+    EXPECT_TRUE(r.finite) << "cut " << r.cut;
+    EXPECT_LT(r.max_displacement, 0.15) << "cut " << r.cut;
+    EXPECT_EQ(r.dofs, 3 * info.particles);
+    EXPECT_LE(r.mass_error, 1e-12);
+  }
+  EXPECT_GT(records.back().pieces, 1);
+}
+
 TEST(EfgProgressiveCuts, RejectsBadSettingsByName) {
   const auto expectNamed = [](const EfgCutRunSettings& settings, const std::string& name) {
     try {

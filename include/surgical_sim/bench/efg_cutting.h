@@ -126,7 +126,8 @@ struct EfgCutSweepRecord {
   double step_ms = 0.0;  ///< implicit step incl. the re-analysis after a cut (0 if not simulated)
   int linear_iterations = 0;    ///< of the step's linear solve (1 for cholmod; 0 if not simulated)
   core::StepPhaseTimes phases;  ///< the step's split (0 if not simulated) [s]
-  bool finite = true;           ///< the step converged (status ok) and the positions are finite
+  double max_displacement = 0.0;  ///< largest particle distance from rest after the step [m]
+  bool finite = true;             ///< the step converged (status ok) and the positions are finite
 };
 
 /// Model sizes of runEfgProgressiveCuts().
