@@ -750,17 +750,21 @@ Eigen::Vector3d EfgSurfaceCutter::vertexNormal(int v) const {
 }
 
 void EfgSurfaceCutter::remap(int v, const std::vector<std::uint8_t>* excluded) {
-  std::vector<int> ring;
-  forIncident(v, [&](const std::array<int, 3>& t) {
-    for (int u : t) {
-      const int ip = at(verts_, u).ip;
-      if (u != v && ip >= 0 && !(excluded && at(*excluded, ip))) ring.push_back(ip);
-    }
-  });
-  std::sort(ring.begin(), ring.end());
-  ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
   Vertex& vert = at(verts_, v);
-  setIp(v, remapper_.find(vert.rest, vertexNormal(v), vert.planes, ring).ip);
+  if (!vert.sliver) {
+    std::vector<int> ring;
+    forIncident(v, [&](const std::array<int, 3>& t) {
+      for (int u : t) {
+        const int ip = at(verts_, u).ip;
+        if (u != v && ip >= 0 && !(excluded && at(*excluded, ip))) ring.push_back(ip);
+      }
+    });
+    std::sort(ring.begin(), ring.end());
+    ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+    const RemapResult found = remapper_.find(vert.rest, vertexNormal(v), vert.planes, ring);
+    setIp(v, found.ip);
+    vert.sliver = found.relaxation == RemapRelaxation::kNearest;
+  }
   source_.pointWeights(vert.ip, vert.rest, vert.particles, vert.weights);
 }
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <iostream>
@@ -446,32 +447,41 @@ TEST(EfgSurfaceCutter, VolumeCutRemapsTheVerticesOfChangedIps) {
   EXPECT_THROW(box.cutter.remapVerticesOfIps({-1}), std::invalid_argument);
 }
 
+/// A blade of length 4 through a random point within `spread` of the origin along each axis,
+/// moving 4 m across itself in 4 steps: the steps' sweeps.
+std::array<BladeSweep, 4> randomCrossingSweeps(std::mt19937& rng, double spread) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  auto unit = [&] { return V(u(rng), u(rng), u(rng)).normalized(); };
+  const V centre = spread * V(u(rng), u(rng), u(rng)), along = unit();
+  V motion = unit();
+  motion = (motion - motion.dot(along) * along).normalized();
+  const V a = centre - 2.0 * along - 2.0 * motion, b = centre + 2.0 * along - 2.0 * motion;
+  std::array<BladeSweep, 4> steps;
+  for (int k = 0; k < 4; ++k) {
+    BladeSweep& s = steps[static_cast<std::size_t>(k)];
+    s.start.resize(3, 2);
+    s.end.resize(3, 2);
+    s.start << a + k * motion, b + k * motion;
+    s.end << a + (k + 1) * motion, b + (k + 1) * motion;
+  }
+  return steps;
+}
+
 TEST(EfgSurfaceCutter, RandomSweepsNeverLeaveOpenOrPinchedEdgesOrNonFiniteValues) {
   // 300 seeded random sweeps, 25 on each of 12 fresh spheres (so the surface stays small).
   const TriMesh sphere = makeIcosphere(2);
   GridSource source(V::Constant(-1.0), Eigen::Vector3i(5, 5, 5), 0.4);
   std::mt19937 rng(19);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  auto unit = [&] { return V(u(rng), u(rng), u(rng)).normalized(); };
   int cuts = 0;
   std::vector<int> p;
   std::vector<double> w;
   for (int body = 0; body < 12; ++body) {
     EfgSurfaceCutter cutter(sphere, source, EfgSurfaceCutOptions{0.3, 1e-9});
     for (int sweep = 0; sweep < 25; ++sweep) {
-      // A blade of length 4 through a random point, moving 4 m across in 4 steps.
-      const V centre = 0.8 * V(u(rng), u(rng), u(rng)), along = unit();
-      V motion = unit();
-      motion = (motion - motion.dot(along) * along).normalized();
-      const V a = centre - 2.0 * along - 2.0 * motion, b = centre + 2.0 * along - 2.0 * motion;
+      const std::array<BladeSweep, 4> steps = randomCrossingSweeps(rng, 0.8);
       for (int k = 0; k < 4; ++k) {
-        BladeSweep s;
-        s.start.resize(3, 2);
-        s.end.resize(3, 2);
-        s.start << a + k * motion, b + k * motion;
-        s.end << a + (k + 1) * motion, b + (k + 1) * motion;
         const Eigen::Matrix3Xd x = cutter.restVertices();
-        const EfgSurfaceCutStep r = cutter.cut(s, x, x);
+        const EfgSurfaceCutStep r = cutter.cut(steps[static_cast<std::size_t>(k)], x, x);
         cuts += r.completed || r.crack ? 1 : 0;
         const SurfaceClosure closure = checkSurfaceClosure(cutter.triangles());
         ASSERT_EQ(closure.open_edges, 0) << "body " << body << " sweep " << sweep << " step " << k;
@@ -487,6 +497,67 @@ TEST(EfgSurfaceCutter, RandomSweepsNeverLeaveOpenOrPinchedEdgesOrNonFiniteValues
   }
   EXPECT_GT(cuts, 150);
   std::cout << "[ info ] 300 random sweeps: " << cuts << " cuts closed or left as cracks\n";
+}
+
+TEST(EfgSurfaceCutter, SliversKeepTheNearestIpAndTheirRowsFollowItsParticles) {
+  // Random crossing sweeps through a sphere leave slivers: vertices whose cut planes admit no
+  // IP. Each must hold the nearest IP (ties to the lower index), every other vertex an IP below
+  // all its planes; a volume cut changing a sliver's IP refreshes its row.
+  const TriMesh sphere = makeIcosphere(2);
+  GridSource source(V::Constant(-1.0), Eigen::Vector3i(5, 5, 5), 0.4);
+  EfgSurfaceCutter cutter(sphere, source, EfgSurfaceCutOptions{0.3, 1e-9});
+  std::mt19937 rng(7);
+  const auto below = [&](int ip, const std::vector<CutPlane>& planes) {
+    for (const CutPlane& plane : planes)
+      if ((source.ipRestPosition(ip) - plane.point).dot(plane.normal) >= 0.0) return false;
+    return true;
+  };
+  const auto nearest = [&](const V& X) {
+    int best = 0;
+    for (int ip = 1; ip < source.numIntegrationPoints(); ++ip)
+      if ((source.ipRestPosition(ip) - X).squaredNorm() <
+          (source.ipRestPosition(best) - X).squaredNorm())
+        best = ip;
+    return best;
+  };
+  std::vector<int> slivers;
+  for (int sweep = 0; sweep < 40; ++sweep) {
+    for (const BladeSweep& step : randomCrossingSweeps(rng, 0.3)) {
+      const Eigen::Matrix3Xd x = cutter.restVertices();
+      cutter.cut(step, x, x);
+    }
+    const Eigen::Matrix3Xd X = cutter.restVertices();
+    slivers.clear();
+    for (int v = 0; v < cutter.numVertices(); ++v) {
+      if (!cutter.vertexUsed(v)) continue;
+      const std::vector<CutPlane>& planes = cutter.vertexPlanes(v);
+      bool admits = false;
+      for (int ip = 0; ip < source.numIntegrationPoints() && !admits; ++ip)
+        admits = below(ip, planes);
+      if (admits) {
+        ASSERT_TRUE(below(cutter.vertexIp(v), planes)) << "sweep " << sweep << " vertex " << v;
+      } else {
+        ASSERT_EQ(cutter.vertexIp(v), nearest(X.col(v))) << "sweep " << sweep << " vertex " << v;
+        slivers.push_back(v);
+      }
+    }
+  }
+  ASSERT_FALSE(slivers.empty());
+  // Give the last sliver's IP the particles of a far cell: the sliver keeps its IP, and its row
+  // is the source's weights with the new particles.
+  const int v = slivers.back(), ip = cutter.vertexIp(v);
+  source.setParticles(ip, source.ipParticles(ip == 0 ? 1 : 0));
+  const std::vector<int> remapped = cutter.remapVerticesOfIps({ip});
+  ASSERT_NE(std::find(remapped.begin(), remapped.end(), v), remapped.end());
+  EXPECT_EQ(cutter.vertexIp(v), ip);
+  std::vector<int> p, q;
+  std::vector<double> w, x;
+  cutter.mappingRow(v, p, w);
+  source.pointWeights(ip, cutter.restVertices().col(v), q, x);
+  EXPECT_EQ(p, q);
+  EXPECT_EQ(w, x);
+  EXPECT_EQ(p, source.ipParticles(ip == 0 ? 1 : 0));
+  std::cout << "[ info ] " << slivers.size() << " sliver vertices after 40 random sweeps\n";
 }
 
 TEST(EfgSurfaceCutter, UpdatedTablesCutLikeTablesRebuiltFromScratch) {

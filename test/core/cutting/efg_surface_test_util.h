@@ -44,11 +44,12 @@ class GridSource : public EfgMappingSource {
                     std::vector<double>& weights) const override {
     const Eigen::Vector3i c = corner_[static_cast<std::size_t>(ip)];
     const Eigen::Vector3d u = (X - lo_) / h_ - c.cast<double>();
-    particles.clear();
+    // The trilinear weights of the IP's cell on the IP's particles (its cell's corners, in
+    // order, until a volume cut replaces them).
+    particles = particles_[static_cast<std::size_t>(ip)];
     weights.clear();
     for (int n = 0; n < 8; ++n) {
       const int a = n & 1, b = n >> 1 & 1, d = n >> 2;
-      particles.push_back(particle(c.x() + a, c.y() + b, c.z() + d));
       weights.push_back((a ? u.x() : 1 - u.x()) * (b ? u.y() : 1 - u.y()) *
                         (d ? u.z() : 1 - u.z()));
     }

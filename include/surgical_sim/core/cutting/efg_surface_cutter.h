@@ -144,6 +144,9 @@ class EfgSurfaceCutter {
     double ip_reach = 0.0;  ///< kStretchMargin x rest distance to the IP (0 without) [m]
     int twin = -1;
     bool used = true;
+    /// No IP lies below all its planes, so it keeps the nearest IP: planes are only added to a
+    /// vertex (a reused slot starts empty) and IPs keep their rest positions, so it stays one.
+    bool sliver = false;
     std::vector<CutPlane> planes;
     std::vector<int> particles;
     std::vector<double> weights;
@@ -196,7 +199,8 @@ class EfgSurfaceCutter {
   /// Unit normal of the side A sheet at v (zero when v is on no side A sheet triangle): the
   /// cut's normal, pointing from side A to side B.
   Eigen::Vector3d sheetNormal(int v) const;
-  /// Remaps v; the 1-ring test ignores neighbours on IPs flagged in `excluded`.
+  /// Remaps v; the 1-ring test ignores neighbours on IPs flagged in `excluded`. A sliver keeps
+  /// its IP and only refreshes its weights (its IP's particles may have changed).
   void remap(int v, const std::vector<std::uint8_t>* excluded = nullptr);
   void addPlane(int v, const Eigen::Vector3d& point, const Eigen::Vector3d& normal);
 
