@@ -814,28 +814,43 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
       sweep.start.rowwise().maxCoeff().cwiseMax(sweep.end.rowwise().maxCoeff()).array() + tol;
   const Eigen::Index segments = sweep.start.cols() - 1;
 
-  // Outcodes: bit d (d + 3) when the vertex stays below (above) the blade's swept box along axis
-  // d over the step. One pass over the positions, which also checks them and lists the
-  // committed surface's vertices whose segment to their IP may reach the box (`near`: the
-  // vertex's motion grown by its IP reach meets it), ascending. The pass reads only the
-  // positions and segment_reach_, contiguous, without branches but the `near` test (x - x
-  // sums to 0, or NaN after a non-finite coordinate).
+  std::vector<efg_sweep_slab::SweepSlab> slabs;
+  for (Eigen::Index i = 0; i < segments; ++i)
+    slabs.push_back(efg_sweep_slab::sweepSlab(sweep, i, tol));
+  // A one-segment blade's slab is a fourth axis: its normal, and its faces as the box's.
+  const efg_sweep_slab::SweepSlab slab =
+      segments == 1 ? slabs.front() : efg_sweep_slab::SweepSlab{};
+  const bool slab_axis = slab.normal.squaredNorm() > 0.0;
+
+  // Outcodes: bit d (d + 4) when the vertex stays below (above) the blade's swept box along axis
+  // d over the step, axis 3 the slab's normal (no bit without a slab). One pass over the
+  // positions, which also checks them and lists the committed surface's vertices whose segment
+  // to their IP may reach the box and slab (`near`: the vertex's motion grown by its IP reach
+  // meets them), ascending. The pass reads only the positions and segment_reach_, contiguous,
+  // without branches but the `near` test (x - x sums to 0, or NaN after a non-finite
+  // coordinate).
   outcode_.resize(verts_.size());
   double round_off = 0.0;
   std::vector<int> near;
-  const double box_lo[3] = {blade_lo.x(), blade_lo.y(), blade_lo.z()};
-  const double box_hi[3] = {blade_hi.x(), blade_hi.y(), blade_hi.z()};
+  const double box_lo[4] = {blade_lo.x(), blade_lo.y(), blade_lo.z(),
+                            slab_axis ? slab.lo : -std::numeric_limits<double>::infinity()};
+  const double box_hi[4] = {blade_hi.x(), blade_hi.y(), blade_hi.z(),
+                            slab_axis ? slab.hi : std::numeric_limits<double>::infinity()};
   for (int v = 0; v < numVertices(); ++v) {
     const double* a = x_start.data() + 3 * static_cast<std::ptrdiff_t>(v);
     const double* b = x_end.data() + 3 * static_cast<std::ptrdiff_t>(v);
     const double reach = segment_reach_[static_cast<std::size_t>(v)];
+    const double pa[4] = {a[0], a[1], a[2],
+                          slab.normal.x() * a[0] + slab.normal.y() * a[1] + slab.normal.z() * a[2]};
+    const double pb[4] = {b[0], b[1], b[2],
+                          slab.normal.x() * b[0] + slab.normal.y() * b[1] + slab.normal.z() * b[2]};
     unsigned code = 0;
     bool reaches = reach >= 0.0;
-    for (int d = 0; d < 3; ++d) {
-      round_off += (a[d] - a[d]) + (b[d] - b[d]);
-      const double lo = std::min(a[d], b[d]), hi = std::max(a[d], b[d]);
+    for (int d = 0; d < 4; ++d) {
+      round_off += (pa[d] - pa[d]) + (pb[d] - pb[d]);
+      const double lo = std::min(pa[d], pb[d]), hi = std::max(pa[d], pb[d]);
       code |= static_cast<unsigned>(hi < box_lo[d]) << d;
-      code |= static_cast<unsigned>(lo > box_hi[d]) << (d + 3);
+      code |= static_cast<unsigned>(lo > box_hi[d]) << (d + 4);
       reaches = reaches & (hi + reach >= box_lo[d]) & (lo - reach <= box_hi[d]);
     }
     outcode_[static_cast<std::size_t>(v)] = static_cast<std::uint8_t>(code);
@@ -853,14 +868,11 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
     int edge;
     double s;
   };
-  std::vector<efg_sweep_slab::SweepSlab> slabs;
-  for (Eigen::Index i = 0; i < segments; ++i)
-    slabs.push_back(efg_sweep_slab::sweepSlab(sweep, i, tol));
   std::vector<Hit> hits;
   for (std::size_t c = 0; c < cluster_edges_.size(); ++c) {
     // Every vertex of the cluster's edges (and maybe a few more) on one side of the box.
     if (cluster_edges_[c].empty()) continue;  // all its edges freed
-    std::uint8_t common = 0x3f;
+    std::uint8_t common = 0xff;
     for (int k = cluster_vert_begin_[c]; k < cluster_vert_begin_[c + 1]; ++k)
       common &= at(outcode_, at(cluster_vert_ids_, k));
     if (common) continue;

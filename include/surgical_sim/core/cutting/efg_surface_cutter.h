@@ -47,9 +47,10 @@ struct EfgSurfaceCutStep {
 /// ends meet. While it runs:
 /// - Crossings: blade polyline segments vs the committed surface's uncut edges, both moving
 ///   linearly over the step (edgeSweepCrossing, current configuration). Broad phase: one pass
-///   gives each vertex an outcode against the blade's swept box; edge clusters (up to 32 edges
-///   in Morton order, built when edges are created) whose vertices all share a bit are
-///   skipped, so only the clusters touching the swept box are tested edge by edge. Ties in
+///   gives each vertex an outcode against the blade's swept box (and, for a one-segment blade,
+///   against the slab its sweep lies in); edge clusters (up to 32 edges in Morton order, built
+///   when edges are created) whose vertices all share a bit are skipped, so only the clusters
+///   touching the swept box are tested edge by edge. Ties in
 ///   time go by the edges' vertex ids. A crossing is kept as its edge parameter s and applied
 ///   in the rest configuration.
 /// - Each crossed edge gets a pair of vertices at s, one per side. The crossed triangles form
