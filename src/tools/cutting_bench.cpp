@@ -1,6 +1,6 @@
 // P2 cutting benchmark (BENCHMARKS.md). Usage:
 //   cutting_bench [--out DIR] [--fuzz N] [--no-plot]
-//   cutting_bench --efg [--only PART] [--out DIR] [--fuzz N] [--cuts N] [--no-plot]
+//   cutting_bench --efg [--only PART] [--out DIR] [--fuzz N] [--cuts N] [--no-step] [--no-plot]
 // Writes into DIR (default "report"):
 //   cutting_update.csv  per blade sweep: update mode (incremental, or the full rebuild it is
 //                       tested against), mesh size, detection and topology-update time [ms]
@@ -25,7 +25,7 @@
 //                            sweeps each) at ~10k IPs with a 20,480-triangle surface, one
 //                            implicit Euler step per sweep (--solver, default cholmod) after 2 s
 //                            of uncut steps: phase times, step time and its phases [ms], DOFs,
-//                            mass error
+//                            mass error (--no-step: the body stays at rest, no step)
 //   cutting_t3c.csv          as above
 //   efg_cut_fuzz.csv         the EFG fuzz campaign (N random sweeps, both cutters)
 //   efg_cut_*.png            plots (scripts/plot_efg_cutting.py) unless --no-plot
@@ -377,7 +377,8 @@ constexpr int kSettleSteps = 200;
 /// (b, c) `cuts` progressive cuts at ~10k IPs (d = 3 mm) with one implicit step per sweep: a 2 cm
 /// scalpel descending 2.1 mm a sweep, 10 sweeps a cut, after kSettleSteps uncut steps (the liver
 /// sags onto its clamp and its lobes swing for about a second: not the cutting's cost).
-void efgProgressive(const std::string& dir, int cuts, ss::SolverKind solver) {
+/// steps false: the body stays at rest (no settling, no step): the cut update alone.
+void efgProgressive(const std::string& dir, int cuts, ss::SolverKind solver, bool steps) {
   surgical_sim::tools::progress(
       "cutting_bench", "EFG progressive cuts, ~10k IPs, " + std::to_string(cuts) + " cuts");
   ss::EfgCutRunSettings s;
@@ -389,6 +390,7 @@ void efgProgressive(const std::string& dir, int cuts, ss::SolverKind solver) {
   s.depth = 0.3;
   s.solver = solver;
   s.settle_steps = kSettleSteps;
+  s.simulate = steps;
   ss::EfgCutRunInfo info;
   const std::vector<ss::EfgCutSweepRecord> records = ss::runEfgProgressiveCuts(s, &info);
   FILE* csv = openCsv(dir, "efg_cut_progressive.csv", kEfgHeader);
@@ -404,13 +406,18 @@ void efgProgressive(const std::string& dir, int cuts, ss::SolverKind solver) {
     same_dofs = same_dofs && r.dofs == 3 * info.particles;
   }
   const EfgMeans all = efgMeans(records, 0, n);
+  char step[160] = "no steps";
+  if (steps)
+    std::snprintf(step, sizeof step,
+                  "step %.2f / %.2f ms; mean step %.2f ms (uncut, settled: %.2f ms)", first.step,
+                  last.step, all.step, info.settled_step_ms);
   std::printf(
       "efg cuts   %d IPs, %d particles: %d cuts, %zu sweeps, %d pieces; first/last tenth: cut "
-      "update %.2f / %.2f ms (topology %.2f / %.2f ms), step %.2f / %.2f ms; mean step %.2f ms "
-      "(uncut, settled: %.2f ms); DOFs %s, max mass error %.1e, finite %s\n",
+      "update %.2f / %.2f ms (topology %.2f / %.2f ms), %s; DOFs %s, max mass error %.1e, "
+      "finite %s\n",
       info.ips, info.particles, cuts, n, records.empty() ? 0 : records.back().pieces, first.total,
-      last.total, first.topology(), last.topology(), first.step, last.step, all.step,
-      info.settled_step_ms, same_dofs ? "unchanged" : "CHANGED", max_mass, finite ? "yes" : "no");
+      last.total, first.topology(), last.topology(), step, same_dofs ? "unchanged" : "CHANGED",
+      max_mass, finite ? "yes" : "no");
 }
 
 bool efgFuzz(const std::string& dir, int sweeps) {
@@ -444,7 +451,8 @@ bool efgFuzz(const std::string& dir, int sweeps) {
 }
 
 constexpr const char* kUsage =
-    "usage: cutting_bench [--efg [--only PART]] [--out DIR] [--fuzz N] [--cuts N] [--no-plot]\n"
+    "usage: cutting_bench [--efg [--only PART] [--no-step]] [--out DIR] [--fuzz N] [--cuts N]\n"
+    "                     [--no-plot]\n"
     "P2 cutting benchmark: topology-update and step times, cut-surface error, T3(c) cut beams and\n"
     "a fuzz campaign of random blade sweeps; CSV files (and PNG plots) in DIR.\n"
     "  --efg       the meshless (EFG) cutters on the liver-like body: cut-update phase times,\n"
@@ -454,6 +462,7 @@ constexpr const char* kUsage =
     "  --fuzz N    random sweeps of the fuzz campaign, >= 1 (default 1000)\n"
     "  --cuts N    progressive cuts of --efg, >= 1 (default 1000)\n"
     "  --solver S  linear solver of the progressive cuts' steps (default cholmod)\n"
+    "  --no-step   with --efg: progressive cuts of the body at rest, the cut update alone\n"
     "  --no-plot   CSV only\n";
 
 }  // namespace
@@ -465,7 +474,7 @@ int main(int argc, char** argv) {
   }
   std::string dir = "report";
   int sweeps = 1000, cuts = 1000;
-  bool plot = true, efg = false;
+  bool plot = true, efg = false, steps = true;
   ss::SolverKind solver = ss::SolverKind::Cholmod;
   std::string only;  // --efg part to run alone, "" for all
   for (int i = 1; i < argc; ++i) {
@@ -497,6 +506,8 @@ int main(int argc, char** argv) {
       only = argv[++i];
     } else if (arg == "--no-plot") {
       plot = false;
+    } else if (arg == "--no-step") {
+      steps = false;
     } else {
       std::cerr << "cutting_bench: unknown argument " << arg << "\n" << kUsage;
       return 2;
@@ -506,6 +517,10 @@ int main(int argc, char** argv) {
       (!efg || (only != "update" && only != "progressive" && only != "t3c" && only != "fuzz"))) {
     std::cerr << "cutting_bench: --only " << only
               << " needs --efg and one of update, progressive, t3c, fuzz\n";
+    return 2;
+  }
+  if (!steps && !efg) {
+    std::cerr << "cutting_bench: --no-step needs --efg (it applies to the progressive cuts)\n";
     return 2;
   }
   // Before any work: a benchmark that runs for minutes must not fail only when it writes.
@@ -520,7 +535,7 @@ int main(int argc, char** argv) {
     if (efg) {
       const auto runs = [&](const char* part) { return only.empty() || only == part; };
       if (runs("update")) efgUpdateTimes(dir);
-      if (runs("progressive")) efgProgressive(dir, cuts, solver);
+      if (runs("progressive")) efgProgressive(dir, cuts, solver, steps);
       if (runs("t3c")) t3c(dir);
       const bool ok = !runs("fuzz") || efgFuzz(dir, sweeps);
       if (plot) surgical_sim::tools::runPlotScript("cutting_bench", "plot_efg_cutting.py", {dir});
