@@ -790,10 +790,10 @@ std::vector<int> EfgSurfaceCutter::remapVerticesOfIps(const std::vector<int>& ch
     }
   std::sort(out.begin(), out.end());
   // The 1-ring test first ignores the changed IPs (their sets are what changed), then a second
-  // pass sees every neighbour's new IP.
+  // pass sees every neighbour's new IP (a sliver has no search to repeat).
   for (int v : out) remap(v, &changed);
   for (int v : out)
-    if (at(changed, at(verts_, v).ip)) remap(v);
+    if (!at(verts_, v).sliver && at(changed, at(verts_, v).ip)) remap(v);
   return out;
 }
 
@@ -817,10 +817,10 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
   std::vector<efg_sweep_slab::SweepSlab> slabs;
   for (Eigen::Index i = 0; i < segments; ++i)
     slabs.push_back(efg_sweep_slab::sweepSlab(sweep, i, tol));
-  // A one-segment blade's slab is a fourth axis: its normal, and its faces as the box's.
+  // A one-segment blade's slab is a fourth axis: its normal, and its faces as the box's. Without
+  // one (zero normal, both faces at 0) every point projects to 0, inside: the axis sets no bit.
   const efg_sweep_slab::SweepSlab slab =
       segments == 1 ? slabs.front() : efg_sweep_slab::SweepSlab{};
-  const bool slab_axis = slab.normal.squaredNorm() > 0.0;
 
   // Outcodes: bit d (d + 4) when the vertex stays below (above) the blade's swept box along axis
   // d over the step, axis 3 the slab's normal (no bit without a slab). One pass over the
@@ -832,10 +832,8 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
   outcode_.resize(verts_.size());
   double round_off = 0.0;
   std::vector<int> near;
-  const double box_lo[4] = {blade_lo.x(), blade_lo.y(), blade_lo.z(),
-                            slab_axis ? slab.lo : -std::numeric_limits<double>::infinity()};
-  const double box_hi[4] = {blade_hi.x(), blade_hi.y(), blade_hi.z(),
-                            slab_axis ? slab.hi : std::numeric_limits<double>::infinity()};
+  const double box_lo[4] = {blade_lo.x(), blade_lo.y(), blade_lo.z(), slab.lo};
+  const double box_hi[4] = {blade_hi.x(), blade_hi.y(), blade_hi.z(), slab.hi};
   for (int v = 0; v < numVertices(); ++v) {
     const double* a = x_start.data() + 3 * static_cast<std::ptrdiff_t>(v);
     const double* b = x_end.data() + 3 * static_cast<std::ptrdiff_t>(v);
