@@ -519,8 +519,9 @@ int main(int argc, char** argv) {
               << " needs --efg and one of update, progressive, t3c, fuzz\n";
     return 2;
   }
-  if (!steps && !efg) {
-    std::cerr << "cutting_bench: --no-step needs --efg (it applies to the progressive cuts)\n";
+  if (!steps && (!efg || (!only.empty() && only != "progressive"))) {
+    std::cerr << "cutting_bench: --no-step needs --efg and the progressive cuts (no --only, or "
+                 "--only progressive)\n";
     return 2;
   }
   // Before any work: a benchmark that runs for minutes must not fail only when it writes.
