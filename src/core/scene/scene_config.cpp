@@ -599,7 +599,7 @@ void readEfg(const KeyReader& scene, SceneBase& s) {
   if (!scene.has("efg")) return;
   const KeyReader r = scene.child("efg");
   r.onlyKeys({"spacing", "neighbours", "kernel_support", "volume_samples", "rotation",
-              "integration_point"});
+              "integration_point", "stabilization"});
   if (r.required("spacing").IsSequence()) {
     s.efg_spacings = r.numbers("spacing");
   } else {
@@ -614,6 +614,8 @@ void readEfg(const KeyReader& scene, SceneBase& s) {
   s.efg.volume_samples =
       r.integer("volume_samples", 1, EfgOptions::kMaxVolumeSamples, s.efg.volume_samples);
   if (r.has("rotation")) s.efg.rotation = readEnum(r, "rotation", kEfgRotationNames);
+  s.efg.stabilization = r.number("stabilization", s.efg.stabilization);
+  checkRange(r, "stabilization", s.efg.stabilization, 0.0, 1.0, "");
   if (r.has("integration_point"))
     s.efg.ip_at_centroid = r.choice("integration_point", {"centroid", "centre"}) == "centroid";
 }

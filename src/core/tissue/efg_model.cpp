@@ -42,6 +42,13 @@ void scatter(const NodeMatrix<K>& fe, const int* nodes, Eigen::VectorXd& f) {
   for (int a = 0; a < fe.cols(); ++a) f.segment<3>(3 * nodes[a]) += fe.col(a);
 }
 
+// Group g's stabilisation matrix (k x k) in a bucket's stabilisation sums.
+template <int K>
+Eigen::Map<const Eigen::Matrix<double, K, K>> groupStabilization(const std::vector<double>& sums,
+                                                                 int g, int k) {
+  return {sums.data() + static_cast<size_t>(k) * k * g, k, k};
+}
+
 template <int K>
 using RankVector = Eigen::Matrix<double, dofs(K), 1, Eigen::ColMajor, 3 * maxNeighbours(K), 1>;
 
@@ -175,6 +182,31 @@ void EfgModel::storeIp(int e, std::vector<int> particles, const IpShape& shape) 
   ip_particles_[ie] = std::move(particles);
 }
 
+Eigen::MatrixXd EfgModel::ipStabilization(int e) const {
+  const std::vector<int>& particles = ipParticles(e);
+  const Eigen::Index k = static_cast<Eigen::Index>(particles.size());
+  Eigen::MatrixXd rel(k, 3);  // X_a - X_e
+  for (Eigen::Index a = 0; a < k; ++a) {
+    rel.row(a) =
+        (grid_.particles.col(particles[static_cast<size_t>(a)]) - grid_.integration_points.col(e))
+            .transpose();
+  }
+  Eigen::MatrixXd C = Eigen::MatrixXd::Identity(k, k);
+  C.rowwise() -= shapeValues(e).transpose();
+  C.noalias() -= rel * shapeGradients(e).transpose();
+  const double scale =
+      2.0 * options_.stabilization * mu_ * grid_.volumes(e) / rel.squaredNorm();  // [N/m^3]
+  return scale * (C.transpose() * C);
+}
+
+void EfgModel::refreshStabilization(GroupBucket& b, int g) const {
+  const int k = b.k;
+  Eigen::Map<Eigen::MatrixXd> S(b.stabilization.data() + static_cast<size_t>(k) * k * g, k, k);
+  S.setZero();
+  if (options_.stabilization == 0.0) return;
+  for (const int e : b.members[static_cast<size_t>(g)]) S += ipStabilization(e);
+}
+
 void EfgModel::addIpMass(int e, double sign) {
   const std::vector<int>& particles = ipParticles(e);
   const Eigen::Map<const Eigen::VectorXd> phi = shapeValues(e);
@@ -262,7 +294,10 @@ void EfgModel::leaveGroup(int e) {
   const int g = found->second;
   std::vector<int>& members = b.members[static_cast<size_t>(g)];
   members.erase(std::find(members.begin(), members.end(), e));
-  if (!members.empty()) return;
+  if (!members.empty()) {
+    refreshStabilization(b, g);
+    return;
+  }
   // The last group takes the empty group's index.
   group_of_set_.erase(found);
   const int last = b.groups() - 1;
@@ -271,14 +306,19 @@ void EfgModel::leaveGroup(int e) {
               b.nodes.begin() + static_cast<std::ptrdiff_t>(b.k) * g);
     b.members[static_cast<size_t>(g)] = std::move(b.members.back());
     group_of_set_[ipParticles(b.members[static_cast<size_t>(g)].front())] = g;
+    const size_t block = static_cast<size_t>(b.k) * b.k;
+    std::copy(b.stabilization.end() - static_cast<std::ptrdiff_t>(block), b.stabilization.end(),
+              b.stabilization.begin() + static_cast<std::ptrdiff_t>(block) * g);
   }
   b.scatter.removeGroup(g);
   b.members.pop_back();
   b.nodes.resize(b.nodes.size() - static_cast<size_t>(b.k));
+  b.stabilization.resize(b.stabilization.size() - static_cast<size_t>(b.k) * b.k);
 }
 
 void EfgModel::joinGroups(const std::vector<int>& ips) {
   std::vector<std::pair<int, int>> created;  // (k, group)
+  std::vector<std::pair<int, int>> joined;   // (k, group) of each IP
   for (int e : ips) {
     const std::vector<int>& particles = ipParticles(e);
     GroupBucket& b = buckets_[particles.size()];
@@ -286,10 +326,15 @@ void EfgModel::joinGroups(const std::vector<int>& ips) {
     if (is_new) {
       b.members.emplace_back();
       b.nodes.insert(b.nodes.end(), particles.begin(), particles.end());
+      b.stabilization.resize(b.stabilization.size() + static_cast<size_t>(b.k) * b.k);
       created.emplace_back(b.k, entry->second);
     }
     b.members[static_cast<size_t>(entry->second)].push_back(e);
+    joined.emplace_back(b.k, entry->second);
   }
+  std::sort(joined.begin(), joined.end());
+  joined.erase(std::unique(joined.begin(), joined.end()), joined.end());
+  for (const auto& [k, g] : joined) refreshStabilization(buckets_[static_cast<size_t>(k)], g);
   // Couple the particles of the new groups.
   std::vector<std::vector<int>> added(coupled_.size());
   bool grown = false;
@@ -431,6 +476,11 @@ double EfgModel::energyImpl(const GroupBucket& bucket, const Eigen::VectorXd& x)
                              : matchingEnergyDensity(F, matchingRotation(xe, e));
       energy += grid_.volumes(e) * psi;
     }
+    if (options_.stabilization > 0.0) {
+      const NodeMatrix<K> ue = xe - gather<K>(rest_positions_, bucket.groupNodes(g), k);
+      energy +=
+          0.5 * (ue * groupStabilization<K>(bucket.stabilization, g, k)).cwiseProduct(ue).sum();
+    }
   }
   return energy;
 }
@@ -449,6 +499,10 @@ void EfgModel::forceImpl(const GroupBucket& bucket, const Eigen::VectorXd& x,
                                     ? law_.firstPiola(F)
                                     : rotatedStress(F, matchingRotation(xe, e));
       fe.noalias() -= (grid_.volumes(e) * P) * G.transpose();
+    }
+    if (options_.stabilization > 0.0) {
+      const NodeMatrix<K> ue = xe - gather<K>(rest_positions_, bucket.groupNodes(g), k);
+      fe.noalias() -= ue * groupStabilization<K>(bucket.stabilization, g, k);
     }
     scatter<K>(fe, bucket.groupNodes(g), f);
   }
@@ -499,6 +553,19 @@ void EfgModel::stiffnessImpl(const GroupBucket& bucket, const Eigen::VectorXd& x
       if (f != nullptr) fe.noalias() -= (w * P) * G.transpose();
     }
     if (rotated_linear) rotatedLinearStiffness<K>(L, mu_, lambda_, Ke);
+    if (options_.stabilization > 0.0) {
+      // The quadratic stabilisation energy 1/2 sum_ab S_ab u_a . u_b: constant stiffness S x I.
+      const auto S = groupStabilization<K>(bucket.stabilization, g, k);
+      for (int a = 0; a < k; ++a)
+        for (int b = 0; b < k; ++b)
+          Ke.template block<3, 3>(3 * a, 3 * b).diagonal().array() += S(a, b);
+      if (f != nullptr || energy != nullptr) {
+        const NodeMatrix<K> ue = xe - gather<K>(rest_positions_, bucket.groupNodes(g), k);
+        const NodeMatrix<K> su = ue * S;
+        if (f != nullptr) fe -= su;
+        if (energy != nullptr) *energy += 0.5 * su.cwiseProduct(ue).sum();
+      }
+    }
     if (f != nullptr) scatter<K>(fe, bucket.groupNodes(g), *f);
     sink(g, Ke);
   }

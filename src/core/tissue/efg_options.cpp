@@ -9,6 +9,7 @@ void EfgOptions::validate() const {
   requireInRange("efg.neighbours", neighbours, kMinNeighbours, kMaxNeighbours, "");
   requireInRange("efg.kernel_support", kernel_support, 1.1, 10.0, "");
   requireInRange("efg.volume_samples", volume_samples, 1, kMaxVolumeSamples, "");
+  requireInRange("efg.stabilization", stabilization, 0.0, 1.0, "");
 }
 
 }  // namespace surgical_sim::core

@@ -22,11 +22,13 @@
 namespace surgical_sim::core {
 namespace {
 
-EfgOptions options(double spacing, EfgRotation rotation, int neighbours = 8) {
+EfgOptions options(double spacing, EfgRotation rotation, int neighbours = 8,
+                   double stabilization = EfgOptions().stabilization) {
   EfgOptions o;
   o.spacing = spacing;
   o.rotation = rotation;
   o.neighbours = neighbours;
+  o.stabilization = stabilization;
   return o;
 }
 
@@ -156,11 +158,12 @@ TEST(EfgModel, PolarForceIsEnergyGradientAndStiffnessItsExactHessian) {
 
 TEST(EfgModel, ProjectedPolarTangentIsTheSumOfPointTangents) {
   // The projected polar tangent, summed per group of IPs that share their particles, is the sum
-  // over the IPs of w G^T (dP/dF) G with the law's fixed-R tangent, built point by point.
+  // over the IPs of w G^T (dP/dF) G with the law's fixed-R tangent, built point by point
+  // (without the stabilisation, whose energy the next tests check).
   const Material material = test::testMaterial(0.3);
   const CorotationalLaw law(material);
   for (int neighbours : {8, 12}) {
-    const EfgModel m(irregularBody(), material, options(0.15, EfgRotation::Polar, neighbours));
+    const EfgModel m(irregularBody(), material, options(0.15, EfgRotation::Polar, neighbours, 0.0));
     std::mt19937 rng(12);
     const Eigen::VectorXd x =
         test::affine(test::perturbed(m.restPositions(), 0.05, rng),
@@ -333,6 +336,84 @@ TEST_P(EfgModelTest, ReplacedNeighbourhoodsStayCompleteConservativeAndConsistent
     test::expectForceIsMinusEnergyGradient(m, x, 1.0);
     test::expectStiffnessIsMinusForceJacobian(m, x, 1.0);
   }
+}
+
+// The stabilisation energy from its definition: c mu V_e sum_a |d_a|^2 / sum_a |X_a - X_e|^2 per
+// IP, d_a = x_a - (sum_b phi_b x_b + F_e (X_a - X_e)) the particle's distance from the IP's affine
+// prediction, F_e = sum_b x_b grad phi_b^T.
+double stabilizationEnergy(const EfgModel& m, const Eigen::VectorXd& x) {
+  double energy = 0.0;
+  for (int e = 0; e < m.numIntegrationPoints(); ++e) {
+    const std::vector<int>& p = m.ipParticles(e);
+    const Eigen::VectorXd phi = m.shapeValues(e);
+    const Eigen::MatrixXd G = m.shapeGradients(e);
+    const Eigen::Vector3d X_e = m.grid().integration_points.col(e);
+    Eigen::Vector3d x_e = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d F = Eigen::Matrix3d::Zero();
+    for (size_t a = 0; a < p.size(); ++a) {
+      x_e += phi(static_cast<Eigen::Index>(a)) * x.segment<3>(3 * p[a]);
+      F += x.segment<3>(3 * p[a]) * G.row(static_cast<Eigen::Index>(a));
+    }
+    double deviation = 0.0;
+    double spread = 0.0;
+    for (int a : p) {
+      const Eigen::Vector3d rel = m.grid().particles.col(a) - X_e;
+      deviation += (x.segment<3>(3 * a) - x_e - F * rel).squaredNorm();
+      spread += rel.squaredNorm();
+    }
+    energy += m.options().stabilization * test::testMaterial(0.3).mu() * m.grid().volumes(e) *
+              deviation / spread;
+  }
+  return energy;
+}
+
+TEST_P(EfgModelTest, StabilizationAddsTheNonAffineDistanceEnergy) {
+  EfgOptions plain = options(0.15, GetParam().rotation, GetParam().neighbours, 0.0);
+  EfgOptions stabilized = plain;
+  stabilized.stabilization = 0.3;
+  EfgModel m0(irregularBody(), test::testMaterial(0.3), plain);
+  EfgModel m(irregularBody(), test::testMaterial(0.3), stabilized);
+  std::mt19937 rng(21);
+  for (int pass = 0; pass < 2; ++pass) {
+    const Eigen::VectorXd x = test::perturbed(m.restPositions(), 0.03, rng);
+    const double expected = stabilizationEnergy(m, x);
+    EXPECT_GT(expected, 1e-3 * m0.energy(x));
+    EXPECT_NEAR(m.energy(x) - m0.energy(x), expected, 1e-11 * m.energy(x)) << pass;
+    // Affine motions (stretch, shear, rotation) add nothing.
+    Eigen::Matrix3d A;
+    A << 1.2, 0.1, -0.05, 0.0, 0.9, 0.2, 0.1, 0.0, 1.1;
+    const Eigen::VectorXd affine = test::affine(m.restPositions(), A, Eigen::Vector3d(1, 2, 3));
+    EXPECT_LT(stabilizationEnergy(m, affine), 1e-20 * m.energy(affine));
+    EXPECT_NEAR(m.energy(affine), m0.energy(affine), 1e-11 * m0.energy(affine));
+    // After replaced neighbourhoods the changed IPs' groups carry their new matrices.
+    m.setNeighbourhoods(replacedNeighbourhoods(m));
+    m0.setNeighbourhoods(replacedNeighbourhoods(m0));
+  }
+  if (GetParam().rotation == EfgRotation::Polar)
+    test::expectForceIsMinusEnergyGradient(m, test::perturbed(m.restPositions(), 0.02, rng), 1.0);
+}
+
+TEST(EfgModel, StabilizationLeavesOnlyTheRigidZeroEnergyModes) {
+  // One 2 cm tet on cells of 1.5 mm: DOF cells at its sharp corners and edges keep a single IP
+  // whose far particles no other IP uses. Four or more particles of one IP admit motions that
+  // leave F unchanged (their gradients are linearly dependent): zero-energy modes beyond the 6
+  // rigid ones, which the stabilisation removes.
+  TetMesh tet;
+  tet.nodes.resize(3, 4);
+  tet.nodes << 0, 0.02, 0, 0, 0, 0, 0.02, 0, 0, 0, 0, 0.02;
+  tet.elements.resize(4, 1);
+  tet.elements << 0, 1, 2, 3;
+  const auto zeroModes = [&](double stabilization) {
+    const EfgModel m(tet, test::testMaterial(0.3),
+                     options(0.0015, EfgRotation::Polar, 8, stabilization));
+    const Eigen::MatrixXd K = test::denseStiffness(m, m.restPositions(), TangentMode::Exact);
+    const Eigen::VectorXd eigenvalues =
+        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(K).eigenvalues();
+    return (eigenvalues.array() < 1e-12 * eigenvalues.maxCoeff()).count();
+  };
+  EXPECT_GT(zeroModes(0.0), 6);
+  EXPECT_EQ(zeroModes(0.01), 6);
+  EXPECT_EQ(zeroModes(0.1), 6);
 }
 
 // The current neighbourhood of IP e (particles, Euclidean distances, volume).

@@ -128,6 +128,8 @@ class EfgModel final : public GroupAssembledModel {
     int k = 0;                              ///< particles per group
     std::vector<std::vector<int>> members;  ///< per group: its IPs
     std::vector<int> nodes;                 ///< k per group
+    /// k x k per group (col-major): the sum of its IPs' stabilisation matrices S_e [N/m].
+    std::vector<double> stabilization;
     BlockScatterMap scatter;
     int groups() const { return static_cast<int>(members.size()); }
     const int* groupNodes(int g) const { return nodes.data() + static_cast<size_t>(k) * g; }
@@ -160,6 +162,13 @@ class EfgModel final : public GroupAssembledModel {
   IpShape computeIp(int e, const std::vector<int>& particles, const Eigen::VectorXd& detours) const;
   /// Stores `shape` as IP e's data (slot grown if needed).
   void storeIp(int e, std::vector<int> particles, const IpShape& shape);
+  /// Stabilisation matrix S_e of IP e [N/m], k_e x k_e: its energy is 1/2 sum_ab S_ab u_a . u_b
+  /// (EfgOptions::stabilization), S_e = 2 c mu V_e C^T C / sum_a |X_a - X_e|^2 with
+  /// C_ab = delta_ab - phi_b - grad phi_b . (X_a - X_e), so C maps the particles' positions to
+  /// their distances from the IP's affine prediction (zero for an affine motion).
+  Eigen::MatrixXd ipStabilization(int e) const;
+  /// Recomputes the stabilisation sum of group g of bucket b from its members.
+  void refreshStabilization(GroupBucket& b, int g) const;
   /// Adds sign x IP e's lumped-mass and body-force contributions.
   void addIpMass(int e, double sign);
   /// Takes IP e out of the group of its particles (a group left empty is removed).
