@@ -327,7 +327,9 @@ std::vector<EfgCutSweepRecord> runEfgProgressiveCuts(const EfgCutRunSettings& se
   };
   setConstraints();
   PcgSettings pcg;
-  pcg.adaptive_refresh = true;  // the factor-reusing solvers refresh when it pays
+  // The factor-reusing solvers refresh when it pays (the cap of 1000 calls is rarely reached).
+  pcg.adaptive_refresh = true;
+  pcg.refresh_interval = 1000;
   const auto integrator = makeIntegrator(IntegratorKind::ImplicitEulerLinearized, {},
                                          makeLinearSolver(settings.solver, pcg));
 

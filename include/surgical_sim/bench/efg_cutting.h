@@ -102,9 +102,9 @@ struct EfgCutRunSettings {
   bool simulate = true;  ///< one implicit Euler step per sweep under gravity
   /// With simulate: uncut steps before the first cut (the body sags onto its clamp) [-], >= 0
   int settle_steps = 0;
-  /// Linear solver of the steps (PcgSettings with adaptive_refresh; after a cut the integrator
-  /// is told modelChanged(): cholmod re-analyses a changed pattern and the factor-reusing solvers
-  /// keep their factor).
+  /// Linear solver of the steps (PcgSettings with adaptive_refresh, refresh_interval 1000; after a
+  /// cut the integrator is told modelChanged(): cholmod re-analyses a changed pattern and the
+  /// factor-reusing solvers keep their factor).
   core::SolverKind solver = core::SolverKind::Cholmod;
   double dt = 0.01;    ///< time step [s], > 0
   double young = 5e3;  ///< [Pa]

@@ -47,6 +47,10 @@ TEST(EfgSceneKeys, ParsedWithDefaults) {
   const BenchmarkScene centre = parseBenchmarkScene(
       replaced(kEfgBench, "rotation: polar", "integration_point: centre"), "efg.yaml");
   EXPECT_FALSE(centre.efg.ip_at_centroid);
+  EXPECT_DOUBLE_EQ(d.efg.stabilization, 0.1);
+  const BenchmarkScene unstabilized =
+      parseBenchmarkScene(replaced(kEfgBench, "rotation: polar", "stabilization: 0"), "efg.yaml");
+  EXPECT_EQ(unstabilized.efg.stabilization, 0.0);
   const BenchmarkScene per_resolution = parseBenchmarkScene(
       replaced(kEfgBench, "spacing: 0.0025", "spacing: [0.005, 0.0025]"), "efg.yaml");
   EXPECT_EQ(per_resolution.efg_spacings, (std::vector<double>{0.005, 0.0025}));
@@ -70,6 +74,10 @@ TEST(EfgSceneKeys, EveryKeyRejectsBadValuesNamingIt) {
                  {"efg.rotation", "'euler'"});
   expectRejected(replaced(kEfgBench, "rotation: polar", "integration_point: middle"),
                  {"efg.integration_point", "'middle'"});
+  expectRejected(replaced(kEfgBench, "rotation: polar", "stabilization: 1.5"),
+                 {"efg.stabilization", "[0, 1]"});
+  expectRejected(replaced(kEfgBench, "rotation: polar", "stabilization: -0.1"),
+                 {"efg.stabilization"});
   expectRejected(replaced(kEfgBench, "rotation: polar", "rotation: polar\n  grid: 3"),
                  {"efg", "grid"});
   // Model efg without the efg map.
