@@ -47,7 +47,7 @@ TEST(EfgSceneKeys, ParsedWithDefaults) {
   const BenchmarkScene centre = parseBenchmarkScene(
       replaced(kEfgBench, "rotation: polar", "integration_point: centre"), "efg.yaml");
   EXPECT_FALSE(centre.efg.ip_at_centroid);
-  EXPECT_DOUBLE_EQ(d.efg.stabilization, 0.1);
+  EXPECT_DOUBLE_EQ(d.efg.stabilization, 0.01);
   const BenchmarkScene unstabilized =
       parseBenchmarkScene(replaced(kEfgBench, "rotation: polar", "stabilization: 0"), "efg.yaml");
   EXPECT_EQ(unstabilized.efg.stabilization, 0.0);

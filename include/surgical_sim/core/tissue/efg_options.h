@@ -40,10 +40,10 @@ struct EfgOptions {
   /// Rotation of the co-rotated elasticity, default Polar.
   EfgRotation rotation = EfgRotation::Polar;
   /// Weight c [-] of the non-affine (zero-energy mode) stabilisation, range [0, 1], default
-  /// 0.1: each IP adds the energy c mu V_e sum_a |d_a|^2 / sum_a |X_a - X_e|^2, where d_a is
+  /// 0.01: each IP adds the energy c mu V_e sum_a |d_a|^2 / sum_a |X_a - X_e|^2, where d_a is
   /// the distance of particle a from the affine map the IP predicts (x_e + F_e (X_a - X_e)).
   /// Affine motions are unaffected; particles seen by too few IPs no longer swing freely.
-  double stabilization = 0.1;
+  double stabilization = 0.01;
 
   static constexpr int kMinNeighbours = 8;
   static constexpr int kMaxNeighbours = 16;
