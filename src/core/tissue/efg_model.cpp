@@ -195,7 +195,7 @@ Eigen::MatrixXd EfgModel::ipStabilization(int e) const {
   C.rowwise() -= shapeValues(e).transpose();
   C.noalias() -= rel * shapeGradients(e).transpose();
   const double scale =
-      2.0 * options_.stabilization * mu_ * grid_.volumes(e) / rel.squaredNorm();  // [N/m^3]
+      2.0 * options_.stabilization * mu_ * grid_.volumes(e) / rel.squaredNorm();  // [N/m]
   return scale * (C.transpose() * C);
 }
 
