@@ -199,12 +199,11 @@ Eigen::MatrixXd EfgModel::ipStabilization(int e) const {
   return scale * (C.transpose() * C);
 }
 
-void EfgModel::refreshStabilization(GroupBucket& b, int g) const {
-  const int k = b.k;
-  Eigen::Map<Eigen::MatrixXd> S(b.stabilization.data() + static_cast<size_t>(k) * k * g, k, k);
-  S.setZero();
+void EfgModel::addIpStabilization(int e, GroupBucket& b, int g, double sign) const {
   if (options_.stabilization == 0.0) return;
-  for (const int e : b.members[static_cast<size_t>(g)]) S += ipStabilization(e);
+  const int k = b.k;
+  Eigen::Map<Eigen::MatrixXd>(b.stabilization.data() + static_cast<size_t>(k) * k * g, k, k) +=
+      sign * ipStabilization(e);
 }
 
 void EfgModel::addIpMass(int e, double sign) {
@@ -295,7 +294,7 @@ void EfgModel::leaveGroup(int e) {
   std::vector<int>& members = b.members[static_cast<size_t>(g)];
   members.erase(std::find(members.begin(), members.end(), e));
   if (!members.empty()) {
-    refreshStabilization(b, g);
+    addIpStabilization(e, b, g, -1.0);
     return;
   }
   // The last group takes the empty group's index.
@@ -318,7 +317,6 @@ void EfgModel::leaveGroup(int e) {
 
 void EfgModel::joinGroups(const std::vector<int>& ips) {
   std::vector<std::pair<int, int>> created;  // (k, group)
-  std::vector<std::pair<int, int>> joined;   // (k, group) of each IP
   for (int e : ips) {
     const std::vector<int>& particles = ipParticles(e);
     GroupBucket& b = buckets_[particles.size()];
@@ -330,11 +328,8 @@ void EfgModel::joinGroups(const std::vector<int>& ips) {
       created.emplace_back(b.k, entry->second);
     }
     b.members[static_cast<size_t>(entry->second)].push_back(e);
-    joined.emplace_back(b.k, entry->second);
+    addIpStabilization(e, b, entry->second, 1.0);
   }
-  std::sort(joined.begin(), joined.end());
-  joined.erase(std::unique(joined.begin(), joined.end()), joined.end());
-  for (const auto& [k, g] : joined) refreshStabilization(buckets_[static_cast<size_t>(k)], g);
   // Couple the particles of the new groups.
   std::vector<std::vector<int>> added(coupled_.size());
   bool grown = false;

@@ -167,8 +167,9 @@ class EfgModel final : public GroupAssembledModel {
   /// C_ab = delta_ab - phi_b - grad phi_b . (X_a - X_e), so C maps the particles' positions to
   /// their distances from the IP's affine prediction (zero for an affine motion).
   Eigen::MatrixXd ipStabilization(int e) const;
-  /// Recomputes the stabilisation sum of group g of bucket b from its members.
-  void refreshStabilization(GroupBucket& b, int g) const;
+  /// Adds sign x IP e's stabilisation matrix to the sum of its group g in bucket b (as addIpMass
+  /// does for the mass: a member is subtracted when it leaves and added when it joins).
+  void addIpStabilization(int e, GroupBucket& b, int g, double sign) const;
   /// Adds sign x IP e's lumped-mass and body-force contributions.
   void addIpMass(int e, double sign);
   /// Takes IP e out of the group of its particles (a group left empty is removed).
