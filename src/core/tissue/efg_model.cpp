@@ -49,6 +49,19 @@ Eigen::Map<const Eigen::Matrix<double, K, K>> groupStabilization(const std::vect
   return {sums.data() + static_cast<size_t>(k) * k * g, k, k};
 }
 
+// The stabilisation of group g of `bucket` at node positions xe (rest positions in `rest`): with
+// u = xe - X, fe -= S u (per node) when fe is non-null and *energy += 1/2 sum_a u_a . (S u)_a
+// when energy is non-null.
+template <int K, typename Bucket>
+void addGroupStabilization(const Bucket& bucket, int g, const NodeMatrix<K>& xe,
+                           const Eigen::VectorXd& rest, NodeMatrix<K>* fe, double* energy) {
+  const int k = bucket.k;
+  const NodeMatrix<K> ue = xe - gather<K>(rest, bucket.groupNodes(g), k);
+  const NodeMatrix<K> su = ue * groupStabilization<K>(bucket.stabilization, g, k);
+  if (fe != nullptr) *fe -= su;
+  if (energy != nullptr) *energy += 0.5 * su.cwiseProduct(ue).sum();
+}
+
 template <int K>
 using RankVector = Eigen::Matrix<double, dofs(K), 1, Eigen::ColMajor, 3 * maxNeighbours(K), 1>;
 
@@ -472,9 +485,7 @@ double EfgModel::energyImpl(const GroupBucket& bucket, const Eigen::VectorXd& x)
       energy += grid_.volumes(e) * psi;
     }
     if (options_.stabilization > 0.0) {
-      const NodeMatrix<K> ue = xe - gather<K>(rest_positions_, bucket.groupNodes(g), k);
-      energy +=
-          0.5 * (ue * groupStabilization<K>(bucket.stabilization, g, k)).cwiseProduct(ue).sum();
+      addGroupStabilization<K>(bucket, g, xe, rest_positions_, nullptr, &energy);
     }
   }
   return energy;
@@ -496,8 +507,7 @@ void EfgModel::forceImpl(const GroupBucket& bucket, const Eigen::VectorXd& x,
       fe.noalias() -= (grid_.volumes(e) * P) * G.transpose();
     }
     if (options_.stabilization > 0.0) {
-      const NodeMatrix<K> ue = xe - gather<K>(rest_positions_, bucket.groupNodes(g), k);
-      fe.noalias() -= ue * groupStabilization<K>(bucket.stabilization, g, k);
+      addGroupStabilization<K>(bucket, g, xe, rest_positions_, &fe, nullptr);
     }
     scatter<K>(fe, bucket.groupNodes(g), f);
   }
@@ -555,10 +565,8 @@ void EfgModel::stiffnessImpl(const GroupBucket& bucket, const Eigen::VectorXd& x
         for (int b = 0; b < k; ++b)
           Ke.template block<3, 3>(3 * a, 3 * b).diagonal().array() += S(a, b);
       if (f != nullptr || energy != nullptr) {
-        const NodeMatrix<K> ue = xe - gather<K>(rest_positions_, bucket.groupNodes(g), k);
-        const NodeMatrix<K> su = ue * S;
-        if (f != nullptr) fe -= su;
-        if (energy != nullptr) *energy += 0.5 * su.cwiseProduct(ue).sum();
+        addGroupStabilization<K>(bucket, g, xe, rest_positions_, f != nullptr ? &fe : nullptr,
+                                 energy);
       }
     }
     if (f != nullptr) scatter<K>(fe, bucket.groupNodes(g), *f);
