@@ -28,6 +28,12 @@ namespace {
 constexpr double kStretchMargin = 3.0;
 /// Edges per broad-phase cluster.
 constexpr int kClusterEdges = 32;
+/// Particles per block of the clusters' motion bounds (about), and at most this many blocks
+/// along an axis.
+constexpr double kBlockParticles = 8.0;
+constexpr double kMaxBlocksPerAxis = 256.0;
+/// Consecutive clusters (Morton order) per group of the broad phase's first level.
+constexpr int kGroupClusters = 32;
 /// Crossing parameters are kept this far from the edge ends, and tip barycentric coordinates
 /// at least this large, so no split triangle degenerates to zero area.
 constexpr double kEdgeMargin = 0.02;
@@ -129,6 +135,33 @@ EfgSurfaceCutter::EfgSurfaceCutter(const TriMesh& surface, const EfgMappingSourc
     setIp(v, remapper_.find(vert.rest, vertexNormal(v), vert.planes, {}).ip);
     source_.pointWeights(vert.ip, vert.rest, vert.particles, vert.weights);
   }
+  cluster_bounds_.clear();  // every row is new
+  // Particle blocks of about kBlockParticles particles each.
+  const int particles = source_.numParticles();
+  if (particles < 1) throw std::invalid_argument("EfgSurfaceCutter: the source has no particles");
+  particle_rest_.resize(3, particles);
+  for (int p = 0; p < particles; ++p) particle_rest_.col(p) = source_.particleRestPosition(p);
+  if (!particle_rest_.allFinite())
+    throw std::invalid_argument("EfgSurfaceCutter: a particle rest position is not finite");
+  block_origin_ = particle_rest_.rowwise().minCoeff();
+  const Eigen::Vector3d extent = particle_rest_.rowwise().maxCoeff() - block_origin_;
+  const double largest = std::max(extent.maxCoeff(), 1e-300);
+  block_side_ =
+      std::max(std::cbrt(kBlockParticles * extent.cwiseMax(1e-9 * largest).prod() / particles),
+               largest / kMaxBlocksPerAxis);
+  block_dims_ = ((extent / block_side_).array().floor().cast<int>() + 1).matrix();
+  particle_block_.resize(static_cast<std::size_t>(particles));
+  for (int p = 0; p < particles; ++p) {
+    const Eigen::Vector3i c = ((particle_rest_.col(p) - block_origin_) / block_side_)
+                                  .array()
+                                  .floor()
+                                  .cast<int>()
+                                  .min(block_dims_.array() - 1)
+                                  .matrix();
+    at(particle_block_, p) = c.x() + block_dims_.x() * (c.y() + block_dims_.y() * c.z());
+  }
+  block_motion_.assign(static_cast<std::size_t>(block_dims_.prod()), 0.0);
+  refreshClusterBounds();
 }
 
 bool EfgSurfaceCutter::vertexUsed(int v) const { return at(verts_, v).used; }
@@ -298,6 +331,9 @@ void EfgSurfaceCutter::buildTables() {
   cluster_vert_begin_ = {0};
   cluster_vert_ids_.clear();
   edge_cluster_.assign(edges_.size(), -1);
+  vertex_clusters_.assign(verts_.size(), {});
+  cluster_bounds_.clear();
+  touched_.clear();
   addClusters(all);
 }
 
@@ -401,7 +437,103 @@ void EfgSurfaceCutter::addClusters(const std::vector<int>& edges) {
     cluster_vert_ids_.erase(std::unique(cluster_vert_ids_.begin() + first, cluster_vert_ids_.end()),
                             cluster_vert_ids_.end());
     cluster_vert_begin_.push_back(intSize(cluster_vert_ids_));
+    vertex_clusters_.resize(verts_.size());
+    for (auto k = static_cast<std::size_t>(first); k < cluster_vert_ids_.size(); ++k)
+      at(vertex_clusters_, cluster_vert_ids_[k]).push_back(intSize(cluster_edges_) - 1);
   }
+}
+
+void EfgSurfaceCutter::touch(int v) {
+  touched_.push_back(v);
+  if (touched_.size() > verts_.size()) {  // cheaper to recompute every bound
+    cluster_bounds_.clear();
+    touched_.clear();
+  }
+}
+
+void EfgSurfaceCutter::refreshClusterBounds() {
+  std::vector<int> stale;
+  for (int v : touched_)
+    if (v < intSize(vertex_clusters_))
+      for (int c : at(vertex_clusters_, v))
+        if (c < intSize(cluster_bounds_)) stale.push_back(c);
+  touched_.clear();
+  for (int c = intSize(cluster_bounds_); c < intSize(cluster_edges_); ++c) stale.push_back(c);
+  cluster_bounds_.resize(cluster_edges_.size());
+  std::sort(stale.begin(), stale.end());
+  stale.erase(std::unique(stale.begin(), stale.end()), stale.end());
+  for (int c : stale) {
+    ClusterBound b;
+    b.lo.setConstant(std::numeric_limits<double>::infinity());
+    b.hi = -b.lo;
+    double scale = 0.0;  // largest rest coordinate [m]
+    for (int k = at(cluster_vert_begin_, c); k < at(cluster_vert_begin_, c + 1); ++k) {
+      const Vertex& vert = at(verts_, at(cluster_vert_ids_, k));
+      if (!vert.used) continue;
+      b.lo = b.lo.cwiseMin(vert.rest);
+      b.hi = b.hi.cwiseMax(vert.rest);
+      scale = std::max(scale, vert.rest.cwiseAbs().maxCoeff());
+      double norm = 0.0;
+      Eigen::Vector3d image = Eigen::Vector3d::Zero();  // sum w_a X_a [m]
+      for (std::size_t a = 0; a < vert.particles.size(); ++a) {
+        norm += std::abs(vert.weights[a]);
+        image += vert.weights[a] * particle_rest_.col(vert.particles[a]);
+        b.blocks.push_back(at(particle_block_, vert.particles[a]));
+      }
+      b.row_norm = std::max(b.row_norm, norm);
+      b.residual = std::max(b.residual, (image - vert.rest).norm());
+      b.reach = std::max(b.reach, vert.ip_reach);
+    }
+    // Round-off of the positions the rows give: far below 1e-9 of the coordinates.
+    b.residual += 1e-9 * scale;
+    std::sort(b.blocks.begin(), b.blocks.end());
+    b.blocks.erase(std::unique(b.blocks.begin(), b.blocks.end()), b.blocks.end());
+    at(cluster_bounds_, c) = std::move(b);
+  }
+  // The groups of the refreshed clusters: the union of their clusters' bounds.
+  group_bounds_.resize((cluster_bounds_.size() + kGroupClusters - 1) / kGroupClusters);
+  for (std::size_t i = 0; i < stale.size();) {
+    const int g = stale[i] / kGroupClusters;
+    while (i < stale.size() && stale[i] / kGroupClusters == g) ++i;
+    ClusterBound u;
+    u.lo.setConstant(std::numeric_limits<double>::infinity());
+    u.hi = -u.lo;
+    const int end = std::min(intSize(cluster_bounds_), (g + 1) * kGroupClusters);
+    for (int c = g * kGroupClusters; c < end; ++c) {
+      const ClusterBound& b = at(cluster_bounds_, c);
+      u.lo = u.lo.cwiseMin(b.lo);
+      u.hi = u.hi.cwiseMax(b.hi);
+      u.row_norm = std::max(u.row_norm, b.row_norm);
+      u.residual = std::max(u.residual, b.residual);
+      u.reach = std::max(u.reach, b.reach);
+      u.blocks.insert(u.blocks.end(), b.blocks.begin(), b.blocks.end());
+    }
+    std::sort(u.blocks.begin(), u.blocks.end());
+    u.blocks.erase(std::unique(u.blocks.begin(), u.blocks.end()), u.blocks.end());
+    at(group_bounds_, g) = std::move(u);
+  }
+}
+
+void EfgSurfaceCutter::measureBlockMotion(const EfgParticleMotion& motion) {
+  const Eigen::Index size = 3 * particle_rest_.cols();
+  if (motion.start.size() != size || motion.end.size() != size)
+    throw std::invalid_argument("EfgSurfaceCutter::cut: particle positions have sizes " +
+                                std::to_string(motion.start.size()) + " and " +
+                                std::to_string(motion.end.size()) + ", expected " +
+                                std::to_string(size));
+  std::fill(block_motion_.begin(), block_motion_.end(), 0.0);
+  double round_off = 0.0;  // x - x sums to 0, or NaN after a non-finite coordinate
+  for (Eigen::Index p = 0; p < particle_rest_.cols(); ++p) {
+    const double a = (motion.start.segment<3>(3 * p) - particle_rest_.col(p)).squaredNorm();
+    const double b = (motion.end.segment<3>(3 * p) - particle_rest_.col(p)).squaredNorm();
+    round_off += (a - a) + (b - b);
+    double& block = at(block_motion_, at(particle_block_, static_cast<int>(p)));
+    block = std::max({block, a, b});
+  }
+  if (round_off != 0.0)
+    throw std::invalid_argument(
+        "EfgSurfaceCutter::cut: a particle position at the step start or end is not finite");
+  for (double& m : block_motion_) m = std::sqrt(m);
 }
 
 int EfgSurfaceCutter::newVertex(Eigen::Vector3d rest) {  // by value: verts_ may reallocate
@@ -417,6 +549,7 @@ int EfgSurfaceCutter::newVertex(Eigen::Vector3d rest) {  // by value: verts_ may
   Vertex& vert = at(verts_, v);
   vert = Vertex{};
   vert.rest = rest;
+  touch(v);
   return v;
 }
 
@@ -447,6 +580,7 @@ void EfgSurfaceCutter::freeVertex(int v) {
   at(verts_, v) = Vertex{};
   at(verts_, v).used = false;
   free_.push_back(v);
+  touch(v);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -766,6 +900,7 @@ void EfgSurfaceCutter::remap(int v, const std::vector<std::uint8_t>* excluded) {
     vert.sliver = found.relaxation == RemapRelaxation::kNearest;
   }
   source_.pointWeights(vert.ip, vert.rest, vert.particles, vert.weights);
+  touch(v);
 }
 
 void EfgSurfaceCutter::addPlane(int v, const Eigen::Vector3d& point,
@@ -801,12 +936,17 @@ std::vector<int> EfgSurfaceCutter::remapVerticesOfIps(const std::vector<int>& ch
 // One step.
 
 EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Matrix3Xd& x_start,
-                                        const Eigen::Matrix3Xd& x_end) {
+                                        const Eigen::Matrix3Xd& x_end,
+                                        const EfgParticleMotion* motion) {
   validateBladeSweep(sweep);
   checkShape("x_start", x_start, numVertices());
   checkShape("x_end", x_end, numVertices());
   EfgSurfaceCutStep out;
   const Stopwatch detect;
+  if (motion) {
+    measureBlockMotion(*motion);
+    refreshClusterBounds();
+  }
   const double tol = options_.tolerance;
   const Eigen::Vector3d blade_lo =
       sweep.start.rowwise().minCoeff().cwiseMin(sweep.end.rowwise().minCoeff()).array() - tol;
@@ -823,18 +963,16 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
       segments == 1 ? slabs.front() : efg_sweep_slab::SweepSlab{};
 
   // Outcodes: bit d (d + 4) when the vertex stays below (above) the blade's swept box along axis
-  // d over the step, axis 3 the slab's normal (no bit without a slab). One pass over the
-  // positions, which also checks them and lists the committed surface's vertices whose segment
-  // to their IP may reach the box and slab (`near`: the vertex's motion grown by its IP reach
-  // meets them), ascending. The pass reads only the positions and segment_reach_, contiguous,
-  // without branches but the `near` test (x - x sums to 0, or NaN after a non-finite
-  // coordinate).
+  // d over the step, axis 3 the slab's normal (no bit without a slab). classify(v) also checks
+  // v's positions and tells whether v is on the committed surface and its segment to its IP may
+  // reach the box and slab (the vertex's motion grown by its IP reach meets them). It reads only
+  // the positions and segment_reach_, without branches (x - x sums to 0, or NaN after a
+  // non-finite coordinate).
   outcode_.resize(verts_.size());
   double round_off = 0.0;
-  std::vector<int> near;
   const double box_lo[4] = {blade_lo.x(), blade_lo.y(), blade_lo.z(), slab.lo};
   const double box_hi[4] = {blade_hi.x(), blade_hi.y(), blade_hi.z(), slab.hi};
-  for (int v = 0; v < numVertices(); ++v) {
+  const auto classify = [&](int v) {
     const double* a = x_start.data() + 3 * static_cast<std::ptrdiff_t>(v);
     const double* b = x_end.data() + 3 * static_cast<std::ptrdiff_t>(v);
     const double reach = segment_reach_[static_cast<std::size_t>(v)];
@@ -852,7 +990,56 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
       reaches = reaches & (hi + reach >= box_lo[d]) & (lo - reach <= box_hi[d]);
     }
     outcode_[static_cast<std::size_t>(v)] = static_cast<std::uint8_t>(code);
-    if (reaches) near.push_back(v);
+    return reaches;
+  };
+  // The vertices whose segment to their IP may reach the box and slab (`near`, ascending), and
+  // the clusters to test edge by edge.
+  std::vector<int> near, clusters;
+  if (!motion) {
+    for (int v = 0; v < numVertices(); ++v)
+      if (classify(v)) near.push_back(v);
+    clusters.resize(cluster_edges_.size());
+    for (std::size_t c = 0; c < clusters.size(); ++c) clusters[c] = static_cast<int>(c);
+  } else {
+    // A cluster's vertices stay within `grow` of its rest box: only a cluster whose box so grown
+    // (and further by its IP reach, for the segments) meets the swept box and slab is classified.
+    const auto meets = [&](const ClusterBound& b, double grow) {
+      if ((b.hi.array() + grow < blade_lo.array()).any() ||
+          (b.lo.array() - grow > blade_hi.array()).any())
+        return false;
+      if (slab.normal.squaredNorm() == 0.0) return true;
+      const double centre = slab.normal.dot(0.5 * (b.lo + b.hi));
+      const double half = slab.normal.cwiseAbs().dot(0.5 * (b.hi - b.lo)) + grow;
+      return centre + half >= slab.lo && centre - half <= slab.hi;
+    };
+    vertex_mark_.resize(verts_.size(), 0);
+    std::vector<int> classified;
+    const auto growOf = [&](const ClusterBound& b) {
+      double moved = 0.0;  // [m]
+      for (int block : b.blocks) moved = std::max(moved, at(block_motion_, block));
+      return b.row_norm * moved * (1.0 + 1e-9) + b.residual;
+    };
+    for (int g = 0; g < intSize(group_bounds_); ++g) {
+      const ClusterBound& group = at(group_bounds_, g);
+      if (!meets(group, growOf(group) + group.reach)) continue;
+      const int end = std::min(intSize(cluster_edges_), (g + 1) * kGroupClusters);
+      for (int c = g * kGroupClusters; c < end; ++c) {
+        if (at(cluster_edges_, c).empty()) continue;  // all its edges freed
+        const ClusterBound& b = at(cluster_bounds_, c);
+        const double grow = growOf(b);
+        if (!meets(b, grow + b.reach)) continue;
+        for (int k = at(cluster_vert_begin_, c); k < at(cluster_vert_begin_, c + 1); ++k) {
+          const int v = at(cluster_vert_ids_, k);
+          if (at(vertex_mark_, v)) continue;
+          at(vertex_mark_, v) = 1;
+          classified.push_back(v);
+          if (classify(v)) near.push_back(v);
+        }
+        if (meets(b, grow)) clusters.push_back(c);
+      }
+    }
+    for (int v : classified) at(vertex_mark_, v) = 0;
+    std::sort(near.begin(), near.end());
   }
   const bool finite = round_off == 0.0;
   if (!finite)
@@ -867,14 +1054,14 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
     double s;
   };
   std::vector<Hit> hits;
-  for (std::size_t c = 0; c < cluster_edges_.size(); ++c) {
+  for (int c : clusters) {
     // Every vertex of the cluster's edges (and maybe a few more) on one side of the box.
-    if (cluster_edges_[c].empty()) continue;  // all its edges freed
+    if (at(cluster_edges_, c).empty()) continue;  // all its edges freed
     std::uint8_t common = 0xff;
-    for (int k = cluster_vert_begin_[c]; k < cluster_vert_begin_[c + 1]; ++k)
+    for (int k = at(cluster_vert_begin_, c); k < at(cluster_vert_begin_, c + 1); ++k)
       common &= at(outcode_, at(cluster_vert_ids_, k));
     if (common) continue;
-    for (int e : cluster_edges_[c]) {
+    for (int e : at(cluster_edges_, c)) {
       if (at(edge_crossing_, e) >= 0) continue;
       const int a = at(edges_, e)[0], b = at(edges_, e)[1];
       if (at(outcode_, a) & at(outcode_, b)) continue;

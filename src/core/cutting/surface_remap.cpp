@@ -40,6 +40,12 @@ bool shareParticle(const std::vector<int>& a, const std::vector<int>& b) {
 
 int EfgModelSource::numIntegrationPoints() const { return model_.numIntegrationPoints(); }
 
+int EfgModelSource::numParticles() const { return model_.numNodes(); }
+
+Eigen::Vector3d EfgModelSource::particleRestPosition(int p) const {
+  return model_.grid().particles.col(p);
+}
+
 Eigen::Vector3d EfgModelSource::ipRestPosition(int ip) const {
   return model_.grid().integration_points.col(ip);
 }

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <random>
 #include <set>
 #include <stdexcept>
@@ -499,6 +500,105 @@ TEST(EfgSurfaceCutter, RandomSweepsNeverLeaveOpenOrPinchedEdgesOrNonFiniteValues
   std::cout << "[ info ] 300 random sweeps: " << cuts << " cuts closed or left as cracks\n";
 }
 
+/// Positions [m] of the cutter's vertices (its mapping rows) for particle positions x; free
+/// slots at 0.
+Eigen::Matrix3Xd mappedVertices(const EfgSurfaceCutter& cutter, const Eigen::VectorXd& x) {
+  Eigen::Matrix3Xd out = Eigen::Matrix3Xd::Zero(3, cutter.numVertices());
+  std::vector<int> p;
+  std::vector<double> w;
+  for (int v = 0; v < cutter.numVertices(); ++v) {
+    if (!cutter.vertexUsed(v)) continue;
+    cutter.mappingRow(v, p, w);
+    for (std::size_t a = 0; a < p.size(); ++a) out.col(v) += w[a] * x.segment<3>(3 * p[a]);
+  }
+  return out;
+}
+
+TEST(EfgSurfaceCutter, ParticleMotionBoundsFindWhatThePassOverEveryVertexFinds) {
+  // Two cutters on one sphere take the same 160 random crossing sweeps while the body moves far
+  // (a rotation of up to 0.6 rad and a translation of up to 3 m, its diameter is 2 m, different
+  // at the step start and end, the sweep carried along) and deforms (each particle moved by up
+  // to 0.12 m along each axis). One classifies every vertex, the other only those of the
+  // clusters its particle-motion bounds keep: every step must give the same result.
+  const TriMesh sphere = makeIcosphere(2);
+  GridSource source(V::Constant(-1.0), Eigen::Vector3i(5, 5, 5), 0.4);
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Eigen::VectorXd rest(3 * source.numParticles());
+  for (int p = 0; p < source.numParticles(); ++p)
+    rest.segment<3>(3 * p) = source.particleRestPosition(p);
+  int cuts = 0, crossed = 0, remapped = 0;
+  for (int body = 0; body < 4; ++body) {
+    EfgSurfaceCutter every(sphere, source, EfgSurfaceCutOptions{0.3, 1e-9});
+    EfgSurfaceCutter bounded(sphere, source, EfgSurfaceCutOptions{0.3, 1e-9});
+    for (int sweep = 0; sweep < 10; ++sweep) {
+      const std::array<BladeSweep, 4> steps = randomCrossingSweeps(rng, 0.8);
+      for (int k = 0; k < 4; ++k) {
+        const auto rigid = [&] {
+          Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+          t.rotate(Eigen::AngleAxisd(0.6 * u(rng), V(u(rng), u(rng), u(rng)).normalized()));
+          t.pretranslate(3.0 * V(u(rng), u(rng), u(rng)));
+          return t;
+        };
+        const Eigen::Isometry3d t0 = rigid(), t1 = rigid();
+        Eigen::VectorXd x0 = rest, x1 = rest;
+        for (int p = 0; p < source.numParticles(); ++p) {
+          x0.segment<3>(3 * p) = t0 * V(rest.segment<3>(3 * p)) + 0.12 * V(u(rng), u(rng), u(rng));
+          x1.segment<3>(3 * p) = t1 * V(rest.segment<3>(3 * p)) + 0.12 * V(u(rng), u(rng), u(rng));
+        }
+        BladeSweep s = steps[static_cast<std::size_t>(k)];
+        s.start = t0 * s.start;
+        s.end = t1 * s.end;
+        const Eigen::Matrix3Xd v0 = mappedVertices(every, x0), v1 = mappedVertices(every, x1);
+        const EfgSurfaceCutStep a = every.cut(s, v0, v1);
+        const EfgParticleMotion motion{x0, x1};
+        const EfgSurfaceCutStep b = bounded.cut(s, v0, v1, &motion);
+        const std::string at = "body " + std::to_string(body) + " sweep " + std::to_string(sweep) +
+                               " step " + std::to_string(k);
+        ASSERT_EQ(a.crossed_edges, b.crossed_edges) << at;
+        ASSERT_EQ(a.ignored_crossings, b.ignored_crossings) << at;
+        ASSERT_EQ(a.completed, b.completed) << at;
+        ASSERT_EQ(a.crack, b.crack) << at;
+        ASSERT_EQ(a.remapped, b.remapped) << at;
+        ASSERT_EQ(every.triangles(), bounded.triangles()) << at;
+        cuts += a.completed || a.crack ? 1 : 0;
+        crossed += a.crossed_edges;
+        remapped += static_cast<int>(a.remapped.size());
+      }
+    }
+  }
+  EXPECT_GT(cuts, 20);
+  EXPECT_GT(crossed, 500);
+  std::cout << "[ info ] 160 moving sweeps: " << cuts << " cuts, " << crossed << " crossed edges, "
+            << remapped << " remapped vertices, the same with and without the motion bounds\n";
+}
+
+TEST(EfgSurfaceCutter, ParticleMotionBoundsKeepTheVertexToIpSegmentsThatReachTheBlade) {
+  // A blade inside the resting unit box (16 x 16 squares a face), 5 cm under its top face,
+  // crosses no edge but the segments from the top face's vertices to their IPs: the clusters of
+  // the top face lie outside the swept box, and only their IP reach brings them in.
+  struct FineBox {
+    GridSource source{V::Zero(), Eigen::Vector3i(4, 4, 4), 0.25};
+    TriMesh surface = boxSurface(V::Zero(), V::Ones(), Eigen::Vector3i(16, 16, 16));
+    EfgSurfaceCutter cutter{surface, source, EfgSurfaceCutOptions{0.2, 1e-9}};
+  } every, bounded;
+  BladeSweep s;
+  s.start.resize(3, 2);
+  s.end.resize(3, 2);
+  s.start << 0.6, 0.6, 0.2, 0.8, 0.95, 0.95;
+  s.end << 0.4, 0.4, 0.2, 0.8, 0.95, 0.95;
+  Eigen::VectorXd rest(3 * bounded.source.numParticles());
+  for (int p = 0; p < bounded.source.numParticles(); ++p)
+    rest.segment<3>(3 * p) = bounded.source.particleRestPosition(p);
+  const EfgParticleMotion motion{rest, rest};
+  const Eigen::Matrix3Xd X = bounded.cutter.restVertices();
+  const EfgSurfaceCutStep b = bounded.cutter.cut(s, X, X, &motion);
+  const EfgSurfaceCutStep a = every.cutter.cut(s, X, X);
+  EXPECT_EQ(a.crossed_edges + a.ignored_crossings, 0);
+  EXPECT_GT(a.remapped.size(), 2u);
+  EXPECT_EQ(b.remapped, a.remapped);
+}
+
 TEST(EfgSurfaceCutter, SliversKeepTheNearestIpAndTheirRowsFollowItsParticles) {
   // Random crossing sweeps through a sphere leave slivers: vertices whose cut planes admit no
   // IP. Each must hold the nearest IP (ties to the lower index), every other vertex an IP below
@@ -644,6 +744,25 @@ TEST(EfgSurfaceCutter, BadInputGetsAClearError) {
   EXPECT_THROW(cutter.cut(s, short_x, x), std::invalid_argument);
   x(0, 0) = std::nan("");
   EXPECT_THROW(cutter.cut(s, cutter.restVertices(), x), std::invalid_argument);
+  // Particle positions of the wrong size or not finite, named.
+  const Eigen::Matrix3Xd X = cutter.restVertices();
+  Eigen::VectorXd p(3 * source.numParticles());
+  for (int a = 0; a < source.numParticles(); ++a)
+    p.segment<3>(3 * a) = source.particleRestPosition(a);
+  const auto motionMessage = [&](const Eigen::VectorXd& start) {
+    const EfgParticleMotion motion{start, p};
+    try {
+      cutter.cut(s, X, X, &motion);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(motionMessage(p.head(6)).find("particle positions have sizes 6"), std::string::npos);
+  Eigen::VectorXd bad = p;
+  bad(4) = std::numeric_limits<double>::infinity();
+  EXPECT_NE(motionMessage(bad).find("particle position"), std::string::npos);
+  EXPECT_FALSE(cutter.cutActive());  // rejected before any change
 }
 
 TEST(EfgSurfaceCutter, PrintsTheUpdateTimeOnA300kTriangleSphere) {

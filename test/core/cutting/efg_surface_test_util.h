@@ -31,7 +31,13 @@ class GridSource : public EfgMappingSource {
           corner_.push_back({i, j, k});
         }
   }
-  int numParticles() const { return (cells_.x() + 1) * (cells_.y() + 1) * (cells_.z() + 1); }
+  int numParticles() const override {
+    return (cells_.x() + 1) * (cells_.y() + 1) * (cells_.z() + 1);
+  }
+  Eigen::Vector3d particleRestPosition(int p) const override {
+    const int nx = cells_.x() + 1, ny = cells_.y() + 1;
+    return lo_ + h_ * Eigen::Vector3d(p % nx, (p / nx) % ny, p / (nx * ny));
+  }
   int numIntegrationPoints() const override { return static_cast<int>(particles_.size()); }
   Eigen::Vector3d ipRestPosition(int ip) const override {
     return lo_ + h_ * (corner_[static_cast<std::size_t>(ip)].cast<double>().array() + 0.5).matrix();

@@ -36,6 +36,13 @@ struct EfgSurfaceCutStep {
   double detect_seconds = 0.0;
 };
 
+/// The particle positions a step's vertex positions come from (EfgSurfaceCutter::cut): every used
+/// vertex v is at the sum of mappingRow(v)'s weights times these particles' positions.
+struct EfgParticleMotion {
+  const Eigen::VectorXd& start;  ///< at the step start [m], size 3 x source numParticles()
+  const Eigen::VectorXd& end;    ///< at the step end [m], same size
+};
+
 /// Progressive cutting of the explicit surface of a meshless (EFG) body (Magnoux §4.2.4, §5.2).
 ///
 /// State: the triangle surface (rest and, given by the caller each step, current vertex
@@ -50,7 +57,17 @@ struct EfgSurfaceCutStep {
 ///   gives each vertex an outcode against the blade's swept box (and, for a one-segment blade,
 ///   against the slab its sweep lies in); edge clusters (up to 32 edges in Morton order, built
 ///   when edges are created) whose vertices all share a bit are skipped, so only the clusters
-///   touching the swept box are tested edge by edge. Ties in
+///   touching the swept box are tested edge by edge. Given the particle motion
+///   (EfgParticleMotion), the pass over the positions is skipped: a vertex lies within
+///   |row|_1 x (its row's largest particle displacement from rest) + (its row's reproduction
+///   residual |sum w_a X_a - X_v|) of its rest position X_v, so each cluster keeps its vertices'
+///   rest box and largest row norm, residual and IP reach, and the particles' displacements are
+///   taken per block of particles (the blocks of the cluster's rows): only the clusters whose
+///   box so grown meets the swept box and slab have their vertices' outcodes computed, and
+///   groups of consecutive clusters (their bounds' union) are tested first. The bounds of a
+///   cluster and its group are refreshed when one of its vertices' rest position or row
+///   changes.
+///   Ties in
 ///   time go by the edges' vertex ids. A crossing is kept as its edge parameter s and applied
 ///   in the rest configuration.
 /// - Each crossed edge gets a pair of vertices at s, one per side. The crossed triangles form
@@ -99,12 +116,16 @@ class EfgSurfaceCutter {
   /// surface, front and mapping. No crossing and no running cut: nothing changes. Cost: one pass
   /// over the positions and one over the clusters, the edges of the clusters the swept box
   /// touches, the running cut's size (also when a step ends a cut, see the class comment).
+  /// With `motion`, the cost of the broad phase is one pass over the particles and one over the
+  /// clusters' bounds instead of the pass over the positions, and only the positions of the
+  /// vertices of clusters near the sweep are read (and checked).
   /// @param x_start, x_end current vertex positions at the step start and end [m], shape
   ///        3 x numVertices() (free slots: any finite value).
-  /// @throws std::invalid_argument for a sweep failing validateBladeSweep or positions of the
-  ///         wrong shape or not finite.
+  /// @param motion the particle positions x_start and x_end are mapped from (optional).
+  /// @throws std::invalid_argument for a sweep failing validateBladeSweep, positions of the
+  ///         wrong shape or not finite, or particle positions of the wrong size or not finite.
   EfgSurfaceCutStep cut(const BladeSweep& sweep, const Eigen::Matrix3Xd& x_start,
-                        const Eigen::Matrix3Xd& x_end);
+                        const Eigen::Matrix3Xd& x_end, const EfgParticleMotion* motion = nullptr);
 
   /// Remaps every vertex mapped to one of `changed_ips` (their particle sets changed after a
   /// volume cut). @return the remapped vertices, sorted.
@@ -153,8 +174,25 @@ class EfgSurfaceCutter {
     std::vector<double> weights;
   };
 
+  /// Motion bound of a cluster's used vertices (see cut()): their rest box [m], the largest L1
+  /// norm of their rows [-], reproduction residual [m] and IP reach [m], and the particle
+  /// blocks of their rows.
+  struct ClusterBound {
+    Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
+    double row_norm = 0.0, residual = 0.0, reach = 0.0;
+    std::vector<int> blocks;
+  };
+
   /// Maps vertex v to IP ip (-1: none), keeping ip_vertices_ and segment_reach_.
   void setIp(int v, int ip);
+  /// Notes that v's rest position or row changed: the bounds of its clusters are stale.
+  void touch(int v);
+  /// Recomputes the bounds of the clusters created or touched since the last call.
+  void refreshClusterBounds();
+  /// Per particle block, the largest displacement from rest of its particles at the step start
+  /// and end [m], into block_motion_.
+  /// @throws std::invalid_argument for positions of the wrong size or not finite.
+  void measureBlockMotion(const EfgParticleMotion& motion);
   /// Sets segment_reach_[v] from v's IP and committed triangles.
   void updateSegmentReach(int v);
   /// Ends the running cut (its triangles join the committed surface) and updates the tables.
@@ -225,8 +263,21 @@ class EfgSurfaceCutter {
   /// latter as cluster_vert_ids_[cluster_vert_begin_[c] .. cluster_vert_begin_[c + 1]).
   std::vector<std::vector<int>> cluster_edges_;
   std::vector<int> cluster_vert_begin_ = {0}, cluster_vert_ids_;
-  std::vector<int> edge_cluster_;               ///< per edge slot, its cluster (free: -1)
-  std::array<Eigen::Vector3d, 2> cluster_box_;  ///< box of the Morton codes [m]
+  std::vector<int> edge_cluster_;                  ///< per edge slot, its cluster (free: -1)
+  std::array<Eigen::Vector3d, 2> cluster_box_;     ///< box of the Morton codes [m]
+  std::vector<std::vector<int>> vertex_clusters_;  ///< per vertex, the clusters listing it
+  std::vector<ClusterBound> cluster_bounds_;       ///< per cluster (fewer: the rest are new)
+  /// Per group of kGroupClusters consecutive clusters, the union of their bounds.
+  std::vector<ClusterBound> group_bounds_;
+  std::vector<int> touched_;  ///< vertices touched since the last refresh
+  // Particle blocks: a grid of cubes of side block_side_ [m] from block_origin_ over the
+  // particles' rest box; per particle its block, per block its displacement bound [m].
+  Eigen::Vector3d block_origin_ = Eigen::Vector3d::Zero();
+  double block_side_ = 1.0;
+  Eigen::Vector3i block_dims_ = Eigen::Vector3i::Ones();
+  Eigen::Matrix3Xd particle_rest_;  ///< the source's particle rest positions [m]
+  std::vector<int> particle_block_;
+  std::vector<double> block_motion_;
   // Running cut.
   bool active_ = false;
   std::vector<Crossing> crossings_;

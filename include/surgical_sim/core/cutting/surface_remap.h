@@ -15,6 +15,10 @@ class EfgMappingSource {
   virtual ~EfgMappingSource() = default;
   /// Number of IPs, fixed for the source's lifetime.
   virtual int numIntegrationPoints() const = 0;
+  /// Number of particles (model nodes), fixed for the source's lifetime.
+  virtual int numParticles() const = 0;
+  /// Rest position of particle p [m].
+  virtual Eigen::Vector3d particleRestPosition(int p) const = 0;
   /// Rest position of IP `ip` [m].
   virtual Eigen::Vector3d ipRestPosition(int ip) const = 0;
   /// Current position of IP `ip` [m] (the model's state when the cutter is called).
@@ -35,6 +39,8 @@ class EfgModelSource final : public EfgMappingSource {
  public:
   EfgModelSource(const EfgModel& model, const Eigen::VectorXd& x) : model_(model), x_(x) {}
   int numIntegrationPoints() const override;
+  int numParticles() const override;
+  Eigen::Vector3d particleRestPosition(int p) const override;
   Eigen::Vector3d ipRestPosition(int ip) const override;
   Eigen::Vector3d ipPosition(int ip) const override;
   const std::vector<int>& ipParticles(int ip) const override;
