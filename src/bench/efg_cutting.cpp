@@ -264,7 +264,7 @@ EfgCutBody::Update EfgCutBody::cut(const BladeSweep& sweep, const Eigen::VectorX
   u.times.volume_ms = msSince(t0);
   x_ = x_end;
   t0 = Clock::now();
-  const EfgParticleMotion motion{x_start, x_end};
+  const EfgParticleMotion motion{x_start, x_end, u.volume.changed_ips};
   u.surface = surface_->cut(sweep, s_start, last_positions_, &motion);
   u.times.surface_ms = msSince(t0);
   u.times.detect_ms = 1e3 * (u.volume.detect_seconds + u.surface.detect_seconds);

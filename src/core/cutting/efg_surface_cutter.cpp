@@ -23,17 +23,13 @@ using cutting_index::intSize;
 
 namespace {
 
-/// The segment from a vertex to its IP stretches at most this much [-] (the volume cutter's
-/// margin for its links).
-constexpr double kStretchMargin = 3.0;
 /// Edges per broad-phase cluster.
 constexpr int kClusterEdges = 32;
-/// Particles per block of the clusters' motion bounds (about), and at most this many blocks
-/// along an axis.
-constexpr double kBlockParticles = 8.0;
-constexpr double kMaxBlocksPerAxis = 256.0;
 /// Consecutive clusters (Morton order) per group of the broad phase's first level.
 constexpr int kGroupClusters = 32;
+/// The bounds' reference configuration moves to the step's end once a particle is this many
+/// mean particle spacings from it [-].
+constexpr double kRefitSpacings = 0.5;
 /// Crossing parameters are kept this far from the edge ends, and tip barycentric coordinates
 /// at least this large, so no split triangle degenerates to zero area.
 constexpr double kEdgeMargin = 0.02;
@@ -118,7 +114,7 @@ EfgSurfaceCutter::EfgSurfaceCutter(const TriMesh& surface, const EfgMappingSourc
                                 std::to_string(closure.open_edges) + " open and " +
                                 std::to_string(closure.pinched_edges) + " pinched edges");
   verts_.resize(static_cast<std::size_t>(n));
-  segment_reach_.assign(verts_.size(), -1.0);
+  segment_tested_.assign(verts_.size(), 0);
   for (Eigen::Index v = 0; v < n; ++v)
     verts_[static_cast<std::size_t>(v)].rest = surface.vertices.col(v);
   tris_.resize(static_cast<std::size_t>(surface.triangles.cols()));
@@ -136,31 +132,19 @@ EfgSurfaceCutter::EfgSurfaceCutter(const TriMesh& surface, const EfgMappingSourc
     source_.pointWeights(vert.ip, vert.rest, vert.particles, vert.weights);
   }
   cluster_bounds_.clear();  // every row is new
-  // Particle blocks of about kBlockParticles particles each.
+  group_bounds_.clear();
+  // The reference configuration starts at rest; the mean particle spacing sets the refit
+  // distance.
   const int particles = source_.numParticles();
   if (particles < 1) throw std::invalid_argument("EfgSurfaceCutter: the source has no particles");
-  particle_rest_.resize(3, particles);
-  for (int p = 0; p < particles; ++p) particle_rest_.col(p) = source_.particleRestPosition(p);
-  if (!particle_rest_.allFinite())
+  Eigen::Matrix3Xd rest(3, particles);
+  for (int p = 0; p < particles; ++p) rest.col(p) = source_.particleRestPosition(p);
+  if (!rest.allFinite())
     throw std::invalid_argument("EfgSurfaceCutter: a particle rest position is not finite");
-  block_origin_ = particle_rest_.rowwise().minCoeff();
-  const Eigen::Vector3d extent = particle_rest_.rowwise().maxCoeff() - block_origin_;
+  const Eigen::Vector3d extent = rest.rowwise().maxCoeff() - rest.rowwise().minCoeff();
   const double largest = std::max(extent.maxCoeff(), 1e-300);
-  block_side_ =
-      std::max(std::cbrt(kBlockParticles * extent.cwiseMax(1e-9 * largest).prod() / particles),
-               largest / kMaxBlocksPerAxis);
-  block_dims_ = ((extent / block_side_).array().floor().cast<int>() + 1).matrix();
-  particle_block_.resize(static_cast<std::size_t>(particles));
-  for (int p = 0; p < particles; ++p) {
-    const Eigen::Vector3i c = ((particle_rest_.col(p) - block_origin_) / block_side_)
-                                  .array()
-                                  .floor()
-                                  .cast<int>()
-                                  .min(block_dims_.array() - 1)
-                                  .matrix();
-    at(particle_block_, p) = c.x() + block_dims_.x() * (c.y() + block_dims_.y() * c.z());
-  }
-  block_motion_.assign(static_cast<std::size_t>(block_dims_.prod()), 0.0);
+  refit_distance_ = kRefitSpacings * std::cbrt(extent.cwiseMax(1e-9 * largest).prod() / particles);
+  ref_x_ = rest.reshaped();
   refreshClusterBounds();
 }
 
@@ -238,7 +222,7 @@ void EfgSurfaceCutter::commit() {
     for (int t : dead) {
       for (int v : at(tris_, t)) {
         eraseSorted(at(vertex_tris_, v), t);
-        updateSegmentReach(v);
+        updateSegmentTested(v);
       }
       if (!options_.rebuild_tables) unlinkEdges(t);
     }
@@ -262,7 +246,7 @@ void EfgSurfaceCutter::commit() {
       ++live_tris_;
       for (int v : g) {
         insertSorted(at(vertex_tris_, v), t);
-        updateSegmentReach(v);
+        updateSegmentTested(v);
       }
       added.push_back(t);
     }
@@ -333,6 +317,7 @@ void EfgSurfaceCutter::buildTables() {
   edge_cluster_.assign(edges_.size(), -1);
   vertex_clusters_.assign(verts_.size(), {});
   cluster_bounds_.clear();
+  group_bounds_.clear();
   touched_.clear();
   addClusters(all);
 }
@@ -447,8 +432,45 @@ void EfgSurfaceCutter::touch(int v) {
   touched_.push_back(v);
   if (touched_.size() > verts_.size()) {  // cheaper to recompute every bound
     cluster_bounds_.clear();
+    group_bounds_.clear();
     touched_.clear();
   }
+}
+
+void EfgSurfaceCutter::clusterBox(int c, ClusterBound& b) const {
+  b.lo.setConstant(std::numeric_limits<double>::infinity());
+  b.hi = -b.lo;
+  b.segment_lo = b.lo;
+  b.segment_hi = b.hi;
+  double scale = 0.0;  // largest coordinate [m]
+  for (int k = at(cluster_vert_begin_, c); k < at(cluster_vert_begin_, c + 1); ++k) {
+    const Vertex& vert = at(verts_, at(cluster_vert_ids_, k));
+    if (!vert.used) continue;
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (std::size_t a = 0; a < vert.particles.size(); ++a)
+      x += vert.weights[a] * ref_x_.segment<3>(3 * static_cast<Eigen::Index>(vert.particles[a]));
+    b.lo = b.lo.cwiseMin(x);
+    b.hi = b.hi.cwiseMax(x);
+    b.segment_lo = b.segment_lo.cwiseMin(x);
+    b.segment_hi = b.segment_hi.cwiseMax(x);
+    scale = std::max(scale, x.cwiseAbs().maxCoeff());
+    if (vert.ip < 0) continue;
+    const Eigen::Vector3d x_ip = source_.ipPositionAt(vert.ip, ref_x_);
+    b.segment_lo = b.segment_lo.cwiseMin(x_ip);
+    b.segment_hi = b.segment_hi.cwiseMax(x_ip);
+    scale = std::max(scale, x_ip.cwiseAbs().maxCoeff());
+  }
+  // Round-off of the positions the caller maps: far below 1e-9 of the coordinates.
+  b.margin = 1e-9 * scale;
+}
+
+void EfgSurfaceCutter::unite(ClusterBound& into, const ClusterBound& b) {
+  into.lo = into.lo.cwiseMin(b.lo);
+  into.hi = into.hi.cwiseMax(b.hi);
+  into.segment_lo = into.segment_lo.cwiseMin(b.segment_lo);
+  into.segment_hi = into.segment_hi.cwiseMax(b.segment_hi);
+  into.row_norm = std::max(into.row_norm, b.row_norm);
+  into.margin = std::max(into.margin, b.margin);
 }
 
 void EfgSurfaceCutter::refreshClusterBounds() {
@@ -462,78 +484,82 @@ void EfgSurfaceCutter::refreshClusterBounds() {
   cluster_bounds_.resize(cluster_edges_.size());
   std::sort(stale.begin(), stale.end());
   stale.erase(std::unique(stale.begin(), stale.end()), stale.end());
+  ClusterBound empty;
+  empty.lo.setConstant(std::numeric_limits<double>::infinity());
+  empty.hi = -empty.lo;
+  empty.segment_lo = empty.lo;
+  empty.segment_hi = empty.hi;
+  group_bounds_.resize((cluster_bounds_.size() + kGroupClusters - 1) / kGroupClusters, empty);
   for (int c : stale) {
     ClusterBound b;
-    b.lo.setConstant(std::numeric_limits<double>::infinity());
-    b.hi = -b.lo;
-    double scale = 0.0;  // largest rest coordinate [m]
+    clusterBox(c, b);
     for (int k = at(cluster_vert_begin_, c); k < at(cluster_vert_begin_, c + 1); ++k) {
       const Vertex& vert = at(verts_, at(cluster_vert_ids_, k));
       if (!vert.used) continue;
-      b.lo = b.lo.cwiseMin(vert.rest);
-      b.hi = b.hi.cwiseMax(vert.rest);
-      scale = std::max(scale, vert.rest.cwiseAbs().maxCoeff());
       double norm = 0.0;
-      Eigen::Vector3d image = Eigen::Vector3d::Zero();  // sum w_a X_a [m]
-      for (std::size_t a = 0; a < vert.particles.size(); ++a) {
-        norm += std::abs(vert.weights[a]);
-        image += vert.weights[a] * particle_rest_.col(vert.particles[a]);
-        b.blocks.push_back(at(particle_block_, vert.particles[a]));
-      }
+      for (const double w : vert.weights) norm += std::abs(w);
       b.row_norm = std::max(b.row_norm, norm);
-      b.residual = std::max(b.residual, (image - vert.rest).norm());
-      b.reach = std::max(b.reach, vert.ip_reach);
+      if (vert.ip >= 0) b.row_norm = std::max(b.row_norm, source_.ipWeightNorm(vert.ip));
     }
-    // Round-off of the positions the rows give: far below 1e-9 of the coordinates.
-    b.residual += 1e-9 * scale;
-    std::sort(b.blocks.begin(), b.blocks.end());
-    b.blocks.erase(std::unique(b.blocks.begin(), b.blocks.end()), b.blocks.end());
+    // Its group grows to hold it (the group's bound is exact again after the next refit).
+    unite(at(group_bounds_, c / kGroupClusters), b);
     at(cluster_bounds_, c) = std::move(b);
-  }
-  // The groups of the refreshed clusters: the union of their clusters' bounds.
-  group_bounds_.resize((cluster_bounds_.size() + kGroupClusters - 1) / kGroupClusters);
-  for (std::size_t i = 0; i < stale.size();) {
-    const int g = stale[i] / kGroupClusters;
-    while (i < stale.size() && stale[i] / kGroupClusters == g) ++i;
-    ClusterBound u;
-    u.lo.setConstant(std::numeric_limits<double>::infinity());
-    u.hi = -u.lo;
-    const int end = std::min(intSize(cluster_bounds_), (g + 1) * kGroupClusters);
-    for (int c = g * kGroupClusters; c < end; ++c) {
-      const ClusterBound& b = at(cluster_bounds_, c);
-      u.lo = u.lo.cwiseMin(b.lo);
-      u.hi = u.hi.cwiseMax(b.hi);
-      u.row_norm = std::max(u.row_norm, b.row_norm);
-      u.residual = std::max(u.residual, b.residual);
-      u.reach = std::max(u.reach, b.reach);
-      u.blocks.insert(u.blocks.end(), b.blocks.begin(), b.blocks.end());
-    }
-    std::sort(u.blocks.begin(), u.blocks.end());
-    u.blocks.erase(std::unique(u.blocks.begin(), u.blocks.end()), u.blocks.end());
-    at(group_bounds_, g) = std::move(u);
   }
 }
 
-void EfgSurfaceCutter::measureBlockMotion(const EfgParticleMotion& motion) {
-  const Eigen::Index size = 3 * particle_rest_.cols();
+void EfgSurfaceCutter::refit(const Eigen::VectorXd& x) {
+  ref_x_ = x;
+  for (int c = 0; c < intSize(cluster_bounds_); ++c) clusterBox(c, at(cluster_bounds_, c));
+  for (int g = 0; g < intSize(group_bounds_); ++g) {
+    ClusterBound& group = at(group_bounds_, g);
+    group.lo.setConstant(std::numeric_limits<double>::infinity());
+    group.hi = -group.lo;
+    group.segment_lo = group.lo;
+    group.segment_hi = group.hi;
+    group.margin = 0.0;
+    const int end = std::min(intSize(cluster_bounds_), (g + 1) * kGroupClusters);
+    for (int c = g * kGroupClusters; c < end; ++c) {
+      const ClusterBound& b = at(cluster_bounds_, c);
+      group.lo = group.lo.cwiseMin(b.lo);
+      group.hi = group.hi.cwiseMax(b.hi);
+      group.segment_lo = group.segment_lo.cwiseMin(b.segment_lo);
+      group.segment_hi = group.segment_hi.cwiseMax(b.segment_hi);
+      group.margin = std::max(group.margin, b.margin);
+    }
+  }
+}
+
+void EfgSurfaceCutter::measureMotion(const EfgParticleMotion& motion) {
+  const Eigen::Index size = ref_x_.size();
   if (motion.start.size() != size || motion.end.size() != size)
     throw std::invalid_argument("EfgSurfaceCutter::cut: particle positions have sizes " +
                                 std::to_string(motion.start.size()) + " and " +
                                 std::to_string(motion.end.size()) + ", expected " +
                                 std::to_string(size));
-  std::fill(block_motion_.begin(), block_motion_.end(), 0.0);
-  double round_off = 0.0;  // x - x sums to 0, or NaN after a non-finite coordinate
-  for (Eigen::Index p = 0; p < particle_rest_.cols(); ++p) {
-    const double a = (motion.start.segment<3>(3 * p) - particle_rest_.col(p)).squaredNorm();
-    const double b = (motion.end.segment<3>(3 * p) - particle_rest_.col(p)).squaredNorm();
-    round_off += (a - a) + (b - b);
-    double& block = at(block_motion_, at(particle_block_, static_cast<int>(p)));
-    block = std::max({block, a, b});
+  for (int ip : motion.changed_ips) {
+    if (ip < 0 || ip >= intSize(ip_vertices_))
+      throw std::invalid_argument("EfgSurfaceCutter::cut: changed IP " + std::to_string(ip) +
+                                  " outside [0, " + std::to_string(ip_vertices_.size()) + ")");
   }
-  if (round_off != 0.0)
-    throw std::invalid_argument(
-        "EfgSurfaceCutter::cut: a particle position at the step start or end is not finite");
-  for (double& m : block_motion_) m = std::sqrt(m);
+  for (int ip : motion.changed_ips)
+    for (int v : at(ip_vertices_, ip)) touch(v);
+  for (bool refitted = false;; refitted = true) {
+    double moved = 0.0;      // squared [m^2]
+    double round_off = 0.0;  // x - x sums to 0, or NaN after a non-finite coordinate
+    for (Eigen::Index p = 0; 3 * p < size; ++p) {
+      const double a = (motion.start.segment<3>(3 * p) - ref_x_.segment<3>(3 * p)).squaredNorm();
+      const double b = (motion.end.segment<3>(3 * p) - ref_x_.segment<3>(3 * p)).squaredNorm();
+      round_off += (a - a) + (b - b);
+      moved = std::max({moved, a, b});
+    }
+    if (round_off != 0.0)
+      throw std::invalid_argument(
+          "EfgSurfaceCutter::cut: a particle position at the step start or end is not finite");
+    motion_ = std::sqrt(moved);
+    // Far from the reference, the bounds are loose: the step end becomes the reference.
+    if (refitted || motion_ <= refit_distance_) return;
+    refit(motion.end);
+  }
 }
 
 int EfgSurfaceCutter::newVertex(Eigen::Vector3d rest) {  // by value: verts_ may reallocate
@@ -544,7 +570,7 @@ int EfgSurfaceCutter::newVertex(Eigen::Vector3d rest) {  // by value: verts_ may
   } else {
     v = numVertices();
     verts_.emplace_back();
-    segment_reach_.push_back(-1.0);
+    segment_tested_.push_back(0);
   }
   Vertex& vert = at(verts_, v);
   vert = Vertex{};
@@ -561,18 +587,13 @@ void EfgSurfaceCutter::setIp(int v, int ip) {
     old.pop_back();
   }
   vert.ip = ip;
-  vert.ip_reach = 0.0;
-  if (ip >= 0) {
-    at(ip_vertices_, ip).push_back(v);
-    vert.ip_reach = kStretchMargin * (source_.ipRestPosition(ip) - vert.rest).norm();
-  }
-  updateSegmentReach(v);
+  if (ip >= 0) at(ip_vertices_, ip).push_back(v);
+  updateSegmentTested(v);
 }
 
-void EfgSurfaceCutter::updateSegmentReach(int v) {
+void EfgSurfaceCutter::updateSegmentTested(int v) {
   const bool committed = v < intSize(vertex_tris_) && !at(vertex_tris_, v).empty();
-  const bool tested = at(verts_, v).ip >= 0 && committed;
-  at(segment_reach_, v) = tested ? at(verts_, v).ip_reach : -1.0;
+  at(segment_tested_, v) = at(verts_, v).ip >= 0 && committed ? 1 : 0;
 }
 
 void EfgSurfaceCutter::freeVertex(int v) {
@@ -944,7 +965,7 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
   EfgSurfaceCutStep out;
   const Stopwatch detect;
   if (motion) {
-    measureBlockMotion(*motion);
+    measureMotion(*motion);
     refreshClusterBounds();
   }
   const double tol = options_.tolerance;
@@ -964,9 +985,7 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
 
   // Outcodes: bit d (d + 4) when the vertex stays below (above) the blade's swept box along axis
   // d over the step, axis 3 the slab's normal (no bit without a slab). classify(v) also checks
-  // v's positions and tells whether v is on the committed surface and its segment to its IP may
-  // reach the box and slab (the vertex's motion grown by its IP reach meets them). It reads only
-  // the positions and segment_reach_, without branches (x - x sums to 0, or NaN after a
+  // v's positions, reading only them, without branches (x - x sums to 0, or NaN after a
   // non-finite coordinate).
   outcode_.resize(verts_.size());
   double round_off = 0.0;
@@ -975,71 +994,75 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
   const auto classify = [&](int v) {
     const double* a = x_start.data() + 3 * static_cast<std::ptrdiff_t>(v);
     const double* b = x_end.data() + 3 * static_cast<std::ptrdiff_t>(v);
-    const double reach = segment_reach_[static_cast<std::size_t>(v)];
     const double pa[4] = {a[0], a[1], a[2],
                           slab.normal.x() * a[0] + slab.normal.y() * a[1] + slab.normal.z() * a[2]};
     const double pb[4] = {b[0], b[1], b[2],
                           slab.normal.x() * b[0] + slab.normal.y() * b[1] + slab.normal.z() * b[2]};
     unsigned code = 0;
-    bool reaches = reach >= 0.0;
     for (int d = 0; d < 4; ++d) {
       round_off += (pa[d] - pa[d]) + (pb[d] - pb[d]);
       const double lo = std::min(pa[d], pb[d]), hi = std::max(pa[d], pb[d]);
       code |= static_cast<unsigned>(hi < box_lo[d]) << d;
       code |= static_cast<unsigned>(lo > box_hi[d]) << (d + 4);
-      reaches = reaches & (hi + reach >= box_lo[d]) & (lo - reach <= box_hi[d]);
     }
     outcode_[static_cast<std::size_t>(v)] = static_cast<std::uint8_t>(code);
-    return reaches;
   };
-  // The vertices whose segment to their IP may reach the box and slab (`near`, ascending), and
-  // the clusters to test edge by edge.
+  // The committed surface's mapped vertices whose segment to their IP is tested (`near`, each
+  // once), and the clusters to test edge by edge.
   std::vector<int> near, clusters;
   if (!motion) {
-    for (int v = 0; v < numVertices(); ++v)
-      if (classify(v)) near.push_back(v);
+    for (int v = 0; v < numVertices(); ++v) {
+      classify(v);
+      if (at(segment_tested_, v)) near.push_back(v);
+    }
     clusters.resize(cluster_edges_.size());
     for (std::size_t c = 0; c < clusters.size(); ++c) clusters[c] = static_cast<int>(c);
   } else {
-    // A cluster's vertices stay within `grow` of its rest box: only a cluster whose box so grown
-    // (and further by its IP reach, for the segments) meets the swept box and slab is classified.
-    const auto meets = [&](const ClusterBound& b, double grow) {
-      if ((b.hi.array() + grow < blade_lo.array()).any() ||
-          (b.lo.array() - grow > blade_hi.array()).any())
+    // A cluster's vertices (and their IPs) stay within `grow` of their box at the reference:
+    // a cluster (group) whose segment box so grown misses the swept box and slab is skipped,
+    // one whose vertex box so grown meets them is classified and tested edge by edge.
+    const auto meets = [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double grow) {
+      if ((hi.array() + grow < blade_lo.array()).any() ||
+          (lo.array() - grow > blade_hi.array()).any())
         return false;
       if (slab.normal.squaredNorm() == 0.0) return true;
-      const double centre = slab.normal.dot(0.5 * (b.lo + b.hi));
-      const double half = slab.normal.cwiseAbs().dot(0.5 * (b.hi - b.lo)) + grow;
+      const double centre = slab.normal.dot(0.5 * (lo + hi));
+      const double half = slab.normal.cwiseAbs().dot(0.5 * (hi - lo)) + grow;
       return centre + half >= slab.lo && centre - half <= slab.hi;
     };
-    vertex_mark_.resize(verts_.size(), 0);
-    std::vector<int> classified;
-    const auto growOf = [&](const ClusterBound& b) {
-      double moved = 0.0;  // [m]
-      for (int block : b.blocks) moved = std::max(moved, at(block_motion_, block));
-      return b.row_norm * moved * (1.0 + 1e-9) + b.residual;
+    const auto growth = [&](const ClusterBound& b) {
+      return b.row_norm * motion_ * (1.0 + 1e-9) + b.margin;
     };
+    vertex_mark_.resize(verts_.size(), 0);
+    std::vector<int> marked;
     for (int g = 0; g < intSize(group_bounds_); ++g) {
       const ClusterBound& group = at(group_bounds_, g);
-      if (!meets(group, growOf(group) + group.reach)) continue;
+      if (!meets(group.segment_lo, group.segment_hi, growth(group))) continue;
       const int end = std::min(intSize(cluster_edges_), (g + 1) * kGroupClusters);
       for (int c = g * kGroupClusters; c < end; ++c) {
         if (at(cluster_edges_, c).empty()) continue;  // all its edges freed
         const ClusterBound& b = at(cluster_bounds_, c);
-        const double grow = growOf(b);
-        if (!meets(b, grow + b.reach)) continue;
+        const double grow = growth(b);
+        if (!meets(b.segment_lo, b.segment_hi, grow)) continue;
+        // Mark bit 1: listed in `near`; bit 2: classified.
+        const bool edges = meets(b.lo, b.hi, grow);
         for (int k = at(cluster_vert_begin_, c); k < at(cluster_vert_begin_, c + 1); ++k) {
           const int v = at(cluster_vert_ids_, k);
-          if (at(vertex_mark_, v)) continue;
-          at(vertex_mark_, v) = 1;
-          classified.push_back(v);
-          if (classify(v)) near.push_back(v);
+          std::uint8_t& mark = at(vertex_mark_, v);
+          if (!mark) marked.push_back(v);
+          if (!(mark & 1) && at(segment_tested_, v)) {
+            mark |= 1;
+            near.push_back(v);
+          }
+          if (edges && !(mark & 2)) {
+            mark |= 2;
+            classify(v);
+          }
         }
-        if (meets(b, grow)) clusters.push_back(c);
+        if (edges) clusters.push_back(c);
       }
     }
-    for (int v : classified) at(vertex_mark_, v) = 0;
-    std::sort(near.begin(), near.end());
+    for (int v : marked) at(vertex_mark_, v) = 0;
   }
   const bool finite = round_off == 0.0;
   if (!finite)
@@ -1106,6 +1129,9 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
       break;
     }
   }
+  // In vertex order, as the pass over every vertex lists them.
+  std::sort(ip_hits.begin(), ip_hits.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
   out.detect_seconds = detect.seconds();
   if (hits.empty() && ip_hits.empty() && !active_) return out;
 

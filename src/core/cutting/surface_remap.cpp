@@ -50,14 +50,18 @@ Eigen::Vector3d EfgModelSource::ipRestPosition(int ip) const {
   return model_.grid().integration_points.col(ip);
 }
 
-Eigen::Vector3d EfgModelSource::ipPosition(int ip) const {
+Eigen::Vector3d EfgModelSource::ipPosition(int ip) const { return ipPositionAt(ip, x_); }
+
+Eigen::Vector3d EfgModelSource::ipPositionAt(int ip, const Eigen::VectorXd& x) const {
   const std::vector<int>& particles = model_.ipParticles(ip);
   const auto phi = model_.shapeValues(ip);
   Eigen::Vector3d p = Eigen::Vector3d::Zero();
   for (std::size_t a = 0; a < particles.size(); ++a)
-    p += phi[static_cast<Eigen::Index>(a)] * x_.segment<3>(3 * particles[a]);
+    p += phi[static_cast<Eigen::Index>(a)] * x.segment<3>(3 * particles[a]);
   return p;
 }
+
+double EfgModelSource::ipWeightNorm(int ip) const { return model_.shapeValues(ip).lpNorm<1>(); }
 
 const std::vector<int>& EfgModelSource::ipParticles(int ip) const { return model_.ipParticles(ip); }
 

@@ -256,7 +256,7 @@ bool TissueSimulation::applyEfgCuts() {
     const Eigen::Matrix3Xd start = vertexPositions(mapping_, x_previous_);
     const Eigen::Matrix3Xd end = vertexPositions(mapping_, state_.x);
     const EfgCutResult volume = efg_cut_->volume.cut(sweep, x_previous_, state_.x);
-    const EfgParticleMotion motion{x_previous_, state_.x};
+    const EfgParticleMotion motion{x_previous_, state_.x, volume.changed_ips};
     const EfgSurfaceCutStep surface = efg_cut_->surface.cut(sweep, start, end, &motion);
     bool remapped = !surface.remapped.empty();
     if (!volume.changed_ips.empty())

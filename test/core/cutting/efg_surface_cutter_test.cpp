@@ -266,19 +266,13 @@ Crossings everyCrossing(const EfgSurfaceCutter& c, const EfgMappingSource& sourc
   Crossings out;
   for (const auto& [a, b] : edges)
     out.edges += crosses(x0.col(a), x0.col(b), x1.col(a), x1.col(b)) ? 1 : 0;
-  const V lo = s.start.rowwise().minCoeff().cwiseMin(s.end.rowwise().minCoeff()).array() - tol;
-  const V hi = s.start.rowwise().maxCoeff().cwiseMax(s.end.rowwise().maxCoeff()).array() + tol;
   const Eigen::Matrix3Xd X = c.restVertices();
   for (int v = 0; v < c.numVertices(); ++v) {
     const int ip = c.vertexIp(v);
     if (!in_triangle[static_cast<std::size_t>(v)] || ip < 0) continue;
-    const double reach = 3.0 * (source.ipRestPosition(ip) - X.col(v)).norm();
-    const V motion_lo = x0.col(v).cwiseMin(x1.col(v)), motion_hi = x0.col(v).cwiseMax(x1.col(v));
-    if (((motion_hi.array() + reach) < lo.array()).any() ||
-        ((motion_lo.array() - reach) > hi.array()).any())
-      continue;
     const V x_ip = source.ipPosition(ip);
-    if (reach > 0.0 && crosses(x0.col(v), x_ip, x1.col(v), x_ip)) out.segments.push_back(v);
+    if (source.ipRestPosition(ip) != V(X.col(v)) && crosses(x0.col(v), x_ip, x1.col(v), x_ip))
+      out.segments.push_back(v);
   }
   return out;
 }
@@ -519,7 +513,8 @@ TEST(EfgSurfaceCutter, ParticleMotionBoundsFindWhatThePassOverEveryVertexFinds) 
   // (a rotation of up to 0.6 rad and a translation of up to 3 m, its diameter is 2 m, different
   // at the step start and end, the sweep carried along) and deforms (each particle moved by up
   // to 0.12 m along each axis). One classifies every vertex, the other only those of the
-  // clusters its particle-motion bounds keep: every step must give the same result.
+  // clusters its particle-motion bounds keep: every step must give the same result. The IPs
+  // follow the particles (at the step end).
   const TriMesh sphere = makeIcosphere(2);
   GridSource source(V::Constant(-1.0), Eigen::Vector3i(5, 5, 5), 0.4);
   std::mt19937 rng(23);
@@ -528,7 +523,11 @@ TEST(EfgSurfaceCutter, ParticleMotionBoundsFindWhatThePassOverEveryVertexFinds) 
   for (int p = 0; p < source.numParticles(); ++p)
     rest.segment<3>(3 * p) = source.particleRestPosition(p);
   int cuts = 0, crossed = 0, remapped = 0;
+  const std::vector<int> unchanged;
+  Eigen::VectorXd x1 = rest;
+  source.current = &x1;
   for (int body = 0; body < 4; ++body) {
+    x1 = rest;
     EfgSurfaceCutter every(sphere, source, EfgSurfaceCutOptions{0.3, 1e-9});
     EfgSurfaceCutter bounded(sphere, source, EfgSurfaceCutOptions{0.3, 1e-9});
     for (int sweep = 0; sweep < 10; ++sweep) {
@@ -541,7 +540,7 @@ TEST(EfgSurfaceCutter, ParticleMotionBoundsFindWhatThePassOverEveryVertexFinds) 
           return t;
         };
         const Eigen::Isometry3d t0 = rigid(), t1 = rigid();
-        Eigen::VectorXd x0 = rest, x1 = rest;
+        Eigen::VectorXd x0 = rest;
         for (int p = 0; p < source.numParticles(); ++p) {
           x0.segment<3>(3 * p) = t0 * V(rest.segment<3>(3 * p)) + 0.12 * V(u(rng), u(rng), u(rng));
           x1.segment<3>(3 * p) = t1 * V(rest.segment<3>(3 * p)) + 0.12 * V(u(rng), u(rng), u(rng));
@@ -551,7 +550,7 @@ TEST(EfgSurfaceCutter, ParticleMotionBoundsFindWhatThePassOverEveryVertexFinds) 
         s.end = t1 * s.end;
         const Eigen::Matrix3Xd v0 = mappedVertices(every, x0), v1 = mappedVertices(every, x1);
         const EfgSurfaceCutStep a = every.cut(s, v0, v1);
-        const EfgParticleMotion motion{x0, x1};
+        const EfgParticleMotion motion{x0, x1, unchanged};
         const EfgSurfaceCutStep b = bounded.cut(s, v0, v1, &motion);
         const std::string at = "body " + std::to_string(body) + " sweep " + std::to_string(sweep) +
                                " step " + std::to_string(k);
@@ -590,7 +589,8 @@ TEST(EfgSurfaceCutter, ParticleMotionBoundsKeepTheVertexToIpSegmentsThatReachThe
   Eigen::VectorXd rest(3 * bounded.source.numParticles());
   for (int p = 0; p < bounded.source.numParticles(); ++p)
     rest.segment<3>(3 * p) = bounded.source.particleRestPosition(p);
-  const EfgParticleMotion motion{rest, rest};
+  const std::vector<int> unchanged;
+  const EfgParticleMotion motion{rest, rest, unchanged};
   const Eigen::Matrix3Xd X = bounded.cutter.restVertices();
   const EfgSurfaceCutStep b = bounded.cutter.cut(s, X, X, &motion);
   const EfgSurfaceCutStep a = every.cutter.cut(s, X, X);
@@ -744,13 +744,14 @@ TEST(EfgSurfaceCutter, BadInputGetsAClearError) {
   EXPECT_THROW(cutter.cut(s, short_x, x), std::invalid_argument);
   x(0, 0) = std::nan("");
   EXPECT_THROW(cutter.cut(s, cutter.restVertices(), x), std::invalid_argument);
-  // Particle positions of the wrong size or not finite, named.
+  // Particle positions of the wrong size or not finite, a changed IP out of range: named.
+  const std::vector<int> unchanged;
   const Eigen::Matrix3Xd X = cutter.restVertices();
   Eigen::VectorXd p(3 * source.numParticles());
   for (int a = 0; a < source.numParticles(); ++a)
     p.segment<3>(3 * a) = source.particleRestPosition(a);
   const auto motionMessage = [&](const Eigen::VectorXd& start) {
-    const EfgParticleMotion motion{start, p};
+    const EfgParticleMotion motion{start, p, unchanged};
     try {
       cutter.cut(s, X, X, &motion);
     } catch (const std::invalid_argument& e) {
@@ -762,6 +763,9 @@ TEST(EfgSurfaceCutter, BadInputGetsAClearError) {
   Eigen::VectorXd bad = p;
   bad(4) = std::numeric_limits<double>::infinity();
   EXPECT_NE(motionMessage(bad).find("particle position"), std::string::npos);
+  const std::vector<int> outside = {source.numIntegrationPoints()};
+  const EfgParticleMotion motion{p, p, outside};
+  EXPECT_THROW(cutter.cut(s, X, X, &motion), std::invalid_argument);
   EXPECT_FALSE(cutter.cutActive());  // rejected before any change
 }
 

@@ -15,7 +15,8 @@ namespace surgical_sim::core::efg_surface_test {
 
 /// A fake EFG model: particles on a regular grid of spacing h from `lo`, one IP at the centre of
 /// each grid cell using the cell's 8 corners with trilinear weights (a partition of unity that
-/// reproduces linear fields, extrapolated linearly outside the cell). Static: ipPosition = rest.
+/// reproduces linear fields, extrapolated linearly outside the cell). Static (ipPosition = rest)
+/// unless `current` is set.
 class GridSource : public EfgMappingSource {
  public:
   GridSource(const Eigen::Vector3d& lo, const Eigen::Vector3i& cells, double h)
@@ -42,7 +43,18 @@ class GridSource : public EfgMappingSource {
   Eigen::Vector3d ipRestPosition(int ip) const override {
     return lo_ + h_ * (corner_[static_cast<std::size_t>(ip)].cast<double>().array() + 0.5).matrix();
   }
-  Eigen::Vector3d ipPosition(int ip) const override { return ipRestPosition(ip); }
+  /// At rest, or at the mean of its particles' positions in *current when set.
+  Eigen::Vector3d ipPosition(int ip) const override {
+    return current ? ipPositionAt(ip, *current) : ipRestPosition(ip);
+  }
+  /// The mean of its particles' positions (at rest: the cell centre).
+  Eigen::Vector3d ipPositionAt(int ip, const Eigen::VectorXd& x) const override {
+    const std::vector<int>& p = particles_[static_cast<std::size_t>(ip)];
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (int a : p) sum += x.segment<3>(3 * a);
+    return sum / static_cast<double>(p.size());
+  }
+  double ipWeightNorm(int) const override { return 1.0; }
   const std::vector<int>& ipParticles(int ip) const override {
     return particles_[static_cast<std::size_t>(ip)];
   }
@@ -60,6 +72,8 @@ class GridSource : public EfgMappingSource {
                         (d ? u.z() : 1 - u.z()));
     }
   }
+  /// Particle positions the IPs follow (nullptr: the IPs stay at rest).
+  const Eigen::VectorXd* current = nullptr;
   /// Replaces IP ip's particle set (a volume cut).
   void setParticles(int ip, std::vector<int> p) {
     particles_[static_cast<std::size_t>(ip)] = std::move(p);

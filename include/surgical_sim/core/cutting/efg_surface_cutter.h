@@ -37,10 +37,14 @@ struct EfgSurfaceCutStep {
 };
 
 /// The particle positions a step's vertex positions come from (EfgSurfaceCutter::cut): every used
-/// vertex v is at the sum of mappingRow(v)'s weights times these particles' positions.
+/// vertex v is at the sum of mappingRow(v)'s weights times these particles' positions, and the
+/// source's current IP positions are at `end`.
 struct EfgParticleMotion {
   const Eigen::VectorXd& start;  ///< at the step start [m], size 3 x source numParticles()
   const Eigen::VectorXd& end;    ///< at the step end [m], same size
+  /// IPs whose particles or shape values changed since the last cut() (a volume cut's
+  /// changed_ips, before remapVerticesOfIps).
+  const std::vector<int>& changed_ips;
 };
 
 /// Progressive cutting of the explicit surface of a meshless (EFG) body (Magnoux §4.2.4, §5.2).
@@ -58,15 +62,16 @@ struct EfgParticleMotion {
 ///   against the slab its sweep lies in); edge clusters (up to 32 edges in Morton order, built
 ///   when edges are created) whose vertices all share a bit are skipped, so only the clusters
 ///   touching the swept box are tested edge by edge. Given the particle motion
-///   (EfgParticleMotion), the pass over the positions is skipped: a vertex lies within
-///   |row|_1 x (its row's largest particle displacement from rest) + (its row's reproduction
-///   residual |sum w_a X_a - X_v|) of its rest position X_v, so each cluster keeps its vertices'
-///   rest box and largest row norm, residual and IP reach, and the particles' displacements are
-///   taken per block of particles (the blocks of the cluster's rows): only the clusters whose
-///   box so grown meets the swept box and slab have their vertices' outcodes computed, and
-///   groups of consecutive clusters (their bounds' union) are tested first. The bounds of a
-///   cluster and its group are refreshed when one of its vertices' rest position or row
-///   changes.
+///   (EfgParticleMotion), the pass over the positions is skipped: with rows w, a vertex moves
+///   from its position at reference particle positions x_ref by at most |w|_1 x the particles'
+///   largest motion from x_ref, and an IP by its shape values' L1 norm times it. So each cluster
+///   keeps its vertices' box at x_ref, the box of them and their IPs, and the largest of these
+///   norms (groups of consecutive clusters keep the union), and only the clusters whose boxes so
+///   grown meet the swept box and slab have their vertices' outcodes computed or their segments
+///   to their IPs tested. A cluster's bound is refreshed when one of its vertices' rest position
+///   or row or its IP's shape values change (its group's grows); x_ref starts at the rest
+///   positions and moves to the step end, refitting every box, once a particle is half a mean
+///   particle spacing from it.
 ///   Ties in
 ///   time go by the edges' vertex ids. A crossing is kept as its edge parameter s and applied
 ///   in the rest configuration.
@@ -96,9 +101,9 @@ struct EfgParticleMotion {
 /// each with a plane through the crossing whose normal is the cut's (the side A sheet's normal
 /// there, or the edge direction if that does not separate the endpoints); a fixed row vertex with
 /// its sheet's normal; a committed vertex whose segment to its IP the blade crosses (plane
-/// through the crossing, normal along vertex -> IP; tested for the vertices whose motion comes
-/// within 3 times their rest distance to the IP of the swept box and whose segment's hull over the
-/// step, its two positions and the IP's, has a box meeting it); tips and transient vertices each
+/// through the crossing, normal along vertex -> IP; tested for the vertices whose segment's hull
+/// over the step, its two positions and the IP's current one, has a box meeting the swept box);
+/// tips and transient vertices each
 /// step; remapVerticesOfIps() after a volume cut (first ignoring neighbours on the changed IPs in
 /// the 1-ring test, then once more with every neighbour's new IP for those still on a changed IP).
 /// The surface stays closed and edge-manifold at every step (checkSurfaceClosure).
@@ -163,7 +168,6 @@ class EfgSurfaceCutter {
   struct Vertex {
     Eigen::Vector3d rest = Eigen::Vector3d::Zero();
     int ip = -1;
-    double ip_reach = 0.0;  ///< kStretchMargin x rest distance to the IP (0 without) [m]
     int twin = -1;
     bool used = true;
     /// No IP lies below all its planes, so it keeps the nearest IP: planes are only added to a
@@ -174,27 +178,33 @@ class EfgSurfaceCutter {
     std::vector<double> weights;
   };
 
-  /// Motion bound of a cluster's used vertices (see cut()): their rest box [m], the largest L1
-  /// norm of their rows [-], reproduction residual [m] and IP reach [m], and the particle
-  /// blocks of their rows.
+  /// Motion bound of a cluster's used vertices (see cut()): their box at ref_x_ [m], the box of
+  /// them and their IPs [m], its round-off margin [m], and the largest L1 norm of their rows and
+  /// their IPs' shape values [-].
   struct ClusterBound {
     Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
-    double row_norm = 0.0, residual = 0.0, reach = 0.0;
-    std::vector<int> blocks;
+    Eigen::Vector3d segment_lo = Eigen::Vector3d::Zero(), segment_hi = Eigen::Vector3d::Zero();
+    double margin = 0.0, row_norm = 0.0;
   };
 
-  /// Maps vertex v to IP ip (-1: none), keeping ip_vertices_ and segment_reach_.
+  /// Maps vertex v to IP ip (-1: none), keeping ip_vertices_ and segment_tested_.
   void setIp(int v, int ip);
   /// Notes that v's rest position or row changed: the bounds of its clusters are stale.
   void touch(int v);
   /// Recomputes the bounds of the clusters created or touched since the last call.
   void refreshClusterBounds();
-  /// Per particle block, the largest displacement from rest of its particles at the step start
-  /// and end [m], into block_motion_.
+  /// Sets b's box and margin: cluster c's used vertices at ref_x_.
+  void clusterBox(int c, ClusterBound& b) const;
+  /// Grows `into` to hold b.
+  static void unite(ClusterBound& into, const ClusterBound& b);
+  /// Moves the reference to particle positions x and recomputes every cluster's and group's box.
+  void refit(const Eigen::VectorXd& x);
+  /// The particles' largest distance from ref_x_ at the step start and end into motion_ [m]
+  /// (refitting first when it exceeds refit_distance_).
   /// @throws std::invalid_argument for positions of the wrong size or not finite.
-  void measureBlockMotion(const EfgParticleMotion& motion);
-  /// Sets segment_reach_[v] from v's IP and committed triangles.
-  void updateSegmentReach(int v);
+  void measureMotion(const EfgParticleMotion& motion);
+  /// Sets segment_tested_[v] from v's IP and committed triangles.
+  void updateSegmentTested(int v);
   /// Ends the running cut (its triangles join the committed surface) and updates the tables.
   void commit();
   /// Edge tables (ids in sorted order) and clusters of the current triangle slots from scratch.
@@ -269,15 +279,10 @@ class EfgSurfaceCutter {
   std::vector<ClusterBound> cluster_bounds_;       ///< per cluster (fewer: the rest are new)
   /// Per group of kGroupClusters consecutive clusters, the union of their bounds.
   std::vector<ClusterBound> group_bounds_;
-  std::vector<int> touched_;  ///< vertices touched since the last refresh
-  // Particle blocks: a grid of cubes of side block_side_ [m] from block_origin_ over the
-  // particles' rest box; per particle its block, per block its displacement bound [m].
-  Eigen::Vector3d block_origin_ = Eigen::Vector3d::Zero();
-  double block_side_ = 1.0;
-  Eigen::Vector3i block_dims_ = Eigen::Vector3i::Ones();
-  Eigen::Matrix3Xd particle_rest_;  ///< the source's particle rest positions [m]
-  std::vector<int> particle_block_;
-  std::vector<double> block_motion_;
+  std::vector<int> touched_;     ///< vertices touched since the last refresh
+  Eigen::VectorXd ref_x_;        ///< reference particle positions of the bounds [m], size 3n
+  double refit_distance_ = 0.0;  ///< [m]
+  double motion_ = 0.0;          ///< the particles' largest distance from ref_x_ this step [m]
   // Running cut.
   bool active_ = false;
   std::vector<Crossing> crossings_;
@@ -296,9 +301,9 @@ class EfgSurfaceCutter {
   /// (vertex, index in generated_) of each corner of the running cut's triangles, sorted.
   std::vector<std::pair<int, int>> generated_of_;
   std::vector<std::uint8_t> outcode_;  ///< per vertex, broad-phase scratch of cut()
-  /// Per vertex: its ip_reach when it is on the committed surface and mapped (its segment to its
-  /// IP is tested against the blade), else -1 (contiguous for the outcode pass).
-  std::vector<double> segment_reach_;
+  /// Per vertex: 1 when it is on the committed surface and mapped (its segment to its IP is
+  /// tested against the blade), else 0.
+  std::vector<std::uint8_t> segment_tested_;
   /// Per IP, the cut() call that last computed its current position ip_x_ [-], [m].
   std::vector<long long> ip_x_call_;
   std::vector<Eigen::Vector3d> ip_x_;

@@ -23,6 +23,12 @@ class EfgMappingSource {
   virtual Eigen::Vector3d ipRestPosition(int ip) const = 0;
   /// Current position of IP `ip` [m] (the model's state when the cutter is called).
   virtual Eigen::Vector3d ipPosition(int ip) const = 0;
+  /// Position of IP `ip` for particle positions x [m] (size 3 x numParticles()): its shape
+  /// values at the IP times its particles' positions (ipPosition at the current positions).
+  virtual Eigen::Vector3d ipPositionAt(int ip, const Eigen::VectorXd& x) const = 0;
+  /// L1 norm of IP `ip`'s shape values at the IP [-]: it moves at most this many times its
+  /// particles' largest motion.
+  virtual double ipWeightNorm(int ip) const = 0;
   /// Particles of IP `ip` (its neighbour set, model node indices, sorted increasing).
   virtual const std::vector<int>& ipParticles(int ip) const = 0;
   /// MLS weights [-] of IP `ip`'s particle set evaluated at rest point X [m]: particles and
@@ -43,6 +49,8 @@ class EfgModelSource final : public EfgMappingSource {
   Eigen::Vector3d particleRestPosition(int p) const override;
   Eigen::Vector3d ipRestPosition(int ip) const override;
   Eigen::Vector3d ipPosition(int ip) const override;
+  Eigen::Vector3d ipPositionAt(int ip, const Eigen::VectorXd& x) const override;
+  double ipWeightNorm(int ip) const override;
   const std::vector<int>& ipParticles(int ip) const override;
   void pointWeights(int ip, const Eigen::Vector3d& X, std::vector<int>& particles,
                     std::vector<double>& weights) const override;
