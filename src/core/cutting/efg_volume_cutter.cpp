@@ -21,8 +21,10 @@ namespace {
 
 // Largest accepted condition number of a re-selected IP's scaled moment matrix [-].
 constexpr double kSelectionCondition = 1e8;
-// Broad-phase margin of a link in its rest lengths: no link stretches further [-].
-constexpr double kStretchMargin = 3.0;
+// Side of a broad-phase block in particle spacings (2 d) [-].
+constexpr int kBlockParticles = 2;
+// Round-off of the broad phase's displacement bound, relative to the largest coordinate [-].
+constexpr double kBoundRoundOff = 1e-12;
 // Lumped mass below which a particle counts as unused, relative to the total (round-off of the
 // removed shares) [-].
 constexpr double kUnusedMassFraction = 1e-14;
@@ -72,8 +74,54 @@ EfgVolumeCutter::EfgVolumeCutter(EfgModel& model)
       search_nodes_(static_cast<size_t>(model.numIntegrationPoints())),
       searchers_(static_cast<size_t>(graph_.numNodes())),
       search_dirty_(static_cast<size_t>(model.numIntegrationPoints()), 0) {
-  for (const EfgTopologyGraph::Link& l : graph_.links())
-    max_link_length_ = std::max(max_link_length_, l.rest_length);
+  // Broad-phase blocks: the cubes of kBlockParticles particle spacings holding a particle.
+  const EfgGrid& grid = model.grid();
+  const int n = graph_.numParticles();
+  std::vector<Eigen::Vector3i> cube(static_cast<size_t>(n));
+  Eigen::Vector3i cubes = Eigen::Vector3i::Ones();
+  for (int p = 0; p < n; ++p) {
+    const Eigen::Vector3i index =
+        ((grid.particles.col(p) - grid.origin) / (2.0 * grid.spacing)).array().round().cast<int>();
+    cube[static_cast<size_t>(p)] = (index / kBlockParticles).cwiseMax(0);
+    cubes = cubes.cwiseMax(cube[static_cast<size_t>(p)] + Eigen::Vector3i::Ones());
+  }
+  std::vector<int> block_of_cube(static_cast<size_t>(cubes.prod()), -1);
+  particle_block_.resize(static_cast<size_t>(n));
+  for (int p = 0; p < n; ++p) {
+    const Eigen::Vector3i& c = cube[static_cast<size_t>(p)];
+    int& b = block_of_cube[static_cast<size_t>(c.x() + cubes.x() * (c.y() + cubes.y() * c.z()))];
+    if (b < 0) {
+      b = static_cast<int>(blocks_.size());
+      blocks_.emplace_back();
+      blocks_.back().rest_lo.setConstant(std::numeric_limits<double>::infinity());
+      blocks_.back().rest_hi.setConstant(-std::numeric_limits<double>::infinity());
+    }
+    particle_block_[static_cast<size_t>(p)] = b;
+  }
+  for (int l = 0; l < static_cast<int>(graph_.links().size()); ++l) {
+    const EfgTopologyGraph::Link& link = graph_.links()[static_cast<size_t>(l)];
+    Block& block = blocks_[static_cast<size_t>(particle_block_[static_cast<size_t>(link.a)])];
+    block.links.push_back(l);
+    block.particles.push_back(link.a);
+    if (link.b < n)
+      block.particles.push_back(link.b);
+    else
+      block.ips.push_back(link.b - n);
+    for (const int v : {link.a, link.b}) {
+      const Eigen::Vector3d X = v < n ? Eigen::Vector3d(grid.particles.col(v))
+                                      : Eigen::Vector3d(grid.integration_points.col(v - n));
+      block.rest_lo = block.rest_lo.cwiseMin(X);
+      block.rest_hi = block.rest_hi.cwiseMax(X);
+    }
+  }
+  for (Block& block : blocks_) {
+    for (std::vector<int>* ends : {&block.particles, &block.ips}) {
+      std::sort(ends->begin(), ends->end());
+      ends->erase(std::unique(ends->begin(), ends->end()), ends->end());
+    }
+    refreshBlock(block);
+  }
+  block_motion_.resize(3, 2 * static_cast<Eigen::Index>(blocks_.size()));
   tree_of_.assign(static_cast<size_t>(graph_.numNodes()), -1);
   const int count = graph_.components(labels_);
   volume_ips_.assign(static_cast<size_t>(count), 0);
@@ -97,6 +145,31 @@ int EfgVolumeCutter::ipAt(const Eigen::Vector3i& c) const {
   if ((c.array() < 0).any() || (c.array() >= grid.cells.array()).any()) return -1;
   return grid
       .ip_of_cell[static_cast<size_t>(c.x() + grid.cells.x() * (c.y() + grid.cells.y() * c.z()))];
+}
+
+void EfgVolumeCutter::refreshBlock(Block& block) const {
+  const EfgGrid& grid = model_.grid();
+  block.movers.clear();
+  for (const int p : block.particles)
+    block.movers.push_back(particle_block_[static_cast<size_t>(p)]);
+  block.gain = 1.0;
+  block.unity_error = 0.0;
+  block.residual = 0.0;
+  for (const int e : block.ips) {
+    const std::vector<int>& particles = model_.ipParticles(e);
+    const Eigen::Map<const Eigen::VectorXd> phi = model_.shapeValues(e);
+    Eigen::Vector3d reproduced = Eigen::Vector3d::Zero();  // sum_a phi_a X_a [m]
+    for (size_t a = 0; a < particles.size(); ++a) {
+      reproduced += phi(static_cast<Eigen::Index>(a)) * grid.particles.col(particles[a]);
+      block.movers.push_back(particle_block_[static_cast<size_t>(particles[a])]);
+    }
+    block.gain = std::max(block.gain, phi.lpNorm<1>());
+    block.unity_error = std::max(block.unity_error, std::abs(phi.sum() - 1.0));
+    block.residual = std::max(
+        block.residual, (reproduced - grid.integration_points.col(e)).lpNorm<Eigen::Infinity>());
+  }
+  std::sort(block.movers.begin(), block.movers.end());
+  block.movers.erase(std::unique(block.movers.begin(), block.movers.end()), block.movers.end());
 }
 
 void EfgVolumeCutter::addVolumeIp(int e, int change) {
@@ -297,9 +370,9 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
   EfgCutResult result;
   const Stopwatch detect;
 
-  // 1. Broad phase: particles whose motion comes within the stretch margin of the sweep's box
-  // and slabs, then those of their links whose own margin reaches that far and whose motion box
-  // meets the sweep's box.
+  // 1. Broad phase: the blocks whose ends' reach (their rest box grown by the bound on their
+  // displacement) meets the box and slab of a segment's sweep, then those of their alive links
+  // whose motion box meets the sweep's box.
   const double tolerance = 1e-9 * grid.spacing;  // [m]
   const Eigen::Vector3d sweep_lo =
       sweep.start.rowwise().minCoeff().cwiseMin(sweep.end.rowwise().minCoeff()).array() - tolerance;
@@ -354,35 +427,69 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
     explicit LinkBox(const std::array<Eigen::Vector3d, 4>& x)
         : lo(x[0].cwiseMin(x[1]).cwiseMin(x[2].cwiseMin(x[3]))),
           hi(x[0].cwiseMax(x[1]).cwiseMax(x[2].cwiseMax(x[3]))) {}
+    LinkBox(const Eigen::Vector3d& lower, const Eigen::Vector3d& upper) : lo(lower), hi(upper) {}
     bool misses(const Eigen::Vector3d& a_lo, const Eigen::Vector3d& a_hi) const {
       return (a_hi.array() < lo.array()).any() || (a_lo.array() > hi.array()).any();
     }
+    // Beyond one face of `slab` (false without a slab).
+    bool apart(const efg_sweep_slab::SweepSlab& slab) const {
+      const double centre = slab.normal.dot(0.5 * (lo + hi));
+      const double half = slab.normal.cwiseAbs().dot(0.5 * (hi - lo));
+      return centre + half < slab.lo || centre - half > slab.hi;
+    }
   };
-  std::vector<int> candidates, marked;
-  link_mark_.resize(graph_.links().size(), 0);
+  // Per block, the box of its particles' displacements d = x - X at the step start and end
+  // (block_motion_ columns 2b: lower, 2b + 1: upper corner), and per link block the box of its
+  // movers' (centre c, half-sides h). A particle end then lies within h of X + c and an IP end e,
+  // at X_e + c + sum_a phi_a (d_a - c) + (sum_a phi_a - 1) c + (sum_a phi_a X_a - X_e), within
+  // L h + u |c| + r of X_e + c (L, u, r: the block's gain, unity error and residual), to
+  // round-off of the positions.
+  for (Eigen::Index b = 0; b < static_cast<Eigen::Index>(blocks_.size()); ++b) {
+    block_motion_.col(2 * b).setConstant(std::numeric_limits<double>::infinity());
+    block_motion_.col(2 * b + 1).setConstant(-std::numeric_limits<double>::infinity());
+  }
   for (int p = 0; p < n; ++p) {
-    const Eigen::Vector3d a = x_start.segment<3>(3 * p);
-    const Eigen::Vector3d b = x_end.segment<3>(3 * p);
-    // Distance from the motion to the sweep's box and to its nearest slab [m].
-    const double box_gap = (sweep_lo - a.cwiseMax(b))
-                               .cwiseMax(a.cwiseMin(b) - sweep_hi)
-                               .cwiseMax(Eigen::Vector3d::Zero())
-                               .maxCoeff();
-    double slab_gap = slabs.empty() ? 0.0 : std::numeric_limits<double>::infinity();
-    for (const efg_sweep_slab::SweepSlab& slab : slabs)
-      slab_gap = std::min(slab_gap, slab.gap({a, b}));
-    const double reach = std::max(box_gap, slab_gap);
-    if (reach > kStretchMargin * max_link_length_) continue;
-    for (const int l : graph_.linksOf(p)) {
-      if (graph_.alive(l) && !link_mark_[static_cast<size_t>(l)] &&
-          reach <= kStretchMargin * graph_.links()[static_cast<size_t>(l)].rest_length) {
-        link_mark_[static_cast<size_t>(l)] = 1;
-        marked.push_back(l);
-        if (!LinkBox(ends(l)).misses(sweep_lo, sweep_hi)) candidates.push_back(l);
-      }
+    const Eigen::Vector3d X = grid.particles.col(p);
+    const Eigen::Vector3d d0 = x_start.segment<3>(3 * p) - X, d1 = x_end.segment<3>(3 * p) - X;
+    const Eigen::Index b = particle_block_[static_cast<size_t>(p)];
+    block_motion_.col(2 * b) = block_motion_.col(2 * b).cwiseMin(d0.cwiseMin(d1));
+    block_motion_.col(2 * b + 1) = block_motion_.col(2 * b + 1).cwiseMax(d0.cwiseMax(d1));
+  }
+  const double round_off =
+      kBoundRoundOff * std::max({x_start.lpNorm<Eigen::Infinity>(), x_end.lpNorm<Eigen::Infinity>(),
+                                 grid.particles.lpNorm<Eigen::Infinity>()});  // [m]
+  std::vector<int> candidates;
+  for (const Block& block : blocks_) {
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector3d hi = -lo;  // the movers' displacement box [m]
+    for (const int b : block.movers) {
+      lo = lo.cwiseMin(block_motion_.col(2 * b));
+      hi = hi.cwiseMax(block_motion_.col(2 * b + 1));
+    }
+    const Eigen::Vector3d c = 0.5 * (lo + hi);
+    const Eigen::Vector3d reach = block.gain * (0.5 * (hi - lo)).array() +
+                                  block.unity_error * c.array().abs() + block.residual +
+                                  block.gain * round_off;  // [m]
+    const LinkBox box(block.rest_lo + c - reach, block.rest_hi + c + reach);
+    if (box.misses(sweep_lo, sweep_hi)) continue;
+    bool near = false;
+    for (size_t i = 0; !near && i < slabs.size(); ++i)
+      near = !box.misses(segment_boxes[i][0], segment_boxes[i][1]) && !box.apart(slabs[i]);
+    if (!near) continue;
+    // The same bound on each alive link's own rest box first, then its motion box.
+    for (const int l : block.links) {
+      if (!graph_.alive(l)) continue;
+      const EfgTopologyGraph::Link& link = graph_.links()[static_cast<size_t>(l)];
+      const Eigen::Vector3d X0 = grid.particles.col(link.a);
+      const Eigen::Vector3d X1 = link.b < n
+                                     ? Eigen::Vector3d(grid.particles.col(link.b))
+                                     : Eigen::Vector3d(grid.integration_points.col(link.b - n));
+      if (!LinkBox(X0.cwiseMin(X1) + c - reach, X0.cwiseMax(X1) + c + reach)
+               .misses(sweep_lo, sweep_hi) &&
+          !LinkBox(ends(l)).misses(sweep_lo, sweep_hi))
+        candidates.push_back(l);
     }
   }
-  for (const int l : marked) link_mark_[static_cast<size_t>(l)] = 0;
   std::map<int, std::vector<Eigen::Vector3d>> crossings;  // IP -> rest crossing points [m]
   std::vector<Eigen::Vector3d> all_crossings;
   std::sort(candidates.begin(), candidates.end());
@@ -596,6 +703,15 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
       sample_masks_[static_cast<size_t>(it->first)] = std::move(it->second);
     throw;
   }
+  // The broad-phase bounds of the blocks holding links of the changed IPs.
+  std::vector<int> stale_blocks;
+  for (const EfgNeighbourhood& c : changes)
+    for (const int l : graph_.linksOf(graph_.ipNode(c.ip)))
+      stale_blocks.push_back(
+          particle_block_[static_cast<size_t>(graph_.links()[static_cast<size_t>(l)].a)]);
+  std::sort(stale_blocks.begin(), stale_blocks.end());
+  stale_blocks.erase(std::unique(stale_blocks.begin(), stale_blocks.end()), stale_blocks.end());
+  for (const int b : stale_blocks) refreshBlock(blocks_[static_cast<size_t>(b)]);
   // An isolated IP that kept its volume (no receiver) is retried by every cut near it: its
   // receiver depends on more than its own search.
   for (auto& [e, sel] : selections) {

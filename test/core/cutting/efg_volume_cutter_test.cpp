@@ -145,6 +145,40 @@ void expectSplitAt(const EfgVolumeCutter& cutter, double z_cut) {
     EXPECT_EQ(label[static_cast<size_t>(p)], X(2, p) < z_cut ? below : above) << "particle " << p;
 }
 
+// Position of graph node v of `cutter` at particle positions x: a particle's, or an IP's
+// sum_a phi_a x_a over its current particles [m].
+Eigen::Vector3d nodePosition(const EfgVolumeCutter& cutter, const Eigen::VectorXd& x, int v) {
+  const int n = cutter.graph().numParticles();
+  if (v < n) return x.segment<3>(3 * v);
+  const std::vector<int>& particles = cutter.model().ipParticles(v - n);
+  const Eigen::Map<const Eigen::VectorXd> phi = cutter.model().shapeValues(v - n);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (size_t a = 0; a < particles.size(); ++a)
+    sum += phi(static_cast<Eigen::Index>(a)) * x.segment<3>(3 * particles[a]);
+  return sum;
+}
+
+// Brute force: the alive links of `cutter` that a sweep test against every blade segment finds
+// crossed, ends moving from x0 to x1, in link order.
+std::vector<int> crossedLinks(const EfgVolumeCutter& cutter, const BladeSweep& s,
+                              const Eigen::VectorXd& x0, const Eigen::VectorXd& x1) {
+  const EfgTopologyGraph& g = cutter.graph();
+  std::vector<int> crossed;
+  for (int l = 0; l < static_cast<int>(g.links().size()); ++l) {
+    if (!g.alive(l)) continue;
+    const EfgTopologyGraph::Link& link = g.links()[static_cast<size_t>(l)];
+    for (Eigen::Index i = 0; i + 1 < s.start.cols(); ++i)
+      if (edgeSweepCrossing(s.start.col(i), s.start.col(i + 1), s.end.col(i), s.end.col(i + 1),
+                            nodePosition(cutter, x0, link.a), nodePosition(cutter, x0, link.b),
+                            nodePosition(cutter, x1, link.a), nodePosition(cutter, x1, link.b),
+                            1e-9 * cutter.model().grid().spacing)) {
+        crossed.push_back(l);
+        break;
+      }
+  }
+  return crossed;
+}
+
 TEST(EfgTopologyGraph, GridNeighbourLinksAndInitialNeighbourhoods) {
   const EfgModel m = cylinder();
   EfgTopologyGraph g(m);
@@ -245,30 +279,94 @@ TEST(EfgVolumeCutter, SeversEveryLinkASweepTestOfEveryLinkFindsUnderLargeMotion)
   s.end.row(1).setConstant(0.015);
   s.start = (R0 * s.start).colwise() + T0;
   s.end = (R1 * s.end).colwise() + T1;
-  const EfgTopologyGraph& g = cutter.graph();
-  const int n = g.numParticles();
-  const auto position = [&](const Eigen::VectorXd& x, int v) -> Eigen::Vector3d {
-    if (v < n) return x.segment<3>(3 * v);
-    const std::vector<int>& particles = model.ipParticles(v - n);
-    const Eigen::Map<const Eigen::VectorXd> phi = model.shapeValues(v - n);
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (size_t a = 0; a < particles.size(); ++a)
-      sum += phi(static_cast<Eigen::Index>(a)) * x.segment<3>(3 * particles[a]);
-    return sum;
-  };
-  std::vector<int> expected;
-  for (int l = 0; l < static_cast<int>(g.links().size()); ++l) {
-    const EfgTopologyGraph::Link& link = g.links()[static_cast<size_t>(l)];
-    for (Eigen::Index i = 0; i + 1 < s.start.cols(); ++i)
-      if (edgeSweepCrossing(s.start.col(i), s.start.col(i + 1), s.end.col(i), s.end.col(i + 1),
-                            position(x0, link.a), position(x0, link.b), position(x1, link.a),
-                            position(x1, link.b), 1e-9 * model.grid().spacing)) {
-        expected.push_back(l);
-        break;
-      }
-  }
+  const std::vector<int> expected = crossedLinks(cutter, s, x0, x1);
   const EfgCutResult r = cutter.cut(s, x0, x1);
   EXPECT_GT(expected.size(), 100u);
+  EXPECT_EQ(r.severed_links, expected);
+}
+
+TEST(EfgVolumeCutter, SeversEveryCrossedLinkHoweverFarTheParticlesMove) {
+  // The cylinder moved 0.3 m (60 particle spacings) and turned, every particle displaced at random
+  // by up to 4 particle spacings along each axis at each end of the step (links stretch to many
+  // times their rest length); two kinked blades sweep across the displaced body in turn, the
+  // second after the first cut re-selected IPs. The severed links are exactly those a sweep test
+  // of every alive link finds crossed, in link order.
+  EfgModel model = cylinder();
+  EfgVolumeCutter cutter(model);
+  const EfgTopologyGraph& g = cutter.graph();
+  const double step = 2.0 * model.grid().spacing;  // particle spacing [m]
+  const Eigen::Vector3d axis = Eigen::Vector3d(-0.3, 1.0, 0.7).normalized();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-4.0 * step, 4.0 * step);
+  for (int sweep = 0; sweep < 2; ++sweep) {
+    const Eigen::Matrix3d R0 = Eigen::AngleAxisd(0.4 + sweep, axis).toRotationMatrix();
+    const Eigen::Matrix3d R1 = Eigen::AngleAxisd(0.6 + sweep, axis).toRotationMatrix();
+    const Eigen::Vector3d T0(0.3, -0.2, 0.1), T1 = T0 + Eigen::Vector3d(0.01, -0.02, 0.005);
+    Eigen::VectorXd x0 = model.restPositions(), x1 = x0;
+    for (int p = 0; p < model.numNodes(); ++p) {
+      const Eigen::Vector3d X = model.grid().particles.col(p);
+      x0.segment<3>(3 * p) = R0 * X + T0 + Eigen::Vector3d(u(rng), u(rng), u(rng));
+      x1.segment<3>(3 * p) = R1 * X + T1 + Eigen::Vector3d(u(rng), u(rng), u(rng));
+    }
+    BladeSweep s;
+    s.start.resize(3, 3);
+    s.start << -0.03, 0.0, 0.03, -0.02, -0.02, -0.02, 0.002 - 0.01 * sweep, 0.006, 0.002;
+    s.end = s.start;
+    s.end.row(1).setConstant(0.02);
+    s.start = (R0 * s.start).colwise() + T0;
+    s.end = (R1 * s.end).colwise() + T1;
+    const std::vector<int> expected = crossedLinks(cutter, s, x0, x1);
+    // Some crossed link is stretched beyond 3 times its rest length.
+    double stretch = 0.0;  // [-]
+    for (const int l : expected) {
+      const EfgTopologyGraph::Link& link = g.links()[static_cast<size_t>(l)];
+      for (const Eigen::VectorXd* x : {&x0, &x1})
+        stretch = std::max(
+            stretch, (nodePosition(cutter, *x, link.a) - nodePosition(cutter, *x, link.b)).norm() /
+                         link.rest_length);
+    }
+    EXPECT_GT(stretch, 3.0) << "sweep " << sweep;
+    const EfgCutResult r = cutter.cut(s, x0, x1);
+    EXPECT_GT(expected.size(), 100u) << "sweep " << sweep;
+    EXPECT_EQ(r.severed_links, expected) << "sweep " << sweep;
+    EXPECT_FALSE(r.changed_ips.empty()) << "sweep " << sweep;
+  }
+}
+
+TEST(EfgVolumeCutter, SeversTheLinksOfAnIpCarriedBeyondItsParticles) {
+  // After a cut at rest, the re-selected IP e with the largest sum_a |phi_a| (L > 1: some
+  // phi_a < 0) has its particles moved 10 m along +z (phi_a > 0) or -z (phi_a < 0): e moves L x
+  // 10 m, every particle at most 10 m. A blade sweeping across the body halfway between the
+  // highest particle's reach and e's height severs e's links (and any other link reaching that
+  // high): exactly those a sweep test of every alive link finds crossed.
+  EfgModel model = cylinder();
+  EfgVolumeCutter cutter(model);
+  const EfgCutResult first =
+      cutter.cut(upwardSweep(0.0006), model.restPositions(), model.restPositions());
+  int e = -1;
+  double gain = 0.0;  // L [-]
+  for (const int c : first.changed_ips) {
+    const double l1 = model.shapeValues(c).lpNorm<1>();
+    if (model.grid().volumes(c) > 0.0 && l1 > gain) {
+      gain = l1;
+      e = c;
+    }
+  }
+  ASSERT_GE(e, 0);
+  ASSERT_GT(gain, 1.02);
+  const double lift = 10.0;  // [m]
+  Eigen::VectorXd x = model.restPositions();
+  const std::vector<int>& particles = model.ipParticles(e);
+  for (size_t a = 0; a < particles.size(); ++a)
+    x(3 * particles[a] + 2) +=
+        model.shapeValues(e)(static_cast<Eigen::Index>(a)) > 0.0 ? lift : -lift;
+  const double top = model.grid().particles.row(2).maxCoeff() + lift;                  // [m]
+  const double z = 0.5 * (top + model.grid().integration_points(2, e) + gain * lift);  // [m]
+  ASSERT_GT(z, top + 0.05);
+  const BladeSweep s{straightBlade(-0.03, z), straightBlade(0.03, z)};
+  const std::vector<int> expected = crossedLinks(cutter, s, x, x);
+  const EfgCutResult r = cutter.cut(s, x, x);
+  ASSERT_FALSE(expected.empty());
   EXPECT_EQ(r.severed_links, expected);
 }
 

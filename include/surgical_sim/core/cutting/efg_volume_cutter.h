@@ -33,12 +33,21 @@ struct EfgCutResult {
 /// One cut(sweep, x_start, x_end):
 /// 1. Crossing: each alive link, with both ends moving linearly from x_start to x_end (an IP at
 ///    sum_a phi_a x_a of its current particles), is tested against every blade segment with
-///    edgeSweepCrossing (so a static blade in moving tissue cuts). Broad phase: only the links of
-///    particles whose motion box meets the sweep's box and whose motion meets the slab of one
-///    segment's sweep (its four corners' extent along the swept quad's normal), both grown by
-///    3 x the link's rest length, and whose own motion box (of its ends' four positions) meets
-///    the sweep's box, are tested against each segment whose box and slab that motion meets (a
-///    link stretched to more than 3 x its rest length can be missed).
+///    edgeSweepCrossing (so a static blade in moving tissue cuts). Broad phase over blocks of
+///    links (those whose particle end a rests in one cube of side 2 particle spacings): with
+///    D the box of the displacements x - X (start and end of the step) of the particles that
+///    move the block's ends (its particle ends and its IP ends' current particles), centre c and
+///    half-sides h, a particle end stays within h of X + c and an IP end e within
+///    L h + u |c| + r of X_e + c, where L = max(1, ||phi_e||_1), u = |sum_a phi_a - 1| and
+///    r = |sum_a phi_a X_a - X_e| (the reproduction residual), each the largest over the block's
+///    IP ends. Only the blocks whose rest box of their links' ends, so moved and grown, meets the
+///    box and the slab (the four corners' extent along the swept quad's normal) of one segment's
+///    sweep have their alive links tested: those whose rest box, so moved and grown, and whose
+///    motion box (of their ends' four positions) meet the sweep's box, against each segment whose
+///    box and slab that motion meets. The bound holds however far a link stretches, so no
+///    crossed link is missed; tissue at rest or translating only tests the links near the
+///    blade. A cut recomputes L, u, r and the moving particles of the blocks holding links of its
+///    changed IPs.
 /// 2. Re-selection, for each IP with a severed link and each IP with indirect particles near a
 ///    severed link: a Dijkstra search from the IP over the alive links (rest lengths) lists the
 ///    visible particles by graph distance r. They are taken in that order, skipping one that would
@@ -104,14 +113,35 @@ class EfgVolumeCutter {
   /// IP of cell c, or -1 (dropped or outside the grid).
   int ipAt(const Eigen::Vector3i& c) const;
 
+  /// Broad-phase block: the links whose end a (a particle) lies in one cube of the particle grid.
+  struct Block {
+    std::vector<int> links;                             ///< ascending
+    std::vector<int> particles;                         ///< the links' particle ends
+    std::vector<int> ips;                               ///< the links' IP ends
+    Eigen::Vector3d rest_lo = Eigen::Vector3d::Zero();  ///< box of the ends' rest positions [m]
+    Eigen::Vector3d rest_hi = Eigen::Vector3d::Zero();  ///< [m]
+    /// Blocks holding the particles that move an end: particles, and the IPs' current particles.
+    std::vector<int> movers;
+    double gain = 1.0;         ///< max(1, largest ||phi_e||_1 of the IP ends) [-]
+    double unity_error = 0.0;  ///< largest |sum_a phi_a - 1| of the IP ends [-]
+    double residual = 0.0;     ///< largest |sum_a phi_a X_a - X_e| (max norm) of the IP ends [m]
+  };
+  /// Recomputes block's movers, gain, unity error and residual from its IPs' current particles.
+  void refreshBlock(Block& block) const;
+
   EfgModel& model_;
   EfgTopologyGraph graph_;
-  double max_link_length_ = 0.0;  ///< [m]
-  int pieces_ = 0;                ///< labels with volume IPs
-  std::vector<int> labels_;       ///< piece label per graph node (graph components)
-  std::vector<int> volume_ips_;   ///< per label, its IPs holding volume
-  std::vector<int> tree_of_;      ///< splitPieces scratch per graph node, -1 outside a search
-  int samples_ = 4;               ///< volume samples per axis of the mid-cell redistribution
+  std::vector<Block> blocks_;
+  /// Block of each particle's rest position (a link is in the block of its end a).
+  std::vector<int> particle_block_;
+  /// Broad-phase scratch: per block b, the box of its particles' displacements at the step start
+  /// and end (columns 2b: lower, 2b + 1: upper corner) [m].
+  Eigen::Matrix3Xd block_motion_;
+  int pieces_ = 0;               ///< labels with volume IPs
+  std::vector<int> labels_;      ///< piece label per graph node (graph components)
+  std::vector<int> volume_ips_;  ///< per label, its IPs holding volume
+  std::vector<int> tree_of_;     ///< splitPieces scratch per graph node, -1 outside a search
+  int samples_ = 4;              ///< volume samples per axis of the mid-cell redistribution
   /// Remaining volume samples (samples_^3) of the cells a cut has crossed, per IP (empty if none).
   std::vector<std::vector<char>> sample_masks_;
   std::vector<char> has_indirect_;  ///< per IP: uses a particle it has no alive link to
@@ -123,7 +153,6 @@ class EfgVolumeCutter {
   std::vector<char> search_dirty_;
   /// Narrow-phase scratch: per IP, the cut() call that last computed its positions at the step
   /// start and end (ip_x_ columns 2e and 2e + 1) [-], [m].
-  std::vector<char> link_mark_;  ///< broad-phase scratch per link, all 0 between calls
   std::vector<long long> ip_x_call_;
   Eigen::Matrix3Xd ip_x_;
   long long calls_ = 0;
