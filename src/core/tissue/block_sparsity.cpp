@@ -33,6 +33,10 @@ void blockPatternOfRows(int num_nodes, Begin begin, End end, Eigen::SparseMatrix
   Eigen::Index blocks = 0;
   for (int i = 0; i < num_nodes; ++i) blocks += end(i) - begin(i);
   pattern.resize(3 * num_nodes, 3 * num_nodes);  // keeps the storage's capacity
+  // Storage that must grow takes a quarter more, so a pattern growing by little (a cut coupling a
+  // few more nodes) is rebuilt in place the next times.
+  if (pattern.data().allocatedSize() < 9 * blocks)
+    pattern.data().reserve(9 * blocks + 9 * blocks / 4);
   pattern.resizeNonZeros(9 * blocks);
   int* outer = pattern.outerIndexPtr();
   int* inner = pattern.innerIndexPtr();
