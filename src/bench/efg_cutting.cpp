@@ -402,6 +402,7 @@ std::vector<EfgCutSweepRecord> runEfgProgressiveCuts(const EfgCutRunSettings& se
       r.severed_links = static_cast<int>(u.volume.severed_links.size());
       r.changed_ips = static_cast<int>(u.volume.changed_ips.size());
       r.crossed_edges = u.surface.crossed_edges;
+      r.ignored_crossings = u.surface.ignored_crossings;
       r.remapped = static_cast<int>(u.surface.remapped.size()) + u.remapped_after_volume;
       r.triangles = static_cast<int>(body.surface().triangles().cols());
       r.dofs = 3 * model.numNodes();

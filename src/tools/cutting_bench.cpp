@@ -318,19 +318,19 @@ void writeEfgRecords(FILE* csv, const char* run, const std::vector<ss::EfgCutSwe
   for (const ss::EfgCutSweepRecord& r : records)
     std::fprintf(
         csv,
-        "%s,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%.3e,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%s,"
+        "%s,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%.3e,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%s,"
         "%d,%.4f,%.4f,%.4f,%.4f\n",
         run, info.ips, info.surface_triangles, r.cut, r.sweep, r.severed_links, r.changed_ips,
-        r.crossed_edges, r.remapped, r.triangles, r.dofs, r.pieces, r.finite ? 1 : 0, r.mass_error,
-        r.times.positions_ms, r.times.volume_ms, r.times.surface_ms, r.times.remap_ms,
-        r.times.update(), r.times.detect_ms, r.times.topology(), r.step_ms, solver.c_str(),
-        r.linear_iterations, 1e3 * r.phases.forces, 1e3 * r.phases.assembly,
+        r.crossed_edges, r.ignored_crossings, r.remapped, r.triangles, r.dofs, r.pieces,
+        r.finite ? 1 : 0, r.mass_error, r.times.positions_ms, r.times.volume_ms, r.times.surface_ms,
+        r.times.remap_ms, r.times.update(), r.times.detect_ms, r.times.topology(), r.step_ms,
+        solver.c_str(), r.linear_iterations, 1e3 * r.phases.forces, 1e3 * r.phases.assembly,
         1e3 * r.phases.factorization, 1e3 * r.phases.linear_solve);
 }
 
 constexpr const char* kEfgHeader =
-    "run,ips,surface_triangles,cut,sweep,severed_links,changed_ips,crossed_edges,remapped,"
-    "triangles,dofs,pieces,finite,mass_error,positions_ms,volume_ms,surface_ms,remap_ms,"
+    "run,ips,surface_triangles,cut,sweep,severed_links,changed_ips,crossed_edges,ignored_crossings,"
+    "remapped,triangles,dofs,pieces,finite,mass_error,positions_ms,volume_ms,surface_ms,remap_ms,"
     "update_ms,detect_ms,topology_ms,step_ms,solver,linear_iterations,forces_ms,assembly_ms,"
     "factorization_ms,solve_ms";
 

@@ -117,6 +117,9 @@ struct EfgCutSweepRecord {
   int severed_links = 0;
   int changed_ips = 0;
   int crossed_edges = 0;
+  /// Surface edges the blade crossed that the running cut could not take (EfgSurfaceCutStep):
+  /// mostly the sheets of earlier cuts the blade passes through.
+  int ignored_crossings = 0;
   int remapped = 0;  ///< surface vertices remapped (surface cut and volume-cut IPs)
   int triangles = 0;
   int dofs = 0;
