@@ -23,10 +23,13 @@ void RigidNodeTangentSystem::buildSystem(const RigidNodeProblem& problem,
   system_.coeffs() = stiffness_coefficient * stiffness_.coeffs();
   if (mass_coefficient != 0.0) system_.coeffs() += mass_coefficient * mass_.coeffs();
   projectDirichletMatrix(mask_, system_);
-  rotation_scale_ = 0.0;
-  for (const int k : rotation_diagonal_) rotation_scale_ += std::abs(system_.valuePtr()[k]);
-  if (!rotation_diagonal_.empty())
-    rotation_scale_ /= static_cast<double>(rotation_diagonal_.size());
+  const auto meanMagnitude = [this](const std::vector<int>& entries) {
+    double sum = 0.0;
+    for (const int k : entries) sum += std::abs(system_.valuePtr()[k]);
+    return entries.empty() ? 0.0 : sum / static_cast<double>(entries.size());
+  };
+  rotation_scale_ = meanMagnitude(rotation_diagonal_);
+  translation_scale_ = meanMagnitude(translation_diagonal_);
   phases_.assembly += watch.seconds();
 }
 
@@ -34,6 +37,10 @@ void RigidNodeTangentSystem::shiftSystem(double relative_shift) {
   shifted_.coeffs() = system_.coeffs();
   const double shift = relative_shift * rotation_scale_;
   for (const int k : rotation_diagonal_) shifted_.valuePtr()[k] += shift;
+  if (shift_translations_) {
+    const double translation_shift = relative_shift * translation_scale_;
+    for (const int k : translation_diagonal_) shifted_.valuePtr()[k] += translation_shift;
+  }
   shift_ = relative_shift;
 }
 
@@ -59,12 +66,14 @@ void RigidNodeTangentSystem::prepare(const RigidNodeProblem& problem) {
   mask_.assign(model.numDofs(), 0);
   markDirichletDofs(problem.fixed_dofs, mask_);
   rotation_diagonal_.clear();
+  translation_diagonal_.clear();
   const int* outer = system_.outerIndexPtr();
   const int* inner = system_.innerIndexPtr();
-  for (int d = 3; d < model.numDofs(); d += (d % kRigidNodeDofs == 5 ? 4 : 1)) {
+  for (int d = 0; d < model.numDofs(); ++d) {
     if (mask_[d] != 0) continue;
-    rotation_diagonal_.push_back(
-        static_cast<int>(std::lower_bound(inner + outer[d], inner + outer[d + 1], d) - inner));
+    const int k =
+        static_cast<int>(std::lower_bound(inner + outer[d], inner + outer[d + 1], d) - inner);
+    (d % kRigidNodeDofs < 3 ? translation_diagonal_ : rotation_diagonal_).push_back(k);
   }
 }
 
@@ -85,8 +94,12 @@ bool RigidNodeTangentSystem::assemble(const RigidNodeProblem& problem,
   for (const bool geometric : {true, false}) {
     material_only_ = !geometric;
     buildSystem(problem, q, geometric, mass_coefficient, stiffness_coefficient);
-    for (const double shift : kRotationShifts) {
-      ok = factorizeShifted(shift);
+    for (const bool translations : {false, true}) {
+      shift_translations_ = translations;
+      for (const double shift : kRotationShifts) {
+        ok = factorizeShifted(shift);
+        if (ok) break;
+      }
       if (ok) break;
     }
     if (ok) break;

@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -179,6 +180,35 @@ std::vector<int> crossedLinks(const EfgVolumeCutter& cutter, const BladeSweep& s
   return crossed;
 }
 
+// Particle positions at the step start and end: rest particle X at R0 X + T0 (R1 X + T1), each
+// displaced by u(rng) along each axis.
+std::array<Eigen::VectorXd, 2> carriedParticles(const EfgModel& model, const Eigen::Matrix3d& R0,
+                                                const Eigen::Vector3d& T0,
+                                                const Eigen::Matrix3d& R1,
+                                                const Eigen::Vector3d& T1, std::mt19937& rng,
+                                                std::uniform_real_distribution<double>& u) {
+  std::array<Eigen::VectorXd, 2> x = {model.restPositions(), model.restPositions()};
+  for (int p = 0; p < model.numNodes(); ++p) {
+    const Eigen::Vector3d X = model.grid().particles.col(p);
+    x[0].segment<3>(3 * p) = R0 * X + T0 + Eigen::Vector3d(u(rng), u(rng), u(rng));
+    x[1].segment<3>(3 * p) = R1 * X + T1 + Eigen::Vector3d(u(rng), u(rng), u(rng));
+  }
+  return x;
+}
+
+// A blade polyline at `points` (3 x k, body frame) sweeping to y = y_end, carried by the body:
+// (R0, T0) at the step start, (R1, T1) at its end.
+BladeSweep carriedSweep(const Eigen::Matrix3Xd& points, double y_end, const Eigen::Matrix3d& R0,
+                        const Eigen::Vector3d& T0, const Eigen::Matrix3d& R1,
+                        const Eigen::Vector3d& T1) {
+  BladeSweep s;
+  s.end = points;
+  s.end.row(1).setConstant(y_end);
+  s.start = (R0 * points).colwise() + T0;
+  s.end = (R1 * s.end).colwise() + T1;
+  return s;
+}
+
 TEST(EfgTopologyGraph, GridNeighbourLinksAndInitialNeighbourhoods) {
   const EfgModel m = cylinder();
   EfgTopologyGraph g(m);
@@ -266,19 +296,10 @@ TEST(EfgVolumeCutter, SeversEveryLinkASweepTestOfEveryLinkFindsUnderLargeMotion)
   const Eigen::Vector3d T0(20.0, -5.0, 3.0), T1 = T0 + Eigen::Vector3d(0.05, 0.02, -0.03);
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-0.1 * model.grid().spacing, 0.1 * model.grid().spacing);
-  Eigen::VectorXd x0 = model.restPositions(), x1 = x0;
-  for (int p = 0; p < model.numNodes(); ++p) {
-    const Eigen::Vector3d X = model.grid().particles.col(p);
-    x0.segment<3>(3 * p) = R0 * X + T0 + Eigen::Vector3d(u(rng), u(rng), u(rng));
-    x1.segment<3>(3 * p) = R1 * X + T1 + Eigen::Vector3d(u(rng), u(rng), u(rng));
-  }
-  BladeSweep s;
-  s.start.resize(3, 3);
-  s.start << -0.03, 0.0, 0.03, -0.015, -0.015, -0.015, 0.0006, 0.004, 0.0006;
-  s.end = s.start;
-  s.end.row(1).setConstant(0.015);
-  s.start = (R0 * s.start).colwise() + T0;
-  s.end = (R1 * s.end).colwise() + T1;
+  const auto [x0, x1] = carriedParticles(model, R0, T0, R1, T1, rng, u);
+  Eigen::Matrix3Xd blade(3, 3);
+  blade << -0.03, 0.0, 0.03, -0.015, -0.015, -0.015, 0.0006, 0.004, 0.0006;
+  const BladeSweep s = carriedSweep(blade, 0.015, R0, T0, R1, T1);
   const std::vector<int> expected = crossedLinks(cutter, s, x0, x1);
   const EfgCutResult r = cutter.cut(s, x0, x1);
   EXPECT_GT(expected.size(), 100u);
@@ -302,19 +323,10 @@ TEST(EfgVolumeCutter, SeversEveryCrossedLinkHoweverFarTheParticlesMove) {
     const Eigen::Matrix3d R0 = Eigen::AngleAxisd(0.4 + sweep, axis).toRotationMatrix();
     const Eigen::Matrix3d R1 = Eigen::AngleAxisd(0.6 + sweep, axis).toRotationMatrix();
     const Eigen::Vector3d T0(0.3, -0.2, 0.1), T1 = T0 + Eigen::Vector3d(0.01, -0.02, 0.005);
-    Eigen::VectorXd x0 = model.restPositions(), x1 = x0;
-    for (int p = 0; p < model.numNodes(); ++p) {
-      const Eigen::Vector3d X = model.grid().particles.col(p);
-      x0.segment<3>(3 * p) = R0 * X + T0 + Eigen::Vector3d(u(rng), u(rng), u(rng));
-      x1.segment<3>(3 * p) = R1 * X + T1 + Eigen::Vector3d(u(rng), u(rng), u(rng));
-    }
-    BladeSweep s;
-    s.start.resize(3, 3);
-    s.start << -0.03, 0.0, 0.03, -0.02, -0.02, -0.02, 0.002 - 0.01 * sweep, 0.006, 0.002;
-    s.end = s.start;
-    s.end.row(1).setConstant(0.02);
-    s.start = (R0 * s.start).colwise() + T0;
-    s.end = (R1 * s.end).colwise() + T1;
+    const auto [x0, x1] = carriedParticles(model, R0, T0, R1, T1, rng, u);
+    Eigen::Matrix3Xd blade(3, 3);
+    blade << -0.03, 0.0, 0.03, -0.02, -0.02, -0.02, 0.002 - 0.01 * sweep, 0.006, 0.002;
+    const BladeSweep s = carriedSweep(blade, 0.02, R0, T0, R1, T1);
     const std::vector<int> expected = crossedLinks(cutter, s, x0, x1);
     // Some crossed link is stretched beyond 3 times its rest length.
     double stretch = 0.0;  // [-]

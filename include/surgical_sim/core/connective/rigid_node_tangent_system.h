@@ -28,9 +28,13 @@ constexpr double kRotationShifts[] = {1e-6, 1e-4, 1e-2};
 /// so once deformed (where the body-force term can make them slightly negative). The free
 /// rotational diagonal entries of A are therefore shifted by kRotationShifts[k] times their mean
 /// (a Levenberg-Marquardt shift on the rotations only, the smallest that factorizes); if no
-/// shift makes A positive definite (compression can make the geometric part indefinite), A is
-/// rebuilt without the geometric part (material tangent only) and the shifts tried again. The
-/// shift changes increments, never the residual, so equilibria are unchanged.
+/// shift makes A positive definite, the free translational diagonal entries are shifted too, by
+/// the same factors times their mean (a node whose weights barely reach any sample, e.g. a grid
+/// corner outside a round body, is nearly free in translation: its pivot is then at round-off,
+/// positive or not depending on the BLAS kernel); if that fails too (compression can make the
+/// geometric part indefinite), A is rebuilt without the geometric part (material tangent only)
+/// and both tried again. The shift changes increments, never the residual, so equilibria are
+/// unchanged.
 class RigidNodeTangentSystem {
  public:
   /// f_total = f_int(q) + body force + external force, K, M (if mass_coefficient != 0) and the
@@ -72,6 +76,8 @@ class RigidNodeTangentSystem {
   bool usedMaterialTangentOnly() const { return material_only_; }
   /// The relative rotational shift of the last factorization (an entry of kRotationShifts).
   double rotationShift() const { return shift_; }
+  /// Whether the last factorization shifted the translational diagonal too.
+  bool shiftedTranslations() const { return shift_translations_; }
   /// Wall time of the last assemble(): forces (the sample loop: force, tangent, gravity
   /// tangent), assembly (mass and A), factorization (every shift tried); linear_solve 0.
   const StepPhaseTimes& phases() const { return phases_; }
@@ -79,24 +85,30 @@ class RigidNodeTangentSystem {
   const std::vector<std::uint8_t>& fixedMask() const { return mask_; }
 
  private:
-  /// internal_, stiffness_ and the projected, unshifted system_; rotation_scale_.
+  /// internal_, stiffness_ and the projected, unshifted system_; rotation_scale_ and
+  /// translation_scale_.
   void buildSystem(const RigidNodeProblem& problem, const RigidNodeConfiguration& q, bool geometric,
                    double mass_coefficient, double stiffness_coefficient);
-  /// Analyses model's pattern if new; the fixed-DOF mask and rotation_diagonal_.
+  /// Analyses model's pattern if new; the fixed-DOF mask, rotation_diagonal_ and
+  /// translation_diagonal_.
   void prepare(const RigidNodeProblem& problem);
   /// force_ = internal_ + body force + external force at q.
   void addLoads(const RigidNodeProblem& problem, const RigidNodeConfiguration& q);
-  /// shifted_ = system_ with the rotational shift.
+  /// shifted_ = system_ with the rotational shift (and the translational one when
+  /// shift_translations_).
   void shiftSystem(double relative_shift);
-  /// Factorizes system_ with the rotational shift into shifted_.
+  /// Factorizes system_ with the shifts of shiftSystem into shifted_.
   bool factorizeShifted(double relative_shift);
 
   const RigidNodeModel* analysed_ = nullptr;
   CholmodSolver solver_;
   Eigen::SparseMatrix<double> stiffness_, mass_, system_, shifted_;
-  std::vector<int> rotation_diagonal_;  ///< value indices of free rotational diagonal entries
-  double rotation_scale_ = 0.0;         ///< mean |entry| there [N m/rad]
+  std::vector<int> rotation_diagonal_;     ///< value indices of free rotational diagonal entries
+  double rotation_scale_ = 0.0;            ///< mean |entry| there [N m/rad]
+  std::vector<int> translation_diagonal_;  ///< value indices of free translational ones
+  double translation_scale_ = 0.0;         ///< mean |entry| there [N/m]
   double shift_ = 0.0;
+  bool shift_translations_ = false;
   Eigen::VectorXd force_, internal_, refined_;
   Eigen::VectorXd minres_[7];  ///< work vectors of solveUnshifted
   std::vector<std::uint8_t> mask_;
