@@ -437,11 +437,21 @@ void EfgSurfaceCutter::touch(int v) {
   }
 }
 
-void EfgSurfaceCutter::clusterBox(int c, ClusterBound& b) const {
+EfgSurfaceCutter::ClusterBound EfgSurfaceCutter::emptyBound() {
+  ClusterBound b;
   b.lo.setConstant(std::numeric_limits<double>::infinity());
   b.hi = -b.lo;
   b.segment_lo = b.lo;
   b.segment_hi = b.hi;
+  return b;
+}
+
+void EfgSurfaceCutter::clusterBox(int c, ClusterBound& b) const {
+  const ClusterBound empty = emptyBound();
+  b.lo = empty.lo;
+  b.hi = empty.hi;
+  b.segment_lo = empty.segment_lo;
+  b.segment_hi = empty.segment_hi;
   double scale = 0.0;  // largest coordinate [m]
   for (int k = at(cluster_vert_begin_, c); k < at(cluster_vert_begin_, c + 1); ++k) {
     const Vertex& vert = at(verts_, at(cluster_vert_ids_, k));
@@ -484,12 +494,8 @@ void EfgSurfaceCutter::refreshClusterBounds() {
   cluster_bounds_.resize(cluster_edges_.size());
   std::sort(stale.begin(), stale.end());
   stale.erase(std::unique(stale.begin(), stale.end()), stale.end());
-  ClusterBound empty;
-  empty.lo.setConstant(std::numeric_limits<double>::infinity());
-  empty.hi = -empty.lo;
-  empty.segment_lo = empty.lo;
-  empty.segment_hi = empty.hi;
-  group_bounds_.resize((cluster_bounds_.size() + kGroupClusters - 1) / kGroupClusters, empty);
+  group_bounds_.resize((cluster_bounds_.size() + kGroupClusters - 1) / kGroupClusters,
+                       emptyBound());
   for (int c : stale) {
     ClusterBound b;
     clusterBox(c, b);
@@ -511,21 +517,9 @@ void EfgSurfaceCutter::refit(const Eigen::VectorXd& x) {
   ref_x_ = x;
   for (int c = 0; c < intSize(cluster_bounds_); ++c) clusterBox(c, at(cluster_bounds_, c));
   for (int g = 0; g < intSize(group_bounds_); ++g) {
-    ClusterBound& group = at(group_bounds_, g);
-    group.lo.setConstant(std::numeric_limits<double>::infinity());
-    group.hi = -group.lo;
-    group.segment_lo = group.lo;
-    group.segment_hi = group.hi;
-    group.margin = 0.0;
+    ClusterBound& group = at(group_bounds_, g) = emptyBound();
     const int end = std::min(intSize(cluster_bounds_), (g + 1) * kGroupClusters);
-    for (int c = g * kGroupClusters; c < end; ++c) {
-      const ClusterBound& b = at(cluster_bounds_, c);
-      group.lo = group.lo.cwiseMin(b.lo);
-      group.hi = group.hi.cwiseMax(b.hi);
-      group.segment_lo = group.segment_lo.cwiseMin(b.segment_lo);
-      group.segment_hi = group.segment_hi.cwiseMax(b.segment_hi);
-      group.margin = std::max(group.margin, b.margin);
-    }
+    for (int c = g * kGroupClusters; c < end; ++c) unite(group, at(cluster_bounds_, c));
   }
 }
 
@@ -1022,13 +1016,8 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
     // a cluster (group) whose segment box so grown misses the swept box and slab is skipped,
     // one whose vertex box so grown meets them is classified and tested edge by edge.
     const auto meets = [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double grow) {
-      if ((hi.array() + grow < blade_lo.array()).any() ||
-          (lo.array() - grow > blade_hi.array()).any())
-        return false;
-      if (slab.normal.squaredNorm() == 0.0) return true;
-      const double centre = slab.normal.dot(0.5 * (lo + hi));
-      const double half = slab.normal.cwiseAbs().dot(0.5 * (hi - lo)) + grow;
-      return centre + half >= slab.lo && centre - half <= slab.hi;
+      return (hi.array() + grow >= blade_lo.array()).all() &&
+             (lo.array() - grow <= blade_hi.array()).all() && slab.boxGap(lo, hi) <= grow;
     };
     const auto growth = [&](const ClusterBound& b) {
       return b.row_norm * motion_ * (1.0 + 1e-9) + b.margin;

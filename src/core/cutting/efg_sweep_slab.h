@@ -33,6 +33,14 @@ struct SweepSlab {
   /// True when every point lies beyond the same face of the slab: nothing moving within their
   /// hull comes within the margin of the sweep. False without a slab.
   bool apart(std::initializer_list<Eigen::Vector3d> points) const { return gap(points) > 0.0; }
+
+  /// Distance along the normal from the box [box_lo, box_hi] to the slab [m]: 0 when it meets it,
+  /// and 0 without a slab.
+  double boxGap(const Eigen::Vector3d& box_lo, const Eigen::Vector3d& box_hi) const {
+    const double centre = normal.dot(0.5 * (box_lo + box_hi));
+    const double half = normal.cwiseAbs().dot(0.5 * (box_hi - box_lo));
+    return std::max({lo - (centre + half), centre - half - hi, 0.0});
+  }
 };
 
 /// Slab of segment i (0 <= i < sweep.start.cols() - 1) of `sweep`, grown by margin [m] >= 0 plus

@@ -431,12 +431,6 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
     bool misses(const Eigen::Vector3d& a_lo, const Eigen::Vector3d& a_hi) const {
       return (a_hi.array() < lo.array()).any() || (a_lo.array() > hi.array()).any();
     }
-    // Beyond one face of `slab` (false without a slab).
-    bool apart(const efg_sweep_slab::SweepSlab& slab) const {
-      const double centre = slab.normal.dot(0.5 * (lo + hi));
-      const double half = slab.normal.cwiseAbs().dot(0.5 * (hi - lo));
-      return centre + half < slab.lo || centre - half > slab.hi;
-    }
   };
   // Per block, the box of its particles' displacements d = x - X at the step start and end
   // (block_motion_ columns 2b: lower, 2b + 1: upper corner), and per link block the box of its
@@ -474,7 +468,8 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
     if (box.misses(sweep_lo, sweep_hi)) continue;
     bool near = false;
     for (size_t i = 0; !near && i < slabs.size(); ++i)
-      near = !box.misses(segment_boxes[i][0], segment_boxes[i][1]) && !box.apart(slabs[i]);
+      near = !box.misses(segment_boxes[i][0], segment_boxes[i][1]) &&
+             slabs[i].boxGap(box.lo, box.hi) == 0.0;
     if (!near) continue;
     // The same bound on each alive link's own rest box first, then its motion box.
     for (const int l : block.links) {

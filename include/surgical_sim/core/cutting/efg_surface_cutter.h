@@ -195,6 +195,8 @@ class EfgSurfaceCutter {
   void refreshClusterBounds();
   /// Sets b's box and margin: cluster c's used vertices at ref_x_.
   void clusterBox(int c, ClusterBound& b) const;
+  /// A bound holding nothing (boxes from +inf to -inf, zero norm and margin).
+  static ClusterBound emptyBound();
   /// Grows `into` to hold b.
   static void unite(ClusterBound& into, const ClusterBound& b);
   /// Moves the reference to particle positions x and recomputes every cluster's and group's box.
