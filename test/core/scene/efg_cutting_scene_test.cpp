@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -120,6 +121,42 @@ TEST(EfgCuttingScene, CutThroughSplitsTheBoxKeepsMassAndDofsAndTheFreePieceFalls
   // 0.2 s of free fall with mass damping 1/s: about 0.17 m; the 2 cm stub sags by millimetres.
   EXPECT_LT(fallen, -0.1);
   EXPECT_GT(kept, -0.01);
+}
+
+TEST(EfgCuttingScene, HostileSweepsNeverReportOkWithAbsurdNumbers) {
+  // 60 steps of random fast, deep sweeps (2- and 3-point blades anywhere within 10 cm, moving up
+  // to 10 cm a step, i.e. 10 m/s, many spanning and cutting the box through) while it sags and
+  // falls apart. A step that reports ok has finite particle and surface positions within a metre
+  // of rest, the mass is kept and every cut is applied or rejected by name.
+  TissueSimulation sim(boxScene());
+  const double mass = sim.model().lumpedMass().sum();
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const auto point = [&] {
+    return Eigen::Vector3d(0.02 + 0.1 * u(rng), 0.1 * u(rng), 0.1 * u(rng));
+  };
+  int ok = 0;
+  for (int k = 0; k < 60; ++k) {
+    BladeSweep sweep;
+    const int points = 2 + static_cast<int>(rng() % 2);
+    sweep.start.resize(3, points);
+    for (int i = 0; i < points; ++i) sweep.start.col(i) = point();
+    sweep.end = sweep.start.colwise() + 0.1 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+    sim.requestCut(sweep);
+    const SimulationStepStats s = sim.step();
+    if (s.report.status != StepStatus::Ok) continue;
+    ++ok;
+    const Eigen::VectorXd& x = sim.state().x;
+    ASSERT_TRUE(x.allFinite()) << "step " << k;
+    ASSERT_TRUE(sim.surfacePositions().allFinite()) << "step " << k;
+    EXPECT_LT((x - sim.model().restPositions()).cwiseAbs().maxCoeff(), 1.0) << "step " << k;
+    EXPECT_NEAR(sim.model().lumpedMass().sum(), mass, 1e-12 * mass) << "step " << k;
+  }
+  EXPECT_GT(ok, 50);
+  EXPECT_GT(sim.numComponents(), 1);
+  const SurfaceClosure closure = checkSurfaceClosure(sim.surface().triangles);
+  EXPECT_EQ(closure.open_edges, 0);
+  EXPECT_EQ(closure.pinched_edges, 0);
 }
 
 TEST(EfgCuttingScene, BladeThatMissesChangesNothing) {
