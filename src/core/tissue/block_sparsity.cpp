@@ -26,37 +26,6 @@ struct NodeGroups {
   std::vector<int> entries;
 };
 
-/// The 3n x 3n pattern whose column 3 i + c holds rows 3 j + r of the nodes j in
-/// [begin(i), end(i)) (ascending, distinct), values zero.
-template <typename Begin, typename End>
-void blockPatternOfRows(int num_nodes, Begin begin, End end, Eigen::SparseMatrix<double>& pattern) {
-  Eigen::Index blocks = 0;
-  for (int i = 0; i < num_nodes; ++i) blocks += end(i) - begin(i);
-  pattern.resize(3 * num_nodes, 3 * num_nodes);  // keeps the storage's capacity
-  // Storage that must grow takes a quarter more, so a pattern growing by little (a cut coupling a
-  // few more nodes) is rebuilt in place the next times.
-  if (pattern.data().allocatedSize() < 9 * blocks)
-    pattern.data().reserve(9 * blocks + 9 * blocks / 4);
-  pattern.resizeNonZeros(9 * blocks);
-  int* outer = pattern.outerIndexPtr();
-  int* inner = pattern.innerIndexPtr();
-  outer[0] = 0;
-  int entry = 0;
-  for (int i = 0; i < num_nodes; ++i) {
-    const int column = entry;
-    for (const int* j = begin(i); j != end(i); ++j)
-      for (int r = 0; r < 3; ++r) inner[entry++] = 3 * *j + r;
-    const int length = entry - column;
-    outer[3 * i + 1] = entry;
-    for (int c = 1; c < 3; ++c) {  // the node's other columns have the same rows
-      std::copy(inner + column, inner + column + length, inner + entry);
-      entry += length;
-      outer[3 * i + c + 1] = entry;
-    }
-  }
-  std::fill(pattern.valuePtr(), pattern.valuePtr() + entry, 0.0);
-}
-
 }  // namespace
 
 Eigen::SparseMatrix<double> makeBlockPattern(int num_nodes, const Eigen::MatrixXi& groups) {
@@ -79,23 +48,72 @@ Eigen::SparseMatrix<double> makeBlockPattern(int num_nodes, const Eigen::MatrixX
     std::sort(neighbours.begin() + offsets[i], neighbours.end());
     offsets[i + 1] = static_cast<int>(neighbours.size());
   }
-  Eigen::SparseMatrix<double> pattern;
-  blockPatternOfRows(
-      num_nodes, [&](int i) { return neighbours.data() + offsets[static_cast<size_t>(i)]; },
-      [&](int i) { return neighbours.data() + offsets[static_cast<size_t>(i) + 1]; }, pattern);
+  // Column 3 i + c holds rows 3 j + r of node i's neighbours j.
+  Eigen::SparseMatrix<double> pattern(3 * num_nodes, 3 * num_nodes);
+  pattern.resizeNonZeros(9 * static_cast<Eigen::Index>(neighbours.size()));
+  int* outer = pattern.outerIndexPtr();
+  int* inner = pattern.innerIndexPtr();
+  outer[0] = 0;
+  int entry = 0;
+  for (int i = 0; i < num_nodes; ++i) {
+    const int column = entry;
+    for (int p = offsets[static_cast<size_t>(i)]; p < offsets[static_cast<size_t>(i) + 1]; ++p)
+      for (int r = 0; r < 3; ++r) inner[entry++] = 3 * neighbours[static_cast<size_t>(p)] + r;
+    const int length = entry - column;
+    outer[3 * i + 1] = entry;
+    for (int c = 1; c < 3; ++c) {  // the node's other columns have the same rows
+      std::copy(inner + column, inner + column + length, inner + entry);
+      entry += length;
+      outer[3 * i + c + 1] = entry;
+    }
+  }
+  std::fill(pattern.valuePtr(), pattern.valuePtr() + entry, 0.0);
   return pattern;
 }
 
-void makeBlockPattern(const std::vector<std::vector<int>>& neighbours,
+void growBlockPattern(const std::vector<std::vector<int>>& added,
                       Eigen::SparseMatrix<double>& pattern) {
-  blockPatternOfRows(
-      static_cast<int>(neighbours.size()),
-      [&](int i) { return neighbours[static_cast<size_t>(i)].data(); },
-      [&](int i) {
-        const std::vector<int>& row = neighbours[static_cast<size_t>(i)];
-        return row.data() + row.size();
-      },
-      pattern);
+  const auto n = static_cast<Eigen::Index>(added.size());
+  if (pattern.rows() != 3 * n || pattern.cols() != 3 * n || !pattern.isCompressed()) {
+    throw std::invalid_argument(
+        "growBlockPattern: the pattern is " + std::to_string(pattern.rows()) + " x " +
+        std::to_string(pattern.cols()) + (pattern.isCompressed() ? "" : ", not compressed") +
+        ", expected a compressed " + std::to_string(3 * n) + " x " + std::to_string(3 * n));
+  }
+  Eigen::Index first = 0;
+  while (first < n && added[static_cast<size_t>(first)].empty()) ++first;
+  if (first == n) return;
+  Eigen::Index shift = 0;  // entries added before the node at hand
+  for (const std::vector<int>& extra : added) shift += 9 * static_cast<Eigen::Index>(extra.size());
+  const Eigen::Index old_size = pattern.nonZeros(), new_size = old_size + shift;
+  if (pattern.data().allocatedSize() < new_size)
+    pattern.data().reserve(new_size - old_size + new_size / 4);
+  pattern.resizeNonZeros(new_size);
+  int* outer = pattern.outerIndexPtr();
+  int* inner = pattern.innerIndexPtr();
+  // From the last node back: every entry moves to an index at least its own, so moving (and
+  // merging in the added rows) from the back never overwrites an entry still to be read.
+  outer[3 * n] = static_cast<int>(new_size);
+  for (Eigen::Index i = n - 1; i >= first; --i) {
+    const std::vector<int>& extra = added[static_cast<size_t>(i)];
+    shift -= 9 * static_cast<Eigen::Index>(extra.size());
+    const int old_start = outer[3 * i];
+    const int old_length = outer[3 * i + 1] - old_start;
+    const int new_length = old_length + 3 * static_cast<int>(extra.size());
+    const int new_start = old_start + static_cast<int>(shift);
+    for (int c = 2; c >= 0; --c) {
+      int* const begin = inner + old_start + c * old_length;
+      int* source = begin + old_length;
+      int* target = inner + new_start + (c + 1) * new_length;
+      for (auto j = extra.rbegin(); j != extra.rend(); ++j) {
+        while (source != begin && *(source - 1) > 3 * *j) *--target = *--source;
+        for (int r = 2; r >= 0; --r) *--target = 3 * *j + r;
+      }
+      if (target != source) std::copy_backward(begin, source, target);
+    }
+    for (int c = 0; c < 3; ++c) outer[3 * i + c] = new_start + c * new_length;
+  }
+  std::fill(pattern.valuePtr() + old_size, pattern.valuePtr() + new_size, 0.0);
 }
 
 BlockScatterMap::BlockScatterMap(const Eigen::SparseMatrix<double>& pattern,

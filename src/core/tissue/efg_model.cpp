@@ -360,9 +360,8 @@ void EfgModel::joinGroups(const std::vector<int>& ips) {
     }
   }
   if (grown) {
-    makeBlockPattern(coupled_, spare_pattern_);
-    swapPattern(spare_pattern_);  // the old pattern's storage serves the next growth
     for (std::vector<int>& extra : added) std::sort(extra.begin(), extra.end());
+    growPattern(added);
     for (GroupBucket& b : buckets_) {  // the groups that have a map: all but the new ones
       b.scatter.followGrownPattern(
           Eigen::Map<const Eigen::MatrixXi>(b.nodes.data(), b.k, b.scatter.numGroups()), added);

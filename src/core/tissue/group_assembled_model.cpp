@@ -23,8 +23,10 @@ void GroupAssembledModel::setGroups(int num_nodes, const Eigen::MatrixXi& groups
   schedule_ = GroupSchedule(num_nodes, groups, defaultThreadCount());
 }
 
-void GroupAssembledModel::swapPattern(Eigen::SparseMatrix<double>& pattern) {
-  pattern_.swap(pattern);
+void GroupAssembledModel::growPattern(const std::vector<std::vector<int>>& added) {
+  const auto size = 3 * static_cast<Eigen::Index>(added.size());
+  if (pattern_.rows() == 0) pattern_.resize(size, size);
+  growBlockPattern(added, pattern_);
 }
 
 double* GroupAssembledModel::zeroedValues(Eigen::SparseMatrix<double>& K) const {

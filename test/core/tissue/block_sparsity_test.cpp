@@ -118,6 +118,49 @@ std::vector<std::vector<int>> coupledNodes(const Eigen::SparseMatrix<double>& pa
   return rows;
 }
 
+/// added[i]: the nodes node i couples with in `after` and not in `before`, ascending.
+std::vector<std::vector<int>> addedCouplings(const Eigen::SparseMatrix<double>& before,
+                                             const Eigen::SparseMatrix<double>& after) {
+  const std::vector<std::vector<int>> was = coupledNodes(before), is = coupledNodes(after);
+  std::vector<std::vector<int>> added(is.size());
+  for (size_t i = 0; i < is.size(); ++i)
+    std::set_difference(is[i].begin(), is[i].end(), was[i].begin(), was[i].end(),
+                        std::back_inserter(added[i]));
+  return added;
+}
+
+// Growing a pattern in place, step by step from empty and by random new groups (some nodes gaining
+// nothing, some first coupled late), gives exactly the pattern built on all the groups at once.
+TEST(BlockSparsity, PatternGrownInPlaceMatchesThePatternBuiltOnAllGroups) {
+  std::mt19937 rng(11);
+  const int n = 40;
+  std::uniform_int_distribution<int> node(0, n - 1);
+  Eigen::SparseMatrix<double> grown(3 * n, 3 * n);
+  Eigen::SparseMatrix<double> before(3 * n, 3 * n);
+  Eigen::MatrixXi groups(4, 0);
+  for (int round = 0; round < 30; ++round) {
+    const int count = round == 0 ? 12 : 1 + round % 3;
+    Eigen::MatrixXi all(4, groups.cols() + count);
+    all.leftCols(groups.cols()) = groups;
+    for (int g = 0; g < count; ++g) {
+      // Nodes near one another (a local neighbourhood), distinct within the group.
+      const int base = node(rng) % (n - 6);
+      std::vector<int> pick{base, base + 1, base + 3, base + 6};
+      std::shuffle(pick.begin(), pick.end(), rng);
+      all.col(groups.cols() + g) = Eigen::Map<const Eigen::Vector4i>(pick.data());
+    }
+    groups = all;
+    const Eigen::SparseMatrix<double> after = makeBlockPattern(n, groups);
+    growBlockPattern(addedCouplings(before, after), grown);
+    expectSameStructure(grown, after);
+    before = after;
+  }
+  growBlockPattern(std::vector<std::vector<int>>(n), grown);  // nothing added: unchanged
+  expectSameStructure(grown, before);
+  Eigen::SparseMatrix<double> wrong(3 * n - 3, 3 * n - 3);
+  EXPECT_THROW(growBlockPattern(std::vector<std::vector<int>>(n), wrong), std::invalid_argument);
+}
+
 /// Values of `pattern` after scatter-adding the same random matrix per group through `map`.
 Eigen::VectorXd scattered(const BlockScatterMap& map, const Eigen::SparseMatrix<double>& pattern) {
   std::mt19937 rng(7);
@@ -140,18 +183,11 @@ TEST(BlockSparsity, EditedMapMatchesAMapBuiltOnTheFinalGroups) {
   all << groups, Eigen::Vector4i(4, 5, 6, 7);
   const Eigen::SparseMatrix<double> before = makeBlockPattern(8, groups);
   const Eigen::SparseMatrix<double> after = makeBlockPattern(8, all);
-  const std::vector<std::vector<int>> coupled_after = coupledNodes(after);
-  Eigen::SparseMatrix<double> rebuilt = before;  // storage reused
-  makeBlockPattern(coupled_after, rebuilt);
-  expectSameStructure(rebuilt, after);
-  makeBlockPattern(coupledNodes(before), rebuilt);  // into larger storage
-  expectSameStructure(rebuilt, before);
-  const std::vector<std::vector<int>> coupled_before = coupledNodes(before);
-  std::vector<std::vector<int>> added(8);
-  for (size_t i = 0; i < 8; ++i)
-    std::set_difference(coupled_after[i].begin(), coupled_after[i].end(), coupled_before[i].begin(),
-                        coupled_before[i].end(), std::back_inserter(added[i]));
+  const std::vector<std::vector<int>> added = addedCouplings(before, after);
   ASSERT_EQ(added[7].size(), 4u);  // 4, 5, 6, 7: node 7 was in no group
+  Eigen::SparseMatrix<double> grown = before;
+  growBlockPattern(added, grown);
+  expectSameStructure(grown, after);
 
   BlockScatterMap map(before, groups);
   EXPECT_THROW(map.setGroup(before, 3, all.col(3).data()), std::invalid_argument);

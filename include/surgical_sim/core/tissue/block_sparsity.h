@@ -11,10 +11,14 @@ namespace surgical_sim::core {
 /// @param num_nodes number of nodes n; the pattern is 3n x 3n, compressed column, values zero.
 /// @param groups node indices, shape k x g (one group per column), indices in [0, n).
 Eigen::SparseMatrix<double> makeBlockPattern(int num_nodes, const Eigen::MatrixXi& groups);
-/// Sets `pattern` to the one in which node i couples with the nodes neighbours[i] (ascending,
-/// distinct, in [0, n), n = neighbours.size(); symmetric: j in neighbours[i] iff i in
-/// neighbours[j]), reusing its storage (allocates only to grow it).
-void makeBlockPattern(const std::vector<std::vector<int>>& neighbours,
+/// Grows `pattern` in place so that node i also couples with the nodes added[i] (ascending,
+/// distinct, none coupled with i before; symmetric; n = added.size()). Only the columns from the
+/// first node with additions on move, so the cost is the pattern's tail, not a rebuild; storage
+/// that must grow takes a quarter of slack. Values stay zero.
+/// @param pattern a 3n x 3n compressed pattern of 3 x 3 blocks with zero values (as built by
+///        makeBlockPattern, or resized to 3n x 3n and empty).
+/// @throws std::invalid_argument if the pattern is not 3n x 3n and compressed.
+void growBlockPattern(const std::vector<std::vector<int>>& added,
                       Eigen::SparseMatrix<double>& pattern);
 
 /// Group-to-nonzero map for scatter-adding dense group matrices into the values of a pattern from

@@ -211,7 +211,6 @@ class EfgModel final : public GroupAssembledModel {
   std::unordered_map<std::vector<int>, int, ParticleSetHash> group_of_set_;
   /// Per particle: the particles it is coupled with in stiffnessPattern(), ascending.
   std::vector<std::vector<int>> coupled_;
-  Eigen::SparseMatrix<double> spare_pattern_;  ///< storage of the next pattern
 };
 
 }  // namespace surgical_sim::core

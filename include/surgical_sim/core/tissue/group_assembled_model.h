@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <vector>
 
 #include "surgical_sim/core/tissue/block_sparsity.h"
 #include "surgical_sim/core/tissue/group_schedule.h"
@@ -37,9 +38,10 @@ class GroupAssembledModel : public TissueModel {
   /// [0, num_nodes)).
   /// @throws std::invalid_argument if SURGICAL_SIM_THREADS is invalid (defaultThreadCount).
   void setGroups(int num_nodes, const Eigen::MatrixXi& groups);
-  /// Exchanges the pattern with `pattern` (compressed, values zero), for a model that never calls
+  /// Grows the pattern in place by the couplings `added` (growBlockPattern; a model without a
+  /// pattern starts from the empty 3n x 3n one, n = added.size()), for a model that never calls
   /// setGroups: it scatters with its own maps and loops over its own groups.
-  void swapPattern(Eigen::SparseMatrix<double>& pattern);
+  void growPattern(const std::vector<std::vector<int>>& added);
   /// The parallel order of the groups passed to setGroups.
   const GroupSchedule& schedule() const { return schedule_; }
   /// Scatter-adds every group's stiffness matrix K_g = -df_g/dx_g at x into `values` (the
