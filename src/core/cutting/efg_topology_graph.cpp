@@ -46,6 +46,7 @@ EfgTopologyGraph::EfgTopologyGraph(const EfgModel& model)
     incident_[static_cast<size_t>(links_[l].b)].push_back(static_cast<int>(l));
   }
   distance_.assign(static_cast<size_t>(numNodes()), std::numeric_limits<double>::infinity());
+  via_.assign(static_cast<size_t>(numNodes()), -1);
 }
 
 int EfgTopologyGraph::numSevered() const {

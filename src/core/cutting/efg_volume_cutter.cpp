@@ -62,7 +62,7 @@ struct EfgVolumeCutter::Selection {
   std::vector<int> particles;
   std::vector<double> distances;  ///< graph distances [m]
   int nearest_ip = -1;            ///< nearest other IP with volume reached in the search
-  std::vector<int> reached;       ///< graph nodes the search settled, in order
+  std::vector<int> links;         ///< the links of the settled nodes' shortest paths
 };
 
 EfgVolumeCutter::EfgVolumeCutter(EfgModel& model)
@@ -71,8 +71,8 @@ EfgVolumeCutter::EfgVolumeCutter(EfgModel& model)
       samples_(std::max(4, model.options().volume_samples)),
       sample_masks_(static_cast<size_t>(model.numIntegrationPoints())),
       has_indirect_(static_cast<size_t>(model.numIntegrationPoints()), 0),
-      search_nodes_(static_cast<size_t>(model.numIntegrationPoints())),
-      searchers_(static_cast<size_t>(graph_.numNodes())),
+      search_links_(static_cast<size_t>(model.numIntegrationPoints())),
+      searchers_(graph_.links().size()),
       search_dirty_(static_cast<size_t>(model.numIntegrationPoints()), 0) {
   // Broad-phase blocks: the cubes of kBlockParticles particle spacings holding a particle.
   const EfgGrid& grid = model.grid();
@@ -301,8 +301,8 @@ EfgVolumeCutter::Selection EfgVolumeCutter::select(int e) const {
   };
   int visited = 0;
   bool ok = false, done = false;
-  graph_.searchFrom(graph_.ipNode(e), [&](int v, double r) {
-    out.reached.push_back(v);
+  graph_.searchFrom(graph_.ipNode(e), [&](int v, double r, int link) {
+    if (link >= 0) out.links.push_back(link);
     if (v >= n) {
       if (v != graph_.ipNode(e) && out.nearest_ip < 0 && grid.volumes(v - n) > 0.0)
         out.nearest_ip = v - n;
@@ -352,7 +352,7 @@ bool EfgVolumeCutter::holds(int e, const Selection& selection) const {
 std::vector<int> EfgVolumeCutter::staleNeighbourhoods() const {
   std::vector<int> stale;
   for (int e = 0; e < model_.numIntegrationPoints(); ++e) {
-    if (search_nodes_[static_cast<size_t>(e)].empty() || !(model_.grid().volumes(e) > 0.0))
+    if (search_links_[static_cast<size_t>(e)].empty() || !(model_.grid().volumes(e) > 0.0))
       continue;
     const Selection selection = select(e);
     if (!selection.particles.empty() && !holds(e, selection)) stale.push_back(e);
@@ -521,17 +521,16 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
   for (const int l : result.severed_links) graph_.sever(l);
 
   // 2. Affected IPs: a severed link of their own, or indirect particles near a crossing whose
-  // last search settled an end of a link severed since (a search follows only the links of the
-  // nodes it settles: severing any other link leaves its result unchanged).
+  // last search reached a node by a link severed since. Severing any other link leaves every
+  // settled node's distance (it only lengthens paths, and the settled ones keep theirs), so the
+  // search settles the same nodes at the same distances, in the same order, and selects the same.
   std::vector<int> affected;
   for (const auto& entry : crossings) affected.push_back(entry.first);
   for (const int l : result.severed_links)
-    for (const int v :
-         {graph_.links()[static_cast<size_t>(l)].a, graph_.links()[static_cast<size_t>(l)].b})
-      for (const int e : searchers_[static_cast<size_t>(v)])
-        search_dirty_[static_cast<size_t>(e)] = 1;
+    for (const int e : searchers_[static_cast<size_t>(l)])
+      search_dirty_[static_cast<size_t>(e)] = 1;
   const auto reaches = [&](int e) {
-    return search_nodes_[static_cast<size_t>(e)].empty() || search_dirty_[static_cast<size_t>(e)];
+    return search_links_[static_cast<size_t>(e)].empty() || search_dirty_[static_cast<size_t>(e)];
   };
   const int reach = 4;  // integration cells: two DOF cells
   for (const Eigen::Vector3d& X : all_crossings) {
@@ -710,14 +709,14 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
   // An isolated IP that kept its volume (no receiver) is retried by every cut near it: its
   // receiver depends on more than its own search.
   for (auto& [e, sel] : selections) {
-    std::vector<int>& reached = search_nodes_[static_cast<size_t>(e)];
-    for (const int v : reached) {
-      std::vector<int>& ips = searchers_[static_cast<size_t>(v)];
+    std::vector<int>& links = search_links_[static_cast<size_t>(e)];
+    for (const int l : links) {
+      std::vector<int>& ips = searchers_[static_cast<size_t>(l)];
       *std::find(ips.begin(), ips.end(), e) = ips.back();
       ips.pop_back();
     }
-    reached = sel.particles.empty() ? std::vector<int>() : std::move(sel.reached);
-    for (const int v : reached) searchers_[static_cast<size_t>(v)].push_back(e);
+    links = sel.particles.empty() ? std::vector<int>() : std::move(sel.links);
+    for (const int l : links) searchers_[static_cast<size_t>(l)].push_back(e);
     search_dirty_[static_cast<size_t>(e)] = 0;
   }
   for (size_t i = 0; i < touched.size(); ++i)

@@ -237,7 +237,7 @@ TEST(EfgTopologyGraph, GridNeighbourLinksAndInitialNeighbourhoods) {
   // From an IP, the search reaches its 8 cell corners before any other particle.
   const int e = m.numIntegrationPoints() / 2;
   std::vector<int> first;
-  g.searchFrom(g.ipNode(e), [&](int v, double) {
+  g.searchFrom(g.ipNode(e), [&](int v, double, int) {
     if (v < n) first.push_back(v);
     return first.size() < 8;
   });
@@ -248,6 +248,65 @@ TEST(EfgTopologyGraph, GridNeighbourLinksAndInitialNeighbourhoods) {
   for (const int l : g.linksOf(g.ipNode(e))) g.sever(l);
   EXPECT_EQ(g.components(labels), 2);  // the IP alone
   EXPECT_EQ(g.numSevered(), 8);
+}
+
+// Each settled node's link is alive, joins it to a node settled before it, and makes up its
+// distance: its shortest path ends with that link, also after severing links on the way.
+TEST(EfgTopologyGraph, SearchReportsTheLastLinkOfEachShortestPath) {
+  const EfgModel m = cylinder();
+  EfgTopologyGraph g(m);
+  const int source = g.ipNode(m.numIntegrationPoints() / 2);
+  for (int round = 0; round < 2; ++round) {
+    std::vector<double> settled(static_cast<size_t>(g.numNodes()), -1.0);
+    int count = 0;
+    g.searchFrom(source, [&](int v, double r, int link) {
+      if (v == source) {
+        EXPECT_EQ(link, -1);
+      } else {
+        EXPECT_TRUE(g.alive(link));
+        const int from = g.otherEnd(link, v);
+        EXPECT_GE(settled[static_cast<size_t>(from)], 0.0) << "node " << v;
+        EXPECT_DOUBLE_EQ(r, settled[static_cast<size_t>(from)] +
+                                g.links()[static_cast<size_t>(link)].rest_length);
+      }
+      settled[static_cast<size_t>(v)] = r;
+      return ++count < 300;
+    });
+    EXPECT_EQ(count, 300);
+    // Sever the source's own links to half its particles: paths now detour through the rest.
+    for (size_t i = 0; i < g.linksOf(source).size(); i += 2) g.sever(g.linksOf(source)[i]);
+  }
+}
+
+// What lets a cut skip the searches it does not touch: severing links off a search's paths (the
+// links it reports) leaves the search the same, node for node; severing one of its links does not.
+TEST(EfgTopologyGraph, SeveringLinksOffTheSearchPathsLeavesTheSearchUnchanged) {
+  const EfgModel m = cylinder();
+  EfgTopologyGraph g(m);
+  const int source = g.ipNode(m.numIntegrationPoints() / 3);
+  using Settled = std::vector<std::pair<int, double>>;
+  const auto search = [&](std::vector<int>* links) {
+    Settled settled;
+    g.searchFrom(source, [&](int v, double r, int link) {
+      settled.emplace_back(v, r);
+      if (links && link >= 0) links->push_back(link);
+      return settled.size() < 120;
+    });
+    return settled;
+  };
+  std::vector<int> paths;
+  const Settled before = search(&paths);
+  std::sort(paths.begin(), paths.end());
+  int severed = 0;
+  for (int l = 0; l < static_cast<int>(g.links().size()); l += 3) {
+    if (std::binary_search(paths.begin(), paths.end(), l)) continue;
+    g.sever(l);
+    ++severed;
+  }
+  ASSERT_GT(severed, 1000);
+  EXPECT_EQ(search(nullptr), before);
+  g.sever(paths[paths.size() / 2]);
+  EXPECT_NE(search(nullptr), before);
 }
 
 TEST(EfgVolumeCutter, StaticCylinderAndMovingBladeSeverTheSameLinksAsTheMirroredMotion) {
@@ -697,6 +756,25 @@ TEST(EfgVolumeCutter, MidCellCutMovesTheVolumeBeyondThePlane) {
   }
   EXPECT_GT(moved_out, 0.0);
   EXPECT_NEAR(moved_in, moved_out, 1e-15);
+}
+
+// A blade advancing in steps of about half a particle spacing, one IP layer above a complete
+// cut: the IPs of that thin slice see few particles on their side and reach others around the
+// cut front, which the next steps sever. After every step each IP's neighbourhood is the one a
+// new search selects, and the mass is kept.
+TEST(EfgVolumeCutter, AdvancingBladeAboveACutKeepsEveryNeighbourhoodCurrent) {
+  EfgModel model = cylinder();
+  const double mass = totalMass(model);
+  EfgVolumeCutter cutter(model);
+  const double z_cut = 0.0006, step = 0.6 * model.grid().spacing;  // [m]
+  cutter.cut(upwardSweep(z_cut), model.restPositions(), model.restPositions());
+  const double z_slice = z_cut + model.grid().spacing;
+  for (double y = -0.012; y < 0.012; y += step) {
+    cutter.cut({straightBlade(y, z_slice), straightBlade(y + step, z_slice)}, model.restPositions(),
+               model.restPositions());
+    ASSERT_EQ(cutter.staleNeighbourhoods(), std::vector<int>()) << "blade at y = " << y;
+  }
+  EXPECT_NEAR(totalMass(model), mass, 1e-12 * mass);
 }
 
 TEST(EfgVolumeCutter, RandomSweepsKeepMassCompletenessFinitenessAndCurrentNeighbourhoods) {

@@ -50,8 +50,9 @@ class EfgTopologyGraph {
   int numSevered() const;
 
   /// Dijkstra search from graph node `source` over alive links weighted by their rest lengths:
-  /// calls visit(node, distance [m]) for every reached node in order of increasing distance
-  /// (source first, at 0) until visit returns false. Cost grows with the nodes reached, not the
+  /// calls visit(node, distance [m], link) for every reached node in order of increasing distance
+  /// (source first, at 0, link -1), `link` the last link of the node's shortest path (the first
+  /// found among equal ones), until visit returns false. Cost grows with the nodes reached, not the
   /// graph (work arrays are reused; not for concurrent calls).
   template <class Visit>
   void searchFrom(int source, const Visit& visit) const;
@@ -67,6 +68,7 @@ class EfgTopologyGraph {
   std::vector<char> alive_;
   std::vector<std::vector<int>> incident_;
   mutable std::vector<double> distance_;  ///< Dijkstra work array, +inf outside a search
+  mutable std::vector<int> via_;          ///< Dijkstra work array: the link of distance_
   mutable std::vector<int> touched_;
   mutable std::vector<std::pair<double, int>> heap_;  ///< Dijkstra queue (min-heap)
 };
@@ -83,7 +85,7 @@ void EfgTopologyGraph::searchFrom(int source, const Visit& visit) const {
     const auto [d, v] = heap_.back();
     heap_.pop_back();
     if (d > distance_[static_cast<size_t>(v)]) continue;
-    if (!visit(v, d)) break;
+    if (!visit(v, d, v == source ? -1 : via_[static_cast<size_t>(v)])) break;
     for (const int l : linksOf(v)) {
       if (!alive(l)) continue;
       const int w = otherEnd(l, v);
@@ -92,6 +94,7 @@ void EfgTopologyGraph::searchFrom(int source, const Visit& visit) const {
       if (dw < best) {
         if (std::isinf(best)) touched_.push_back(w);
         best = dw;
+        via_[static_cast<size_t>(w)] = l;
         heap_.emplace_back(dw, w);
         std::push_heap(heap_.begin(), heap_.end(), later);
       }

@@ -145,11 +145,12 @@ class EfgVolumeCutter {
   /// Remaining volume samples (samples_^3) of the cells a cut has crossed, per IP (empty if none).
   std::vector<std::vector<char>> sample_masks_;
   std::vector<char> has_indirect_;  ///< per IP: uses a particle it has no alive link to
-  /// Per IP: the graph nodes its last selection settled (empty: never selected, or isolated).
-  std::vector<std::vector<int>> search_nodes_;
-  /// Per graph node: the IPs whose search_nodes_ hold it.
+  /// Per IP: the links of the shortest paths its last selection settled its nodes by (empty:
+  /// never selected, or isolated).
+  std::vector<std::vector<int>> search_links_;
+  /// Per link: the IPs whose search_links_ hold it.
   std::vector<std::vector<int>> searchers_;
-  /// Per IP: a link at a node of its search_nodes_ was severed since that search.
+  /// Per IP: a link of its search_links_ was severed since that search.
   std::vector<char> search_dirty_;
   /// Narrow-phase scratch: per IP, the cut() call that last computed its positions at the step
   /// start and end (ip_x_ columns 2e and 2e + 1) [-], [m].
