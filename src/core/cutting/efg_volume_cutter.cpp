@@ -114,6 +114,8 @@ EfgVolumeCutter::EfgVolumeCutter(EfgModel& model)
       block.rest_hi = block.rest_hi.cwiseMax(X);
     }
   }
+  ip_bounds_.resize(static_cast<size_t>(model.numIntegrationPoints()));
+  for (int e = 0; e < model.numIntegrationPoints(); ++e) refreshIpBound(e);
   for (Block& block : blocks_) {
     for (std::vector<int>* ends : {&block.particles, &block.ips}) {
       std::sort(ends->begin(), ends->end());
@@ -147,8 +149,25 @@ int EfgVolumeCutter::ipAt(const Eigen::Vector3i& c) const {
       .ip_of_cell[static_cast<size_t>(c.x() + grid.cells.x() * (c.y() + grid.cells.y() * c.z()))];
 }
 
-void EfgVolumeCutter::refreshBlock(Block& block) const {
+void EfgVolumeCutter::refreshIpBound(int e) {
   const EfgGrid& grid = model_.grid();
+  const std::vector<int>& particles = model_.ipParticles(e);
+  const Eigen::Map<const Eigen::VectorXd> phi = model_.shapeValues(e);
+  IpBound& bound = ip_bounds_[static_cast<size_t>(e)];
+  bound.movers.clear();
+  Eigen::Vector3d reproduced = Eigen::Vector3d::Zero();  // sum_a phi_a X_a [m]
+  for (size_t a = 0; a < particles.size(); ++a) {
+    reproduced += phi(static_cast<Eigen::Index>(a)) * grid.particles.col(particles[a]);
+    bound.movers.push_back(particle_block_[static_cast<size_t>(particles[a])]);
+  }
+  std::sort(bound.movers.begin(), bound.movers.end());
+  bound.movers.erase(std::unique(bound.movers.begin(), bound.movers.end()), bound.movers.end());
+  bound.gain = phi.lpNorm<1>();
+  bound.unity_error = std::abs(phi.sum() - 1.0);
+  bound.residual = (reproduced - grid.integration_points.col(e)).lpNorm<Eigen::Infinity>();
+}
+
+void EfgVolumeCutter::refreshBlock(Block& block) const {
   block.movers.clear();
   for (const int p : block.particles)
     block.movers.push_back(particle_block_[static_cast<size_t>(p)]);
@@ -156,17 +175,11 @@ void EfgVolumeCutter::refreshBlock(Block& block) const {
   block.unity_error = 0.0;
   block.residual = 0.0;
   for (const int e : block.ips) {
-    const std::vector<int>& particles = model_.ipParticles(e);
-    const Eigen::Map<const Eigen::VectorXd> phi = model_.shapeValues(e);
-    Eigen::Vector3d reproduced = Eigen::Vector3d::Zero();  // sum_a phi_a X_a [m]
-    for (size_t a = 0; a < particles.size(); ++a) {
-      reproduced += phi(static_cast<Eigen::Index>(a)) * grid.particles.col(particles[a]);
-      block.movers.push_back(particle_block_[static_cast<size_t>(particles[a])]);
-    }
-    block.gain = std::max(block.gain, phi.lpNorm<1>());
-    block.unity_error = std::max(block.unity_error, std::abs(phi.sum() - 1.0));
-    block.residual = std::max(
-        block.residual, (reproduced - grid.integration_points.col(e)).lpNorm<Eigen::Infinity>());
+    const IpBound& bound = ip_bounds_[static_cast<size_t>(e)];
+    block.movers.insert(block.movers.end(), bound.movers.begin(), bound.movers.end());
+    block.gain = std::max(block.gain, bound.gain);
+    block.unity_error = std::max(block.unity_error, bound.unity_error);
+    block.residual = std::max(block.residual, bound.residual);
   }
   std::sort(block.movers.begin(), block.movers.end());
   block.movers.erase(std::unique(block.movers.begin(), block.movers.end()), block.movers.end());
@@ -697,8 +710,9 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
       sample_masks_[static_cast<size_t>(it->first)] = std::move(it->second);
     throw;
   }
-  // The broad-phase bounds of the blocks holding links of the changed IPs.
+  // The broad-phase bounds of the changed IPs and of the blocks holding their links.
   std::vector<int> stale_blocks;
+  for (const EfgNeighbourhood& c : changes) refreshIpBound(c.ip);
   for (const EfgNeighbourhood& c : changes)
     for (const int l : graph_.linksOf(graph_.ipNode(c.ip)))
       stale_blocks.push_back(

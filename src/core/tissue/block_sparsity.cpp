@@ -181,6 +181,11 @@ void BlockScatterMap::followGrownPattern(const Eigen::Ref<const Eigen::MatrixXi>
     for (int a = 0; a < k_; ++a) {
       const auto node = static_cast<size_t>(groups(a, g));
       const std::vector<int>& extra = added[node];
+      if (extra.empty()) {  // the column only moves (most columns, and all before the first gain)
+        if (shift[node] != 0)
+          for (int b = 0; b < k_; ++b) first[a * k_ + b] += shift[node];
+        continue;
+      }
       for (int b = 0; b < k_; ++b) {
         const auto before = std::lower_bound(extra.begin(), extra.end(), groups(b, g));
         first[a * k_ + b] += shift[node] + 3 * static_cast<int>(before - extra.begin());

@@ -126,12 +126,22 @@ class EfgVolumeCutter {
     double unity_error = 0.0;  ///< largest |sum_a phi_a - 1| of the IP ends [-]
     double residual = 0.0;     ///< largest |sum_a phi_a X_a - X_e| (max norm) of the IP ends [m]
   };
-  /// Recomputes block's movers, gain, unity error and residual from its IPs' current particles.
+  /// Recomputes block's movers, gain, unity error and residual from its IPs' (ip_bounds_).
   void refreshBlock(Block& block) const;
+  /// What an IP end adds to the bound of a block holding one of its links.
+  struct IpBound {
+    std::vector<int> movers;   ///< blocks of its current particles, ascending
+    double gain = 1.0;         ///< ||phi||_1 [-]
+    double unity_error = 0.0;  ///< |sum_a phi_a - 1| [-]
+    double residual = 0.0;     ///< |sum_a phi_a X_a - X_e| (max norm) [m]
+  };
+  /// Recomputes ip_bounds_[e] from IP e's current particles and shape values.
+  void refreshIpBound(int e);
 
   EfgModel& model_;
   EfgTopologyGraph graph_;
   std::vector<Block> blocks_;
+  std::vector<IpBound> ip_bounds_;  ///< per IP
   /// Block of each particle's rest position (a link is in the block of its end a).
   std::vector<int> particle_block_;
   /// Broad-phase scratch: per block b, the box of its particles' displacements at the step start
