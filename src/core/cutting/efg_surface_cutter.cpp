@@ -899,21 +899,31 @@ Eigen::Vector3d EfgSurfaceCutter::vertexNormal(int v) const {
 }
 
 void EfgSurfaceCutter::remap(int v, const std::vector<std::uint8_t>* excluded) {
+  std::vector<int> near;
+  remapAgain(v, excluded, false, near);
+}
+
+void EfgSurfaceCutter::remapAgain(int v, const std::vector<std::uint8_t>* excluded,
+                                  bool weights_current, std::vector<int>& near) {
   Vertex& vert = at(verts_, v);
+  const int ip = vert.ip;
   if (!vert.sliver) {
     std::vector<int> ring;
     forIncident(v, [&](const std::array<int, 3>& t) {
       for (int u : t) {
-        const int ip = at(verts_, u).ip;
-        if (u != v && ip >= 0 && !(excluded && at(*excluded, ip))) ring.push_back(ip);
+        const int ring_ip = at(verts_, u).ip;
+        if (u != v && ring_ip >= 0 && !(excluded && at(*excluded, ring_ip)))
+          ring.push_back(ring_ip);
       }
     });
     std::sort(ring.begin(), ring.end());
     ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
-    const RemapResult found = remapper_.find(vert.rest, vertexNormal(v), vert.planes, ring);
+    if (near.empty()) near = remapper_.nearby(vert.rest);
+    const RemapResult found = remapper_.find(vert.rest, vertexNormal(v), vert.planes, ring, near);
     setIp(v, found.ip);
     vert.sliver = found.relaxation == RemapRelaxation::kNearest;
   }
+  if (weights_current && vert.ip == ip) return;
   source_.pointWeights(vert.ip, vert.rest, vert.particles, vert.weights);
   touch(v);
 }
@@ -940,10 +950,13 @@ std::vector<int> EfgSurfaceCutter::remapVerticesOfIps(const std::vector<int>& ch
     }
   std::sort(out.begin(), out.end());
   // The 1-ring test first ignores the changed IPs (their sets are what changed), then a second
-  // pass sees every neighbour's new IP (a sliver has no search to repeat).
-  for (int v : out) remap(v, &changed);
-  for (int v : out)
-    if (!at(verts_, v).sliver && at(changed, at(verts_, v).ip)) remap(v);
+  // pass sees every neighbour's new IP (a sliver has no search to repeat; a vertex that keeps its
+  // IP keeps the weights the first pass gave it).
+  std::vector<std::vector<int>> near(out.size());
+  for (std::size_t i = 0; i < out.size(); ++i) remapAgain(out[i], &changed, false, near[i]);
+  for (std::size_t i = 0; i < out.size(); ++i)
+    if (!at(verts_, out[i]).sliver && at(changed, at(verts_, out[i]).ip))
+      remapAgain(out[i], nullptr, true, near[i]);
   return out;
 }
 

@@ -145,10 +145,20 @@ bool SurfaceRemapper::valid(int ip, const Eigen::Vector3d& X, const Eigen::Vecto
   return true;
 }
 
+std::vector<int> SurfaceRemapper::nearby(const Eigen::Vector3d& X) const {
+  return candidates(X, kSearchCells * cell_);
+}
+
 RemapResult SurfaceRemapper::find(const Eigen::Vector3d& X, const Eigen::Vector3d& normal,
                                   const std::vector<CutPlane>& planes,
                                   const std::vector<int>& ring_ips) const {
-  const std::vector<int> near = candidates(X, kSearchCells * cell_);
+  return find(X, normal, planes, ring_ips, nearby(X));
+}
+
+RemapResult SurfaceRemapper::find(const Eigen::Vector3d& X, const Eigen::Vector3d& normal,
+                                  const std::vector<CutPlane>& planes,
+                                  const std::vector<int>& ring_ips,
+                                  const std::vector<int>& near) const {
   for (int level = 0; level <= 3; ++level)
     for (int ip : near)
       if (valid(ip, X, normal, planes, ring_ips, level))

@@ -102,6 +102,12 @@ class SurfaceRemapper {
   /// vertices (any order, repeats allowed).
   RemapResult find(const Eigen::Vector3d& X, const Eigen::Vector3d& normal,
                    const std::vector<CutPlane>& planes, const std::vector<int>& ring_ips) const;
+  /// find() with the first search's IPs given: `near` = nearby(X).
+  RemapResult find(const Eigen::Vector3d& X, const Eigen::Vector3d& normal,
+                   const std::vector<CutPlane>& planes, const std::vector<int>& ring_ips,
+                   const std::vector<int>& near) const;
+  /// The IPs find() searches first for X: those within one grid cell, nearest first.
+  std::vector<int> nearby(const Eigen::Vector3d& X) const;
 
  private:
   bool valid(int ip, const Eigen::Vector3d& X, const Eigen::Vector3d& normal,
