@@ -126,7 +126,7 @@ class EfgVolumeCutter {
     double unity_error = 0.0;  ///< largest |sum_a phi_a - 1| of the IP ends [-]
     double residual = 0.0;     ///< largest |sum_a phi_a X_a - X_e| (max norm) of the IP ends [m]
   };
-  /// Recomputes block's movers, gain, unity error and residual from its IPs' (ip_bounds_).
+  /// Recomputes block's movers, gain, unity error and residual from its IPs' bounds (ip_bounds_).
   void refreshBlock(Block& block) const;
   /// What an IP end adds to the bound of a block holding one of its links.
   struct IpBound {
