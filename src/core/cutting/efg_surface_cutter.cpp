@@ -898,13 +898,8 @@ Eigen::Vector3d EfgSurfaceCutter::vertexNormal(int v) const {
   return len > 1e-300 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
 }
 
-void EfgSurfaceCutter::remap(int v, const std::vector<std::uint8_t>* excluded) {
-  std::vector<int> near;
-  remapAgain(v, excluded, false, near);
-}
-
-void EfgSurfaceCutter::remapAgain(int v, const std::vector<std::uint8_t>* excluded,
-                                  bool weights_current, std::vector<int>& near) {
+void EfgSurfaceCutter::remap(int v, const std::vector<std::uint8_t>* excluded,
+                             std::vector<int>* near, bool weights_current) {
   Vertex& vert = at(verts_, v);
   const int ip = vert.ip;
   if (!vert.sliver) {
@@ -918,8 +913,10 @@ void EfgSurfaceCutter::remapAgain(int v, const std::vector<std::uint8_t>* exclud
     });
     std::sort(ring.begin(), ring.end());
     ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
-    if (near.empty()) near = remapper_.nearby(vert.rest);
-    const RemapResult found = remapper_.find(vert.rest, vertexNormal(v), vert.planes, ring, near);
+    std::vector<int> own;
+    std::vector<int>& ips = near ? *near : own;
+    if (ips.empty()) ips = remapper_.nearby(vert.rest);
+    const RemapResult found = remapper_.find(vert.rest, vertexNormal(v), vert.planes, ring, ips);
     setIp(v, found.ip);
     vert.sliver = found.relaxation == RemapRelaxation::kNearest;
   }
@@ -953,10 +950,10 @@ std::vector<int> EfgSurfaceCutter::remapVerticesOfIps(const std::vector<int>& ch
   // pass sees every neighbour's new IP (a sliver has no search to repeat; a vertex that keeps its
   // IP keeps the weights the first pass gave it).
   std::vector<std::vector<int>> near(out.size());
-  for (std::size_t i = 0; i < out.size(); ++i) remapAgain(out[i], &changed, false, near[i]);
+  for (std::size_t i = 0; i < out.size(); ++i) remap(out[i], &changed, &near[i]);
   for (std::size_t i = 0; i < out.size(); ++i)
     if (!at(verts_, out[i]).sliver && at(changed, at(verts_, out[i]).ip))
-      remapAgain(out[i], nullptr, true, near[i]);
+      remap(out[i], nullptr, &near[i], true);
   return out;
 }
 

@@ -137,7 +137,6 @@ EfgModel::EfgModel(EfgGrid grid, const Material& material, const EfgOptions& opt
     buckets_[static_cast<size_t>(size)].scatter =
         BlockScatterMap(Eigen::SparseMatrix<double>(), Eigen::MatrixXi(size, 0));
   }
-  coupled_.resize(static_cast<size_t>(n));
   std::vector<int> all(static_cast<size_t>(m));
   std::iota(all.begin(), all.end(), 0);
   joinGroups(all);
@@ -343,24 +342,31 @@ void EfgModel::joinGroups(const std::vector<int>& ips) {
     b.members[static_cast<size_t>(entry->second)].push_back(e);
     addIpStabilization(e, b, entry->second, 1.0);
   }
-  // Couple the particles of the new groups.
-  std::vector<std::vector<int>> added(coupled_.size());
+  // Couple the particles of the new groups: added[i] (ascending) the particles newly coupled
+  // with particle i, those its pattern column does not hold yet.
+  const Eigen::SparseMatrix<double>& pattern = stiffnessPattern();
+  const auto coupled = [&](int i, int j) {
+    if (pattern.cols() == 0) return false;  // the model under construction
+    const int* rows = pattern.innerIndexPtr();
+    return std::binary_search(rows + pattern.outerIndexPtr()[3 * i],
+                              rows + pattern.outerIndexPtr()[3 * i + 1], 3 * j);
+  };
+  std::vector<std::vector<int>> added(static_cast<size_t>(numNodes()));
   bool grown = false;
   for (const auto& [k, g] : created) {
     const int* nodes = buckets_[static_cast<size_t>(k)].groupNodes(g);
     for (int a = 0; a < k; ++a) {
-      std::vector<int>& row = coupled_[static_cast<size_t>(nodes[a])];
+      std::vector<int>& row = added[static_cast<size_t>(nodes[a])];
       for (int c = 0; c < k; ++c) {
+        if (coupled(nodes[a], nodes[c])) continue;
         const auto at = std::lower_bound(row.begin(), row.end(), nodes[c]);
         if (at != row.end() && *at == nodes[c]) continue;
         row.insert(at, nodes[c]);
-        added[static_cast<size_t>(nodes[a])].push_back(nodes[c]);
         grown = true;
       }
     }
   }
   if (grown) {
-    for (std::vector<int>& extra : added) std::sort(extra.begin(), extra.end());
     growPattern(added);
     for (GroupBucket& b : buckets_) {  // the groups that have a map: all but the new ones
       b.scatter.followGrownPattern(

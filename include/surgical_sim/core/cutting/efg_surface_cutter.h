@@ -251,13 +251,12 @@ class EfgSurfaceCutter {
   /// cut's normal, pointing from side A to side B.
   Eigen::Vector3d sheetNormal(int v) const;
   /// Remaps v; the 1-ring test ignores neighbours on IPs flagged in `excluded`. A sliver keeps
-  /// its IP and only refreshes its weights (its IP's particles may have changed).
-  void remap(int v, const std::vector<std::uint8_t>* excluded = nullptr);
-  /// One pass of remapVerticesOfIps over v: as remap(v, excluded), with v's first search IPs
-  /// in `near` (filled when empty, SurfaceRemapper::nearby). With `weights_current`, v's weights
-  /// already belong to its IP as it is now, and are kept if v keeps that IP.
-  void remapAgain(int v, const std::vector<std::uint8_t>* excluded, bool weights_current,
-                  std::vector<int>& near);
+  /// its IP and only refreshes its weights (its IP's particles may have changed). For a vertex
+  /// remapped twice: `near` keeps its first search's IPs between the calls
+  /// (SurfaceRemapper::nearby, filled when empty), and with `weights_current` its weights already
+  /// belong to its IP as it is now and are kept if it keeps that IP.
+  void remap(int v, const std::vector<std::uint8_t>* excluded = nullptr,
+             std::vector<int>* near = nullptr, bool weights_current = false);
   void addPlane(int v, const Eigen::Vector3d& point, const Eigen::Vector3d& normal);
 
   const EfgMappingSource& source_;

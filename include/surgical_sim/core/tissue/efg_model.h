@@ -209,8 +209,6 @@ class EfgModel final : public GroupAssembledModel {
   std::vector<GroupBucket> buckets_;  ///< index k: groups of k particles (none for k < 4)
   /// Group index (in bucket size()) of each particle set in use.
   std::unordered_map<std::vector<int>, int, ParticleSetHash> group_of_set_;
-  /// Per particle: the particles it is coupled with in stiffnessPattern(), ascending.
-  std::vector<std::vector<int>> coupled_;
 };
 
 }  // namespace surgical_sim::core
