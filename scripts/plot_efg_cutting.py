@@ -2,11 +2,13 @@
 """Plots the meshless (EFG) cutting benchmark (cutting_bench --efg) CSVs of a report directory.
 
 usage: plot_efg_cutting.py DIR
-Reads those of DIR/efg_cut_update.csv, DIR/efg_cut_progressive.csv and DIR/cutting_t3c.csv that
-exist and writes DIR/efg_cut_update.png (crossing detection and topology update per blade sweep
-that cut, ~20k IPs, for the scalpel and the spanning blade), DIR/efg_cut_progressive.png (cut update and implicit step time per sweep over the
-progressive cuts, raw and as a moving mean over 50 sweeps) and DIR/cutting_t3c.png (T3(c) tip
-error of the cut beams against the fine duplicated-node reference, against ms per step, per
+Reads those of DIR/efg_cut_update.csv, DIR/efg_cut_progressive.csv, DIR/efg_cut_independence.csv
+and DIR/cutting_t3c.csv that exist and writes DIR/efg_cut_update.png (crossing detection and
+topology update per blade sweep that cut, ~20k IPs, for the scalpel and the spanning blade),
+DIR/efg_cut_progressive.png (cut update and implicit step time per sweep over the progressive
+cuts, raw and as a moving mean over 50 sweeps), DIR/efg_cut_independence.png (cut update of the
+same probe sweeps on a fresh body and on one cut elsewhere before) and DIR/cutting_t3c.png (T3(c)
+tip error of the cut beams against the fine duplicated-node reference, against ms per step, per
 cutter and load).
 """
 import csv
@@ -76,6 +78,27 @@ def plot_progressive(d):
     finish(fig, ax, d, "efg_cut_progressive.png", "blade sweep", "time [ms]", title)
 
 
+def plot_independence(d):
+    data = rows(os.path.join(d, "efg_cut_independence.csv"))
+    fresh = [r for r in data if r["body"] == "fresh"]
+    after = [r for r in data if r["body"] == "after"]
+    # The sweeps that cut the fresh body, in order; the same sweep on the other body beside it.
+    pairs = [(f, a) for f, a in zip(fresh, after)
+             if int(f["severed_links"]) > 0 or int(f["crossed_edges"]) > 0]
+    fig, ax = plt.subplots(figsize=(7.5, 5))
+    for k, label, color in ((0, "fresh body", "tab:blue"), (1, "after the background cuts",
+                                                              "tab:red")):
+        values = [float(p[k]["update_ms"]) for p in pairs]
+        ax.plot(range(len(values)), values, "o", color=color, markersize=3, alpha=0.6,
+                label="%s (mean %.3f ms)" % (label, sum(values) / max(len(values), 1)))
+    title = "EFG cut independence (no sweep)"
+    if pairs:
+        title = "Same probe cuts, %s IPs: fresh vs after %s cuts elsewhere (%s triangles)" % (
+            pairs[0][0]["ips"], pairs[0][1]["background_cuts"], pairs[0][1]["triangles"])
+    finish(fig, ax, d, "efg_cut_independence.png", "probe sweep that cut", "cut update [ms]",
+           title)
+
+
 def plot_t3c(d):
     series = {}
     for r in rows(os.path.join(d, "cutting_t3c.csv")):
@@ -103,6 +126,7 @@ def main():
     d = sys.argv[1]
     for name, plot in (("efg_cut_update.csv", plot_update),
                        ("efg_cut_progressive.csv", plot_progressive),
+                       ("efg_cut_independence.csv", plot_independence),
                        ("cutting_t3c.csv", plot_t3c)):
         if os.path.exists(os.path.join(d, name)):
             plot(d)

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <memory>
 #include <random>
 #include <stdexcept>
 
@@ -23,6 +25,9 @@ using namespace core;  // the bench builds on the core's types
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+/// Golden ratio conjugate (sqrt 5 - 1) / 2 [-]: the cuts' low-discrepancy sequences.
+const double kGolden = 0.5 * (std::sqrt(5.0) - 1.0);
 
 double msSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
@@ -226,11 +231,15 @@ void EfgCutBody::refreshRows(const std::vector<int>& vertices) {
   for (const int v : vertices)
     surface_->mappingRow(v, row_particles_[static_cast<std::size_t>(v)],
                          row_weights_[static_cast<std::size_t>(v)]);
-  if (last_positions_.cols() == 0) return;
-  const Eigen::Index had = last_positions_.cols();
-  last_positions_.conservativeResize(3, static_cast<Eigen::Index>(n));
-  last_positions_.rightCols(static_cast<Eigen::Index>(n) - had).setZero();  // free slots
-  for (const int v : vertices) last_positions_.col(v) = vertexPosition(v, x_);
+  if (end_vertices_ == 0) return;
+  reserveColumns(end_, static_cast<Eigen::Index>(n));
+  end_.middleCols(end_vertices_, static_cast<Eigen::Index>(n) - end_vertices_).setZero();
+  end_vertices_ = static_cast<Eigen::Index>(n);  // new slots free (zero) until remapped
+  for (const int v : vertices) end_.col(v) = vertexPosition(v, x_);
+}
+
+void EfgCutBody::reserveColumns(Eigen::Matrix3Xd& m, Eigen::Index n) {
+  if (m.cols() < n) m.conservativeResize(3, std::max(n, 2 * m.cols()));
 }
 
 Eigen::Vector3d EfgCutBody::vertexPosition(int v, const Eigen::VectorXd& x) const {
@@ -242,10 +251,14 @@ Eigen::Vector3d EfgCutBody::vertexPosition(int v, const Eigen::VectorXd& x) cons
   return p;
 }
 
-Eigen::Matrix3Xd EfgCutBody::surfacePositions(const Eigen::VectorXd& x) const {
-  Eigen::Matrix3Xd out(3, static_cast<Eigen::Index>(row_particles_.size()));
+void EfgCutBody::fillPositions(const Eigen::VectorXd& x, Eigen::Matrix3Xd& out) const {
   for (std::size_t v = 0; v < row_particles_.size(); ++v)
     out.col(static_cast<Eigen::Index>(v)) = vertexPosition(static_cast<int>(v), x);
+}
+
+Eigen::Matrix3Xd EfgCutBody::surfacePositions(const Eigen::VectorXd& x) const {
+  Eigen::Matrix3Xd out(3, static_cast<Eigen::Index>(row_particles_.size()));
+  fillPositions(x, out);
   return out;
 }
 
@@ -255,9 +268,16 @@ EfgCutBody::Update EfgCutBody::cut(const BladeSweep& sweep, const Eigen::VectorX
   Clock::time_point t0 = Clock::now();
   // The start's positions are the last end's when the particles start where the last cut left
   // them (the rows of the vertices it remapped are refreshed there).
-  const bool continues = last_positions_.cols() > 0 && x_start.size() == x_.size() && x_start == x_;
-  const Eigen::Matrix3Xd s_start = continues ? last_positions_ : surfacePositions(x_start);
-  last_positions_ = surfacePositions(x_end);
+  const auto n = static_cast<Eigen::Index>(row_particles_.size());
+  if (end_vertices_ > 0 && x_start.size() == x_.size() && x_start == x_) {
+    std::swap(start_, end_);
+  } else {
+    reserveColumns(start_, n);
+    fillPositions(x_start, start_);
+  }
+  reserveColumns(end_, n);
+  fillPositions(x_end, end_);
+  end_vertices_ = n;
   u.times.positions_ms = msSince(t0);
   t0 = Clock::now();
   u.volume = volume_.cut(sweep, x_start, x_end);
@@ -265,7 +285,7 @@ EfgCutBody::Update EfgCutBody::cut(const BladeSweep& sweep, const Eigen::VectorX
   x_ = x_end;
   t0 = Clock::now();
   const EfgParticleMotion motion{x_start, x_end, u.volume.changed_ips};
-  u.surface = surface_->cut(sweep, s_start, last_positions_, &motion);
+  u.surface = surface_->cut(sweep, start_.leftCols(n), end_.leftCols(n), &motion);
   u.times.surface_ms = msSince(t0);
   u.times.detect_ms = 1e3 * (u.volume.detect_seconds + u.surface.detect_seconds);
   t0 = Clock::now();
@@ -279,8 +299,10 @@ EfgCutBody::Update EfgCutBody::cut(const BladeSweep& sweep, const Eigen::VectorX
   return u;
 }
 
-std::vector<EfgCutSweepRecord> runEfgProgressiveCuts(const EfgCutRunSettings& settings,
-                                                     EfgCutRunInfo* info) {
+namespace {
+
+/// Checks the settings runEfgProgressiveCuts() and runEfgCutIndependence() share.
+void checkRunSettings(const EfgCutRunSettings& settings) {
   requirePositive("spacing", settings.spacing);
   requirePositive("front_width", settings.front_width);
   requirePositive("dt", settings.dt);
@@ -296,21 +318,83 @@ std::vector<EfgCutSweepRecord> runEfgProgressiveCuts(const EfgCutRunSettings& se
   if (!(settings.blade_length >= 0.0) || !std::isfinite(settings.blade_length))
     throw std::invalid_argument("blade_length = " + std::to_string(settings.blade_length) +
                                 " must be finite and >= 0");
-  const Eigen::Vector3d semi = settings.semi_axes;
-  const double half_blade =
-      settings.blade_length > 0.0 ? 0.5 * settings.blade_length : 3.0 * semi.x();  // [m]
-  const TriMesh liver = makeLiverSurface(semi, settings.surface_subdivisions);
+}
+
+/// The liver-like body of `settings` (surface `liver`).
+std::unique_ptr<EfgCutBody> makeRunBody(const EfgCutRunSettings& settings, const TriMesh& liver) {
   EfgOptions options;
   options.spacing = settings.spacing;
-  EfgCutBody body(liver, Material::create(settings.young, 0.45, 1000.0), options,
-                  settings.front_width);
+  return std::make_unique<EfgCutBody>(liver, Material::create(settings.young, 0.45, 1000.0),
+                                      options, settings.front_width);
+}
+
+/// The cuts' blades: half length [m] and the height range they descend [m].
+struct RunBlade {
+  double half = 0.0, z_from = 0.0, z_to = 0.0;
+
+  /// From above the body's top down `settings.depth` of its height.
+  RunBlade(const EfgCutRunSettings& settings, const TriMesh& liver) {
+    half = settings.blade_length > 0.0 ? 0.5 * settings.blade_length : 3.0 * settings.semi_axes.x();
+    setRange(settings, liver.vertices.row(2).maxCoeff(), liver.vertices.row(2).minCoeff());
+  }
+
+  /// From above the top of the body's vertices within the blade's reach of `centre` (x, y) down
+  /// `settings.depth` of their height there.
+  RunBlade(const EfgCutRunSettings& settings, const TriMesh& liver, const Eigen::Vector3d& centre)
+      : RunBlade(settings, liver) {
+    double top = -std::numeric_limits<double>::infinity(), bottom = -top;
+    for (Eigen::Index v = 0; v < liver.vertices.cols(); ++v) {
+      if ((liver.vertices.col(v).head<2>() - centre.head<2>()).norm() > half) continue;
+      top = std::max(top, liver.vertices(2, v));
+      bottom = std::min(bottom, liver.vertices(2, v));
+    }
+    if (top >= bottom) setRange(settings, top, bottom);
+  }
+
+  void setRange(const EfgCutRunSettings& settings, double top, double bottom) {
+    z_from = top + 0.1 * settings.semi_axes.z();
+    z_to = top - settings.depth * (top - bottom);
+  }
+
+  /// Sweep s of `sweeps` of the blade centred at `centre` (x, y) along the unit `along`.
+  BladeSweep sweep(const Eigen::Vector3d& centre, const Eigen::Vector3d& along, int s,
+                   int sweeps) const {
+    const double z0 = z_from + (z_to - z_from) * s / sweeps;
+    const double z1 = z_from + (z_to - z_from) * (s + 1) / sweeps;
+    BladeSweep out;
+    out.start.resize(3, 2);
+    out.end.resize(3, 2);
+    for (int k = 0; k < 2; ++k) {
+      const Eigen::Vector3d p = centre + (k ? half : -half) * along;
+      out.start.col(k) = Eigen::Vector3d(p.x(), p.y(), z0);
+      out.end.col(k) = Eigen::Vector3d(p.x(), p.y(), z1);
+    }
+    return out;
+  }
+};
+
+/// Direction of cut c's blade in the horizontal plane: c x 137.5 deg about z.
+Eigen::Vector3d goldenDirection(int c) {
+  const double angle = c * 2.0 * M_PI * (1.0 - kGolden);
+  return {std::cos(angle), std::sin(angle), 0.0};
+}
+
+}  // namespace
+
+std::vector<EfgCutSweepRecord> runEfgProgressiveCuts(const EfgCutRunSettings& settings,
+                                                     EfgCutRunInfo* info) {
+  checkRunSettings(settings);
+  const Eigen::Vector3d semi = settings.semi_axes;
+  const TriMesh liver = makeLiverSurface(semi, settings.surface_subdivisions);
+  const RunBlade blade(settings, liver);
+  const std::unique_ptr<EfgCutBody> body_ptr = makeRunBody(settings, liver);
+  EfgCutBody& body = *body_ptr;
   const EfgModel& model = body.model();
   const double mass0 = totalMass(model);
   const Eigen::Matrix3Xd& X = model.grid().particles;
   if (info)
     *info = {model.numIntegrationPoints(), model.numNodes(),
              static_cast<int>(liver.triangles.cols())};
-  const double top = liver.vertices.row(2).maxCoeff(), bottom = liver.vertices.row(2).minCoeff();
 
   DynamicsProblem problem;
   problem.model = &model;
@@ -358,26 +442,12 @@ std::vector<EfgCutSweepRecord> runEfgProgressiveCuts(const EfgCutRunSettings& se
       info->settled_step_ms = settled_ms / (settings.settle_steps - settings.settle_steps / 2);
   }
   std::vector<EfgCutSweepRecord> records;
-  const double golden = 0.5 * (std::sqrt(5.0) - 1.0);
   for (int c = 0; c < settings.cuts; ++c) {
-    const double angle = c * 2.0 * M_PI * (1.0 - golden);  // 137.5 deg steps
-    const Eigen::Vector3d along(std::cos(angle), std::sin(angle), 0.0);
+    const Eigen::Vector3d along = goldenDirection(c);
     const Eigen::Vector3d normal(-along.y(), along.x(), 0.0);
-    const double offset = semi.x() * (std::fmod(c * golden, 1.0) - 0.5);
-    const Eigen::Vector3d centre = offset * normal;
-    const double z_from = top + 0.1 * semi.z();
-    const double z_to = top - settings.depth * (top - bottom);
+    const Eigen::Vector3d centre = semi.x() * (std::fmod(c * kGolden, 1.0) - 0.5) * normal;
     for (int s = 0; s < settings.sweeps_per_cut; ++s) {
-      const double z0 = z_from + (z_to - z_from) * s / settings.sweeps_per_cut;
-      const double z1 = z_from + (z_to - z_from) * (s + 1) / settings.sweeps_per_cut;
-      BladeSweep sweep;
-      sweep.start.resize(3, 2);
-      sweep.end.resize(3, 2);
-      for (int k = 0; k < 2; ++k) {
-        const Eigen::Vector3d p = centre + (k ? half_blade : -half_blade) * along;
-        sweep.start.col(k) = Eigen::Vector3d(p.x(), p.y(), z0);
-        sweep.end.col(k) = Eigen::Vector3d(p.x(), p.y(), z1);
-      }
+      const BladeSweep sweep = blade.sweep(centre, along, s, settings.sweeps_per_cut);
       EfgCutSweepRecord r;
       r.cut = c;
       r.sweep = s;
@@ -413,6 +483,72 @@ std::vector<EfgCutSweepRecord> runEfgProgressiveCuts(const EfgCutRunSettings& se
       if (!r.finite) return records;
     }
   }
+  return records;
+}
+
+std::vector<EfgProbeSweepRecord> runEfgCutIndependence(const EfgCutRunSettings& settings,
+                                                       int background_cuts,
+                                                       EfgCutIndependenceInfo* info) {
+  checkRunSettings(settings);
+  if (settings.simulate)
+    throw std::invalid_argument(
+        "runEfgCutIndependence: simulate must be false (the bodies stay at rest)");
+  if (background_cuts < 0)
+    throw std::invalid_argument("background_cuts = " + std::to_string(background_cuts) +
+                                " must be >= 0");
+  const Eigen::Vector3d semi = settings.semi_axes;
+  if (!(settings.blade_length > 0.0 && settings.blade_length < 0.8 * semi.x()))
+    throw std::invalid_argument(
+        "runEfgCutIndependence: blade_length = " + std::to_string(settings.blade_length) +
+        " must be in (0, 0.8 semi_axes.x): each cut stays in its half");
+  const TriMesh liver = makeLiverSurface(semi, settings.surface_subdivisions);
+  // Cut c's centre: x in side x [0.4, 0.7] a, y in [-0.4, 0.4] b (a 2D golden sequence), so a
+  // blade shorter than 0.8 a stays on its side of x = 0; it descends from above the body's top
+  // there (the body thins towards x < 0).
+  const auto centre = [&](int c, double side) {
+    const double u = std::fmod(0.5 + c * 0.7548776662466927, 1.0);
+    const double v = std::fmod(0.5 + c * 0.5698402909980532, 1.0);
+    return Eigen::Vector3d(side * semi.x() * (0.4 + 0.3 * u), semi.y() * 0.8 * (v - 0.5), 0.0);
+  };
+  const auto sweep = [&](int c, double side, int s) {
+    const Eigen::Vector3d at = centre(c, side);
+    return RunBlade(settings, liver, at).sweep(at, goldenDirection(c), s, settings.sweeps_per_cut);
+  };
+  const std::array<std::unique_ptr<EfgCutBody>, 2> bodies = {makeRunBody(settings, liver),
+                                                             makeRunBody(settings, liver)};
+  const Eigen::VectorXd x = bodies[0]->model().restPositions();
+  double background_ms = 0.0;
+  for (int c = 0; c < background_cuts; ++c)
+    for (int s = 0; s < settings.sweeps_per_cut; ++s)
+      background_ms += bodies[1]->cut(sweep(c, -1.0, s), x, x).times.update();
+  if (info) {
+    info->run = {bodies[0]->model().numIntegrationPoints(), bodies[0]->model().numNodes(),
+                 static_cast<int>(liver.triangles.cols())};
+    info->background_triangles = bodies[1]->surface().numTriangles();
+    info->background_pieces = bodies[1]->volume().pieces();
+    info->background_update_ms =
+        background_cuts > 0 ? background_ms / (background_cuts * settings.sweeps_per_cut) : 0.0;
+  }
+  std::vector<EfgProbeSweepRecord> records;
+  for (int c = 0; c < settings.cuts; ++c)
+    for (int s = 0; s < settings.sweeps_per_cut; ++s) {
+      const BladeSweep probe = sweep(c, 1.0, s);
+      EfgProbeSweepRecord r;
+      r.cut = c;
+      r.sweep = s;
+      // Alternating which body goes first, so neither always meets the caches the other left.
+      const int first = static_cast<int>(records.size() % 2);
+      for (int k : {first, 1 - first}) {
+        const EfgCutBody::Update u = bodies[static_cast<std::size_t>(k)]->cut(probe, x, x);
+        EfgProbeSweepRecord::Body& b = r.body[static_cast<std::size_t>(k)];
+        b.severed_links = static_cast<int>(u.volume.severed_links.size());
+        b.crossed_edges = u.surface.crossed_edges;
+        b.remapped = static_cast<int>(u.surface.remapped.size()) + u.remapped_after_volume;
+        b.triangles = bodies[static_cast<std::size_t>(k)]->surface().numTriangles();
+        b.times = u.times;
+      }
+      records.push_back(r);
+    }
   return records;
 }
 

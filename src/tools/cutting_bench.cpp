@@ -26,11 +26,15 @@
 //                            implicit Euler step per sweep (--solver, default cholmod) after 2 s
 //                            of uncut steps: phase times, step time and its phases [ms], DOFs,
 //                            mass error (--no-step: the body stays at rest, no step)
+//   efg_cut_independence.csv per sweep of 20 probe cuts (as above, at rest) on a fresh body and on
+//                            one that first took N cuts (--cuts) in its other half: the phase
+//                            times of each (column body: fresh, after)
 //   cutting_t3c.csv          as above
 //   efg_cut_fuzz.csv         the EFG fuzz campaign (N random sweeps, both cutters)
 //   efg_cut_*.png            plots (scripts/plot_efg_cutting.py) unless --no-plot
 // Prints a summary. Exit code 1 if the fuzz campaign fails.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -374,13 +378,8 @@ void efgUpdateTimes(const std::string& dir) {
 /// Uncut steps of the progressive run before its first cut (2 s at dt = 0.01 s).
 constexpr int kSettleSteps = 200;
 
-/// (b, c) `cuts` progressive cuts at ~10k IPs (d = 3 mm) with one implicit step per sweep: a 2 cm
-/// scalpel descending 2.1 mm a sweep, 10 sweeps a cut, after kSettleSteps uncut steps (the liver
-/// sags onto its clamp and its lobes swing for about a second: not the cutting's cost).
-/// steps false: the body stays at rest (no settling, no step): the cut update alone.
-void efgProgressive(const std::string& dir, int cuts, ss::SolverKind solver, bool steps) {
-  surgical_sim::tools::progress(
-      "cutting_bench", "EFG progressive cuts, ~10k IPs, " + std::to_string(cuts) + " cuts");
+/// `cuts` cuts of a 2 cm scalpel at ~10k IPs (d = 3 mm), 10 sweeps each, 30 % of the height deep.
+ss::EfgCutRunSettings scalpelCuts(int cuts) {
   ss::EfgCutRunSettings s;
   s.spacing = 0.003;
   s.front_width = 0.004;
@@ -388,6 +387,17 @@ void efgProgressive(const std::string& dir, int cuts, ss::SolverKind solver, boo
   s.sweeps_per_cut = 10;
   s.blade_length = 0.02;
   s.depth = 0.3;
+  return s;
+}
+
+/// (b, c) `cuts` progressive cuts at ~10k IPs (d = 3 mm) with one implicit step per sweep: a 2 cm
+/// scalpel descending 2.1 mm a sweep, 10 sweeps a cut, after kSettleSteps uncut steps (the liver
+/// sags onto its clamp and its lobes swing for about a second: not the cutting's cost).
+/// steps false: the body stays at rest (no settling, no step): the cut update alone.
+void efgProgressive(const std::string& dir, int cuts, ss::SolverKind solver, bool steps) {
+  surgical_sim::tools::progress(
+      "cutting_bench", "EFG progressive cuts, ~10k IPs, " + std::to_string(cuts) + " cuts");
+  ss::EfgCutRunSettings s = scalpelCuts(cuts);
   s.solver = solver;
   s.settle_steps = kSettleSteps;
   s.simulate = steps;
@@ -450,17 +460,72 @@ bool efgFuzz(const std::string& dir, int sweeps) {
   return r.failure.empty();
 }
 
+/// Probe cuts per body of the independence run (10 sweeps each).
+constexpr int kProbeCuts = 20;
+
+/// (d) Independence of the cut cost from earlier cuts: at ~10k IPs at rest, kProbeCuts probe cuts
+/// (as in (b, c)) on a fresh body and, sweep by sweep, on a body that first took
+/// `background_cuts` cuts in its other half.
+void efgIndependence(const std::string& dir, int background_cuts) {
+  surgical_sim::tools::progress(
+      "cutting_bench",
+      "EFG cut independence, ~10k IPs, " + std::to_string(background_cuts) + " background cuts");
+  ss::EfgCutRunSettings s = scalpelCuts(kProbeCuts);
+  s.simulate = false;
+  ss::EfgCutIndependenceInfo info;
+  const std::vector<ss::EfgProbeSweepRecord> records =
+      ss::runEfgCutIndependence(s, background_cuts, &info);
+  FILE* csv = openCsv(dir, "efg_cut_independence.csv",
+                      "run,ips,surface_triangles,background_cuts,cut,sweep,body,severed_links,"
+                      "crossed_edges,remapped,triangles,positions_ms,volume_ms,surface_ms,"
+                      "remap_ms,update_ms,detect_ms,topology_ms");
+  // Means over the sweeps that cut the fresh body [ms]: update, detection, topology, positions.
+  std::array<std::array<double, 4>, 2> mean{};
+  int cutting = 0;
+  for (const ss::EfgProbeSweepRecord& r : records) {
+    const bool cuts = r.body[0].severed_links > 0 || r.body[0].crossed_edges > 0;
+    cutting += cuts ? 1 : 0;
+    for (std::size_t k = 0; k < 2; ++k) {
+      const ss::EfgProbeSweepRecord::Body& b = r.body[k];
+      const auto& t = b.times;
+      std::fprintf(csv, "probe,%d,%d,%d,%d,%d,%s,%d,%d,%d,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f\n",
+                   info.run.ips, info.run.surface_triangles, background_cuts, r.cut, r.sweep,
+                   k ? "after" : "fresh", b.severed_links, b.crossed_edges, b.remapped, b.triangles,
+                   t.positions_ms, t.volume_ms, t.surface_ms, t.remap_ms, t.update(), t.detect_ms,
+                   t.topology());
+      if (!cuts) continue;
+      const double values[4] = {t.update(), t.detect_ms, t.topology(), t.positions_ms};
+      for (std::size_t i = 0; i < 4; ++i) mean[k][i] += values[i];
+    }
+  }
+  std::fclose(csv);
+  for (auto& m : mean)
+    for (double& v : m) v /= std::max(cutting, 1);
+  std::printf(
+      "efg indep. %d IPs: %d probe cuts (%d sweeps cut) on a fresh body and on one after %d "
+      "background cuts (%d triangles, was %d; %d pieces, %.2f ms a background sweep): mean cut "
+      "update %.3f / %.3f ms (ratio %.3f; detection %.3f / %.3f, topology %.3f / %.3f); surface "
+      "positions %.2f / %.2f ms\n",
+      info.run.ips, kProbeCuts, cutting, background_cuts, info.background_triangles,
+      info.run.surface_triangles, info.background_pieces, info.background_update_ms, mean[0][0],
+      mean[1][0], mean[1][0] / mean[0][0], mean[0][1], mean[1][1], mean[0][2], mean[1][2],
+      mean[0][3], mean[1][3]);
+  std::fflush(stdout);
+}
+
 constexpr const char* kUsage =
     "usage: cutting_bench [--efg [--only PART] [--no-step]] [--out DIR] [--fuzz N] [--cuts N]\n"
     "                     [--no-plot]\n"
     "P2 cutting benchmark: topology-update and step times, cut-surface error, T3(c) cut beams and\n"
     "a fuzz campaign of random blade sweeps; CSV files (and PNG plots) in DIR.\n"
     "  --efg       the meshless (EFG) cutters on the liver-like body: cut-update phase times,\n"
-    "              progressive cuts with implicit steps, T3(c), fuzz\n"
-    "  --only PART with --efg: only update, progressive, t3c or fuzz\n"
+    "              progressive cuts with implicit steps, independence from earlier cuts, T3(c),\n"
+    "              fuzz\n"
+    "  --only PART with --efg: only update, progressive, independence, t3c or fuzz\n"
     "  --out DIR   output folder, created if missing (default ./report)\n"
     "  --fuzz N    random sweeps of the fuzz campaign, >= 1 (default 1000)\n"
-    "  --cuts N    progressive cuts of --efg, >= 1 (default 1000)\n"
+    "  --cuts N    progressive cuts of --efg and background cuts of its independence run, >= 1\n"
+    "              (default 1000)\n"
     "  --solver S  linear solver of the progressive cuts' steps (default cholmod)\n"
     "  --no-step   with --efg: progressive cuts of the body at rest, the cut update alone\n"
     "  --no-plot   CSV only\n";
@@ -513,10 +578,10 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  if (!only.empty() &&
-      (!efg || (only != "update" && only != "progressive" && only != "t3c" && only != "fuzz"))) {
+  if (!only.empty() && (!efg || (only != "update" && only != "progressive" &&
+                                 only != "independence" && only != "t3c" && only != "fuzz"))) {
     std::cerr << "cutting_bench: --only " << only
-              << " needs --efg and one of update, progressive, t3c, fuzz\n";
+              << " needs --efg and one of update, progressive, independence, t3c, fuzz\n";
     return 2;
   }
   if (!steps && (!efg || (!only.empty() && only != "progressive"))) {
@@ -537,6 +602,7 @@ int main(int argc, char** argv) {
       const auto runs = [&](const char* part) { return only.empty() || only == part; };
       if (runs("update")) efgUpdateTimes(dir);
       if (runs("progressive")) efgProgressive(dir, cuts, solver, steps);
+      if (runs("independence")) efgIndependence(dir, cuts);
       if (runs("t3c")) t3c(dir);
       const bool ok = !runs("fuzz") || efgFuzz(dir, sweeps);
       if (plot) surgical_sim::tools::runPlotScript("cutting_bench", "plot_efg_cutting.py", {dir});

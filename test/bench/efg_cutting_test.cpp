@@ -1,10 +1,11 @@
-// Meshless (EFG) cutting of the liver-like body with both cutters: random-sweep fuzz and
-// progressive cuts under dynamics.
+// Meshless (EFG) cutting of the liver-like body with both cutters: random-sweep fuzz, progressive
+// cuts under dynamics and the independence of a cut's cost from the cuts before it.
 #include "surgical_sim/bench/efg_cutting.h"
 
 #include <gtest/gtest.h>
 
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace surgical_sim::bench {
@@ -120,6 +121,45 @@ TEST(EfgProgressiveCuts, RejectsBadSettingsByName) {
   settings.settle_steps = 0;
   settings.spacing = -1.0;
   expectNamed(settings, "spacing");
+}
+
+// The same probe cuts on a fresh body and on one cut before in its other half: the background
+// cuts reach only their half, the probes cut both bodies alike.
+TEST(EfgCutIndependence, BackgroundCutsStayInTheirHalfAndTheProbesCutBothBodiesAlike) {
+  EfgCutRunSettings settings = coarseRun(2, 5);
+  settings.simulate = false;
+  settings.blade_length = 0.02;
+  settings.depth = 0.4;
+  EfgCutIndependenceInfo info;
+  const std::vector<EfgProbeSweepRecord> records = runEfgCutIndependence(settings, 4, &info);
+  ASSERT_EQ(records.size(), 10u);
+  EXPECT_GT(info.background_triangles, info.run.surface_triangles);  // the background cut
+  int severed = 0, crossed = 0;
+  for (const EfgProbeSweepRecord& r : records) {
+    const auto at = "cut " + std::to_string(r.cut) + " sweep " + std::to_string(r.sweep);
+    EXPECT_EQ(r.body[0].severed_links, r.body[1].severed_links) << at;
+    EXPECT_EQ(r.body[0].crossed_edges, r.body[1].crossed_edges) << at;
+    EXPECT_EQ(r.body[1].triangles - r.body[0].triangles,
+              info.background_triangles - info.run.surface_triangles)
+        << at;  // the probes add the same triangles to both
+    severed += r.body[0].severed_links;
+    crossed += r.body[0].crossed_edges;
+  }
+  EXPECT_GT(severed, 0);
+  EXPECT_GT(crossed, 0);
+}
+
+TEST(EfgCutIndependence, RejectsDynamicsAndBladesReachingTheOtherHalf) {
+  EfgCutRunSettings settings = coarseRun(1, 1);
+  settings.blade_length = 0.02;
+  EXPECT_THROW(runEfgCutIndependence(settings, 1), std::invalid_argument);  // simulate
+  settings.simulate = false;
+  settings.blade_length = 0.8 * settings.semi_axes.x();
+  EXPECT_THROW(runEfgCutIndependence(settings, 1), std::invalid_argument);
+  settings.blade_length = 0.0;  // spanning the body
+  EXPECT_THROW(runEfgCutIndependence(settings, 1), std::invalid_argument);
+  settings.blade_length = 0.02;
+  EXPECT_THROW(runEfgCutIndependence(settings, -1), std::invalid_argument);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <functional>
 #include <memory>
 #include <string>
@@ -77,6 +78,11 @@ class EfgCutBody final {
   void refreshRows(const std::vector<int>& vertices);
   /// Position of surface vertex v for particle positions x [m], by its cached row.
   Eigen::Vector3d vertexPosition(int v, const Eigen::VectorXd& x) const;
+  /// The surface vertex positions for particle positions x into out's leading columns [m] (out
+  /// has at least as many columns as vertices).
+  void fillPositions(const Eigen::VectorXd& x, Eigen::Matrix3Xd& out) const;
+  /// Gives m at least n columns, doubling: the position buffers grow in amortized O(1) a vertex.
+  static void reserveColumns(Eigen::Matrix3Xd& m, Eigen::Index n);
 
   core::EfgModel model_;
   core::EfgVolumeCutter volume_;
@@ -85,7 +91,10 @@ class EfgCutBody final {
   core::EfgModelSource source_{model_, x_};
   std::vector<std::vector<int>> row_particles_;
   std::vector<std::vector<double>> row_weights_;
-  Eigen::Matrix3Xd last_positions_;  ///< surface vertex positions at x_ (none before a cut) [m]
+  /// Surface vertex positions at a cut's start and (for its first end_vertices_ columns, 0
+  /// before a cut) at x_ [m]; buffers with room to grow.
+  Eigen::Matrix3Xd start_, end_;
+  Eigen::Index end_vertices_ = 0;
 };
 
 /// Progressive cuts of the liver-like EFG body (makeLiverSurface), optionally simulated.
@@ -152,6 +161,40 @@ struct EfgCutRunInfo {
 /// @throws std::invalid_argument naming the setting out of range.
 std::vector<EfgCutSweepRecord> runEfgProgressiveCuts(const EfgCutRunSettings& settings,
                                                      EfgCutRunInfo* info = nullptr);
+
+/// One probe sweep of runEfgCutIndependence(), on each body.
+struct EfgProbeSweepRecord {
+  struct Body {
+    int severed_links = 0;
+    int crossed_edges = 0;
+    int remapped = 0;   ///< surface vertices remapped (surface cut and volume-cut IPs)
+    int triangles = 0;  ///< after the sweep
+    EfgCutBody::Times times;
+  };
+  int cut = 0;
+  int sweep = 0;
+  std::array<Body, 2> body;  ///< the fresh body, the body after the background cuts
+};
+
+/// Sizes of runEfgCutIndependence().
+struct EfgCutIndependenceInfo {
+  EfgCutRunInfo run;                  ///< the body (no settle steps)
+  int background_triangles = 0;       ///< surface triangles after the background cuts
+  int background_pieces = 0;          ///< pieces after the background cuts
+  double background_update_ms = 0.0;  ///< mean cut update of a background sweep [ms]
+};
+
+/// Whether a cut's cost depends on the cuts made before it elsewhere: two copies of the body of
+/// `settings` at rest; the second first takes `background_cuts` cuts in the half x < 0 (blade c
+/// along c x 137.5 deg, centred at x in -[0.4, 0.7] a, y in [-0.4, 0.4] b by a 2D golden
+/// sequence, descending from above the body's top within the blade's reach down settings.depth
+/// of its height there), then both take the same settings.cuts probe cuts, mirrored into the
+/// half x > 0, sweep by sweep, alternating which body goes first.
+/// @throws std::invalid_argument naming the setting out of range, simulate set, or a
+///         blade_length not in (0, 0.8 a) (a blade must stay in its half).
+std::vector<EfgProbeSweepRecord> runEfgCutIndependence(const EfgCutRunSettings& settings,
+                                                       int background_cuts,
+                                                       EfgCutIndependenceInfo* info = nullptr);
 
 /// Random sweeps over the liver-like EFG body, both cutters (the fuzz of issue 19).
 struct EfgCutFuzzSettings {

@@ -75,7 +75,9 @@ Eigen::Vector3d clampBary(Eigen::Vector3d b) {
   return b / b.sum();
 }
 
-void checkShape(const char* name, const Eigen::Matrix3Xd& x, int n) {
+using Positions = EfgSurfaceCutter::Positions;
+
+void checkShape(const char* name, const Positions& x, int n) {
   if (x.cols() != n)
     throw std::invalid_argument(std::string("EfgSurfaceCutter::cut: ") + name + " has " +
                                 std::to_string(x.cols()) + " columns, numVertices() is " +
@@ -575,13 +577,20 @@ int EfgSurfaceCutter::newVertex(Eigen::Vector3d rest) {  // by value: verts_ may
 
 void EfgSurfaceCutter::setIp(int v, int ip) {
   Vertex& vert = at(verts_, v);
-  if (vert.ip >= 0) {
+  if (vert.ip >= 0) {  // v's slot takes the list's last vertex
     std::vector<int>& old = at(ip_vertices_, vert.ip);
-    *std::find(old.begin(), old.end(), v) = old.back();
+    const int last = old.back();
+    at(old, vert.ip_slot) = last;
+    at(verts_, last).ip_slot = vert.ip_slot;
     old.pop_back();
   }
   vert.ip = ip;
-  if (ip >= 0) at(ip_vertices_, ip).push_back(v);
+  vert.ip_slot = -1;
+  if (ip >= 0) {
+    std::vector<int>& list = at(ip_vertices_, ip);
+    vert.ip_slot = intSize(list);
+    list.push_back(v);
+  }
   updateSegmentTested(v);
 }
 
@@ -686,7 +695,7 @@ bool EfgSurfaceCutter::accept(int edge, double s) {
   return false;
 }
 
-bool EfgSurfaceCutter::placeTip(int end, const BladeSweep& sweep, const Eigen::Matrix3Xd& x_end) {
+bool EfgSurfaceCutter::placeTip(int end, const BladeSweep& sweep, const Positions& x_end) {
   const auto& tri = at(tris_, tip_tri_[static_cast<std::size_t>(end)]);
   Eigen::Vector3d bary;
   bool pierced = false;
@@ -960,9 +969,8 @@ std::vector<int> EfgSurfaceCutter::remapVerticesOfIps(const std::vector<int>& ch
 // ---------------------------------------------------------------------------------------------
 // One step.
 
-EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Matrix3Xd& x_start,
-                                        const Eigen::Matrix3Xd& x_end,
-                                        const EfgParticleMotion* motion) {
+EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Positions& x_start,
+                                        const Positions& x_end, const EfgParticleMotion* motion) {
   validateBladeSweep(sweep);
   checkShape("x_start", x_start, numVertices());
   checkShape("x_end", x_end, numVertices());
@@ -996,8 +1004,8 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Eigen::Ma
   const double box_lo[4] = {blade_lo.x(), blade_lo.y(), blade_lo.z(), slab.lo};
   const double box_hi[4] = {blade_hi.x(), blade_hi.y(), blade_hi.z(), slab.hi};
   const auto classify = [&](int v) {
-    const double* a = x_start.data() + 3 * static_cast<std::ptrdiff_t>(v);
-    const double* b = x_end.data() + 3 * static_cast<std::ptrdiff_t>(v);
+    const double* a = x_start.col(v).data();
+    const double* b = x_end.col(v).data();
     const double pa[4] = {a[0], a[1], a[2],
                           slab.normal.x() * a[0] + slab.normal.y() * a[1] + slab.normal.z() * a[2]};
     const double pb[4] = {b[0], b[1], b[2],

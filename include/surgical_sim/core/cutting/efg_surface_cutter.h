@@ -109,6 +109,10 @@ struct EfgParticleMotion {
 /// The surface stays closed and edge-manifold at every step (checkSurfaceClosure).
 class EfgSurfaceCutter {
  public:
+  /// Vertex positions, 3 x numVertices() [m]: a matrix, or the leading columns of a larger one (a
+  /// caller's buffer with room to grow).
+  using Positions = Eigen::Ref<const Eigen::Matrix3Xd>;
+
   /// @param surface closed, edge-manifold, outward-oriented rest surface [m].
   /// @param source the EFG model side; must outlive the cutter.
   /// @throws std::invalid_argument for bad options (names the field and range), a surface that
@@ -129,8 +133,8 @@ class EfgSurfaceCutter {
   /// @param motion the particle positions x_start and x_end are mapped from (optional).
   /// @throws std::invalid_argument for a sweep failing validateBladeSweep, positions of the
   ///         wrong shape or not finite, or particle positions of the wrong size or not finite.
-  EfgSurfaceCutStep cut(const BladeSweep& sweep, const Eigen::Matrix3Xd& x_start,
-                        const Eigen::Matrix3Xd& x_end, const EfgParticleMotion* motion = nullptr);
+  EfgSurfaceCutStep cut(const BladeSweep& sweep, const Positions& x_start, const Positions& x_end,
+                        const EfgParticleMotion* motion = nullptr);
 
   /// Remaps every vertex mapped to one of `changed_ips` (their particle sets changed after a
   /// volume cut). @return the remapped vertices, sorted.
@@ -168,6 +172,7 @@ class EfgSurfaceCutter {
   struct Vertex {
     Eigen::Vector3d rest = Eigen::Vector3d::Zero();
     int ip = -1;
+    int ip_slot = -1;  ///< its index in ip_vertices_[ip] (-1 without an IP)
     int twin = -1;
     bool used = true;
     /// No IP lies below all its planes, so it keeps the nearest IP: planes are only added to a
@@ -226,7 +231,7 @@ class EfgSurfaceCutter {
   void freeVertex(int v);
   bool accept(int edge, double s);
   /// Moves tip `end` to where the blade pierces its triangle; false when it does not.
-  bool placeTip(int end, const BladeSweep& sweep, const Eigen::Matrix3Xd& x_end);
+  bool placeTip(int end, const BladeSweep& sweep, const Positions& x_end);
   /// Resamples the front, drops a fixed row when due; appends the new vertices to `created`.
   void updateFront(std::vector<int>& created);
   void rebuild();
