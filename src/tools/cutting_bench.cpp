@@ -1,6 +1,7 @@
 // P2 cutting benchmark (BENCHMARKS.md). Usage:
 //   cutting_bench [--out DIR] [--fuzz N] [--no-plot]
-//   cutting_bench --efg [--only PART] [--out DIR] [--fuzz N] [--cuts N] [--no-step] [--no-plot]
+//   cutting_bench --efg [--only PART] [--out DIR] [--fuzz N] [--cuts N] [--background N]
+//                 [--no-step] [--no-plot]
 // Writes into DIR (default "report"):
 //   cutting_update.csv  per blade sweep: update mode (incremental, or the full rebuild it is
 //                       tested against), mesh size, detection and topology-update time [ms]
@@ -27,8 +28,8 @@
 //                            of uncut steps: phase times, step time and its phases [ms], DOFs,
 //                            mass error (--no-step: the body stays at rest, no step)
 //   efg_cut_independence.csv per sweep of 20 probe cuts (as above, at rest) on a fresh body and on
-//                            one that first took N cuts (--cuts) in its other half: the phase
-//                            times of each (column body: fresh, after)
+//                            one that first took N cuts (--background) in its other half: the
+//                            phase times of each (column body: fresh, after)
 //   cutting_t3c.csv          as above
 //   efg_cut_fuzz.csv         the EFG fuzz campaign (N random sweeps, both cutters)
 //   efg_cut_*.png            plots (scripts/plot_efg_cutting.py) unless --no-plot
@@ -515,7 +516,7 @@ void efgIndependence(const std::string& dir, int background_cuts) {
 
 constexpr const char* kUsage =
     "usage: cutting_bench [--efg [--only PART] [--no-step]] [--out DIR] [--fuzz N] [--cuts N]\n"
-    "                     [--no-plot]\n"
+    "                     [--background N] [--no-plot]\n"
     "P2 cutting benchmark: topology-update and step times, cut-surface error, T3(c) cut beams and\n"
     "a fuzz campaign of random blade sweeps; CSV files (and PNG plots) in DIR.\n"
     "  --efg       the meshless (EFG) cutters on the liver-like body: cut-update phase times,\n"
@@ -524,8 +525,9 @@ constexpr const char* kUsage =
     "  --only PART with --efg: only update, progressive, independence, t3c or fuzz\n"
     "  --out DIR   output folder, created if missing (default ./report)\n"
     "  --fuzz N    random sweeps of the fuzz campaign, >= 1 (default 1000)\n"
-    "  --cuts N    progressive cuts of --efg and background cuts of its independence run, >= 1\n"
-    "              (default 1000)\n"
+    "  --cuts N    progressive cuts of --efg, >= 1 (default 1000)\n"
+    "  --background N\n"
+    "              cuts before the probes of the --efg independence run, >= 1 (default 100)\n"
     "  --solver S  linear solver of the progressive cuts' steps (default cholmod)\n"
     "  --no-step   with --efg: progressive cuts of the body at rest, the cut update alone\n"
     "  --no-plot   CSV only\n";
@@ -538,7 +540,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   std::string dir = "report";
-  int sweeps = 1000, cuts = 1000;
+  int sweeps = 1000, cuts = 1000, background = 100;
   bool plot = true, efg = false, steps = true;
   ss::SolverKind solver = ss::SolverKind::Cholmod;
   std::string only;  // --efg part to run alone, "" for all
@@ -546,7 +548,7 @@ int main(int argc, char** argv) {
     const std::string arg = argv[i];
     if (arg == "--out" && i + 1 < argc) {
       dir = argv[++i];
-    } else if ((arg == "--fuzz" || arg == "--cuts") && i + 1 < argc) {
+    } else if ((arg == "--fuzz" || arg == "--cuts" || arg == "--background") && i + 1 < argc) {
       const std::string value = argv[++i];
       const std::optional<int> count = surgical_sim::tools::parseCount(value);
       if (!count) {
@@ -555,7 +557,7 @@ int main(int argc, char** argv) {
                   << "\n";
         return 2;
       }
-      (arg == "--fuzz" ? sweeps : cuts) = *count;
+      (arg == "--fuzz" ? sweeps : arg == "--cuts" ? cuts : background) = *count;
     } else if (arg == "--solver" && i + 1 < argc) {
       const std::string name = argv[++i];
       const auto kind = ss::enumFromName(ss::kSolverNames, name);
@@ -602,7 +604,7 @@ int main(int argc, char** argv) {
       const auto runs = [&](const char* part) { return only.empty() || only == part; };
       if (runs("update")) efgUpdateTimes(dir);
       if (runs("progressive")) efgProgressive(dir, cuts, solver, steps);
-      if (runs("independence")) efgIndependence(dir, cuts);
+      if (runs("independence")) efgIndependence(dir, background);
       if (runs("t3c")) t3c(dir);
       const bool ok = !runs("fuzz") || efgFuzz(dir, sweeps);
       if (plot) surgical_sim::tools::runPlotScript("cutting_bench", "plot_efg_cutting.py", {dir});
