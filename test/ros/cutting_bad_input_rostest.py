@@ -15,7 +15,8 @@ from surgical_sim.msg import BladeSweep
 from surgical_sim.srv import SetBlade
 
 from node_probe import pose_stamped as pose
-from node_probe import run_node, sigint_and_wait, start_node, wait_for_subscribers
+from node_probe import (run_node, sigint_and_wait, start_node, wait_for_messages_received,
+                        wait_for_subscribers)
 
 
 class CuttingBadInputTest(unittest.TestCase):
@@ -71,7 +72,8 @@ class CuttingBadInputTest(unittest.TestCase):
             activate = rospy.Publisher("/%s/cutting/activate" % ns, Bool, queue_size=1, latch=True)
             wait_for_subscribers(poses, activate)
             activate.publish(Bool(True))
-            rospy.sleep(0.3)
+            # Received (hence queued) before any pose sent afterwards, on the node's one thread.
+            wait_for_messages_received("/%s/cutting_tool" % ns, "/%s/cutting/activate" % ns, 1)
             poses.publish(pose(0.0, 0.0, 0.10))
             rospy.sleep(0.1)
             poses.publish(pose(0.0, 0.0, 0.09))
@@ -106,7 +108,8 @@ class CuttingBadInputTest(unittest.TestCase):
         self.pose_pub.publish(pose(1e3, 0.0, 0.0))
         self.assertTrue(self.wait_for_log("rejected tool pose: farther than 5 m"))
         self.activate_pub.publish(Bool(True))
-        rospy.sleep(0.3)
+        # The first activation this node gets: received (hence queued) before the poses below.
+        wait_for_messages_received("/cutting_tool", "/cutting/activate", 1)
         self.pose_pub.publish(pose(0.0, 0.0, 0.1, frame="world"))
         rospy.sleep(0.1)
         self.pose_pub.publish(pose(0.0, 0.0, 0.1, frame="elsewhere"))
