@@ -224,22 +224,27 @@ EfgCutBody::EfgCutBody(const TriMesh& surface, const Material& material, const E
   refreshRows(all);
 }
 
+namespace {
+
+/// Gives m at least n columns, doubling: a position buffer grows in amortized O(1) a vertex.
+void reserveColumns(Eigen::Matrix3Xd& m, Eigen::Index n) {
+  if (m.cols() < n) m.conservativeResize(3, std::max(n, 2 * m.cols()));
+}
+
+}  // namespace
+
 void EfgCutBody::refreshRows(const std::vector<int>& vertices) {
   const auto n = static_cast<std::size_t>(surface_->numVertices());
+  const auto had = static_cast<Eigen::Index>(row_particles_.size());
   row_particles_.resize(n);
   row_weights_.resize(n);
   for (const int v : vertices)
     surface_->mappingRow(v, row_particles_[static_cast<std::size_t>(v)],
                          row_weights_[static_cast<std::size_t>(v)]);
-  if (end_vertices_ == 0) return;
+  if (!cut_yet_) return;
   reserveColumns(end_, static_cast<Eigen::Index>(n));
-  end_.middleCols(end_vertices_, static_cast<Eigen::Index>(n) - end_vertices_).setZero();
-  end_vertices_ = static_cast<Eigen::Index>(n);  // new slots free (zero) until remapped
+  end_.middleCols(had, static_cast<Eigen::Index>(n) - had).setZero();  // free until remapped
   for (const int v : vertices) end_.col(v) = vertexPosition(v, x_);
-}
-
-void EfgCutBody::reserveColumns(Eigen::Matrix3Xd& m, Eigen::Index n) {
-  if (m.cols() < n) m.conservativeResize(3, std::max(n, 2 * m.cols()));
 }
 
 Eigen::Vector3d EfgCutBody::vertexPosition(int v, const Eigen::VectorXd& x) const {
@@ -269,7 +274,7 @@ EfgCutBody::Update EfgCutBody::cut(const BladeSweep& sweep, const Eigen::VectorX
   // The start's positions are the last end's when the particles start where the last cut left
   // them (the rows of the vertices it remapped are refreshed there).
   const auto n = static_cast<Eigen::Index>(row_particles_.size());
-  if (end_vertices_ > 0 && x_start.size() == x_.size() && x_start == x_) {
+  if (cut_yet_ && x_start.size() == x_.size() && x_start == x_) {
     std::swap(start_, end_);
   } else {
     reserveColumns(start_, n);
@@ -277,7 +282,7 @@ EfgCutBody::Update EfgCutBody::cut(const BladeSweep& sweep, const Eigen::VectorX
   }
   reserveColumns(end_, n);
   fillPositions(x_end, end_);
-  end_vertices_ = n;
+  cut_yet_ = true;
   u.times.positions_ms = msSince(t0);
   t0 = Clock::now();
   u.volume = volume_.cut(sweep, x_start, x_end);
@@ -318,6 +323,11 @@ void checkRunSettings(const EfgCutRunSettings& settings) {
   if (!(settings.blade_length >= 0.0) || !std::isfinite(settings.blade_length))
     throw std::invalid_argument("blade_length = " + std::to_string(settings.blade_length) +
                                 " must be finite and >= 0");
+}
+
+/// Sizes of `model` cut from the surface `liver`.
+EfgCutRunInfo runInfo(const EfgModel& model, const TriMesh& liver) {
+  return {model.numIntegrationPoints(), model.numNodes(), static_cast<int>(liver.triangles.cols())};
 }
 
 /// The liver-like body of `settings` (surface `liver`).
@@ -392,9 +402,7 @@ std::vector<EfgCutSweepRecord> runEfgProgressiveCuts(const EfgCutRunSettings& se
   const EfgModel& model = body.model();
   const double mass0 = totalMass(model);
   const Eigen::Matrix3Xd& X = model.grid().particles;
-  if (info)
-    *info = {model.numIntegrationPoints(), model.numNodes(),
-             static_cast<int>(liver.triangles.cols())};
+  if (info) *info = runInfo(model, liver);
 
   DynamicsProblem problem;
   problem.model = &model;
@@ -510,29 +518,36 @@ std::vector<EfgProbeSweepRecord> runEfgCutIndependence(const EfgCutRunSettings& 
     const double v = std::fmod(0.5 + c * 0.5698402909980532, 1.0);
     return Eigen::Vector3d(side * semi.x() * (0.4 + 0.3 * u), semi.y() * 0.8 * (v - 0.5), 0.0);
   };
-  const auto sweep = [&](int c, double side, int s) {
+  // Cut c's sweeps on the side x < 0 (side -1) or x > 0 (side 1).
+  const auto sweeps = [&](int c, double side) {
     const Eigen::Vector3d at = centre(c, side);
-    return RunBlade(settings, liver, at).sweep(at, goldenDirection(c), s, settings.sweeps_per_cut);
+    const RunBlade blade(settings, liver, at);
+    std::vector<BladeSweep> out;
+    for (int s = 0; s < settings.sweeps_per_cut; ++s)
+      out.push_back(blade.sweep(at, goldenDirection(c), s, settings.sweeps_per_cut));
+    return out;
   };
   const std::array<std::unique_ptr<EfgCutBody>, 2> bodies = {makeRunBody(settings, liver),
                                                              makeRunBody(settings, liver)};
   const Eigen::VectorXd x = bodies[0]->model().restPositions();
   double background_ms = 0.0;
   for (int c = 0; c < background_cuts; ++c)
-    for (int s = 0; s < settings.sweeps_per_cut; ++s)
-      background_ms += bodies[1]->cut(sweep(c, -1.0, s), x, x).times.update();
+    for (const BladeSweep& sweep : sweeps(c, -1.0))
+      background_ms += bodies[1]->cut(sweep, x, x).times.update();
   if (info) {
-    info->run = {bodies[0]->model().numIntegrationPoints(), bodies[0]->model().numNodes(),
-                 static_cast<int>(liver.triangles.cols())};
+    info->run = runInfo(bodies[0]->model(), liver);
     info->background_triangles = bodies[1]->surface().numTriangles();
     info->background_pieces = bodies[1]->volume().pieces();
     info->background_update_ms =
-        background_cuts > 0 ? background_ms / (background_cuts * settings.sweeps_per_cut) : 0.0;
+        background_cuts > 0
+            ? background_ms / (static_cast<double>(background_cuts) * settings.sweeps_per_cut)
+            : 0.0;
   }
   std::vector<EfgProbeSweepRecord> records;
-  for (int c = 0; c < settings.cuts; ++c)
+  for (int c = 0; c < settings.cuts; ++c) {
+    const std::vector<BladeSweep> probes = sweeps(c, 1.0);
     for (int s = 0; s < settings.sweeps_per_cut; ++s) {
-      const BladeSweep probe = sweep(c, 1.0, s);
+      const BladeSweep& probe = probes[static_cast<std::size_t>(s)];
       EfgProbeSweepRecord r;
       r.cut = c;
       r.sweep = s;
@@ -549,6 +564,7 @@ std::vector<EfgProbeSweepRecord> runEfgCutIndependence(const EfgCutRunSettings& 
       }
       records.push_back(r);
     }
+  }
   return records;
 }
 

@@ -295,27 +295,36 @@ bool fuzz(const std::string& dir, int sweeps) {
   return r.failure.empty() && r.finite;
 }
 
-/// Means of the update phases and of the step over records [from, to) [ms].
+/// Means of the update phases and of the step over the sweeps added [ms].
 struct EfgMeans {
   double positions = 0, volume = 0, surface = 0, remap = 0, total = 0, detect = 0, step = 0;
+  int count = 0;
   double topology() const { return total - detect; }
+  void add(const ss::EfgCutBody::Times& t, double step_ms) {
+    positions += t.positions_ms;
+    volume += t.volume_ms;
+    surface += t.surface_ms;
+    remap += t.remap_ms;
+    total += t.update();
+    detect += t.detect_ms;
+    step += step_ms;
+    ++count;
+  }
+  /// The sums divided by the count (left as they are without a sweep).
+  EfgMeans mean() const {
+    EfgMeans m = *this;
+    const double n = std::max(count, 1);
+    for (double* v : {&m.positions, &m.volume, &m.surface, &m.remap, &m.total, &m.detect, &m.step})
+      *v /= n;
+    return m;
+  }
 };
 
+/// Means over records [from, to).
 EfgMeans efgMeans(const std::vector<ss::EfgCutSweepRecord>& r, std::size_t from, std::size_t to) {
   EfgMeans m;
-  for (std::size_t i = from; i < to; ++i) {
-    m.positions += r[i].times.positions_ms;
-    m.volume += r[i].times.volume_ms;
-    m.surface += r[i].times.surface_ms;
-    m.remap += r[i].times.remap_ms;
-    m.total += r[i].times.update();
-    m.detect += r[i].times.detect_ms;
-    m.step += r[i].step_ms;
-  }
-  const double n = static_cast<double>(std::max<std::size_t>(to - from, 1));
-  for (double* v : {&m.positions, &m.volume, &m.surface, &m.remap, &m.total, &m.detect, &m.step})
-    *v /= n;
-  return m;
+  for (std::size_t i = from; i < to; ++i) m.add(r[i].times, r[i].step_ms);
+  return m.mean();
 }
 
 void writeEfgRecords(FILE* csv, const char* run, const std::vector<ss::EfgCutSweepRecord>& records,
@@ -480,12 +489,10 @@ void efgIndependence(const std::string& dir, int background_cuts) {
                       "run,ips,surface_triangles,background_cuts,cut,sweep,body,severed_links,"
                       "crossed_edges,remapped,triangles,positions_ms,volume_ms,surface_ms,"
                       "remap_ms,update_ms,detect_ms,topology_ms");
-  // Means over the sweeps that cut the fresh body [ms]: update, detection, topology, positions.
-  std::array<std::array<double, 4>, 2> mean{};
-  int cutting = 0;
+  // Means over the sweeps that cut the fresh body, on each body [ms].
+  std::array<EfgMeans, 2> sums;
   for (const ss::EfgProbeSweepRecord& r : records) {
     const bool cuts = r.body[0].severed_links > 0 || r.body[0].crossed_edges > 0;
-    cutting += cuts ? 1 : 0;
     for (std::size_t k = 0; k < 2; ++k) {
       const ss::EfgProbeSweepRecord::Body& b = r.body[k];
       const auto& t = b.times;
@@ -494,23 +501,20 @@ void efgIndependence(const std::string& dir, int background_cuts) {
                    k ? "after" : "fresh", b.severed_links, b.crossed_edges, b.remapped, b.triangles,
                    t.positions_ms, t.volume_ms, t.surface_ms, t.remap_ms, t.update(), t.detect_ms,
                    t.topology());
-      if (!cuts) continue;
-      const double values[4] = {t.update(), t.detect_ms, t.topology(), t.positions_ms};
-      for (std::size_t i = 0; i < 4; ++i) mean[k][i] += values[i];
+      if (cuts) sums[k].add(t, 0.0);
     }
   }
   std::fclose(csv);
-  for (auto& m : mean)
-    for (double& v : m) v /= std::max(cutting, 1);
+  const EfgMeans fresh = sums[0].mean(), after = sums[1].mean();
   std::printf(
       "efg indep. %d IPs: %d probe cuts (%d sweeps cut) on a fresh body and on one after %d "
       "background cuts (%d triangles, was %d; %d pieces, %.2f ms a background sweep): mean cut "
       "update %.3f / %.3f ms (ratio %.3f; detection %.3f / %.3f, topology %.3f / %.3f); surface "
       "positions %.2f / %.2f ms\n",
-      info.run.ips, kProbeCuts, cutting, background_cuts, info.background_triangles,
-      info.run.surface_triangles, info.background_pieces, info.background_update_ms, mean[0][0],
-      mean[1][0], mean[1][0] / mean[0][0], mean[0][1], mean[1][1], mean[0][2], mean[1][2],
-      mean[0][3], mean[1][3]);
+      info.run.ips, kProbeCuts, fresh.count, background_cuts, info.background_triangles,
+      info.run.surface_triangles, info.background_pieces, info.background_update_ms, fresh.total,
+      after.total, after.total / fresh.total, fresh.detect, after.detect, fresh.topology(),
+      after.topology(), fresh.positions, after.positions);
   std::fflush(stdout);
 }
 
@@ -527,7 +531,8 @@ constexpr const char* kUsage =
     "  --fuzz N    random sweeps of the fuzz campaign, >= 1 (default 1000)\n"
     "  --cuts N    progressive cuts of --efg, >= 1 (default 1000)\n"
     "  --background N\n"
-    "              cuts before the probes of the --efg independence run, >= 1 (default 100)\n"
+    "              cuts before the probes of the --efg independence run, >= 1 (default 100;\n"
+    "              past ~150 the surface of that half runs away: docs/benchmarks.md)\n"
     "  --solver S  linear solver of the progressive cuts' steps (default cholmod)\n"
     "  --no-step   with --efg: progressive cuts of the body at rest, the cut update alone\n"
     "  --no-plot   CSV only\n";

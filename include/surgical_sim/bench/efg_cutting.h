@@ -81,8 +81,6 @@ class EfgCutBody final {
   /// The surface vertex positions for particle positions x into out's leading columns [m] (out
   /// has at least as many columns as vertices).
   void fillPositions(const Eigen::VectorXd& x, Eigen::Matrix3Xd& out) const;
-  /// Gives m at least n columns, doubling: the position buffers grow in amortized O(1) a vertex.
-  static void reserveColumns(Eigen::Matrix3Xd& m, Eigen::Index n);
 
   core::EfgModel model_;
   core::EfgVolumeCutter volume_;
@@ -91,10 +89,10 @@ class EfgCutBody final {
   core::EfgModelSource source_{model_, x_};
   std::vector<std::vector<int>> row_particles_;
   std::vector<std::vector<double>> row_weights_;
-  /// Surface vertex positions at a cut's start and (for its first end_vertices_ columns, 0
-  /// before a cut) at x_ [m]; buffers with room to grow.
+  /// Surface vertex positions at a cut's start and (after the first cut, in the leading
+  /// surface().numVertices() columns) at x_ [m]; buffers with room to grow.
   Eigen::Matrix3Xd start_, end_;
-  Eigen::Index end_vertices_ = 0;
+  bool cut_yet_ = false;  ///< cut() was called: end_ holds the positions at x_
 };
 
 /// Progressive cuts of the liver-like EFG body (makeLiverSurface), optionally simulated.
