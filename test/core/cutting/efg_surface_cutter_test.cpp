@@ -769,6 +769,34 @@ TEST(EfgSurfaceCutter, BadInputGetsAClearError) {
   EXPECT_FALSE(cutter.cutActive());  // rejected before any change
 }
 
+TEST(EfgSurfaceCutter, PositionsInTheLeadingColumnsOfALargerBufferCutLikeAMatrix) {
+  // A caller's buffer with room to grow: its spare columns hold NaN, which must not be read; a
+  // NaN among the vertices' own columns is still refused.
+  UnitBox plain, buffered;
+  for (int i = 0; i < 40; ++i) {  // through the box, as descendSteps(kTop, 0.05, 40)
+    const BladeSweep sweep =
+        verticalSweep(kCutX, -0.5, 1.5, kTop - 0.05 * i, kTop - 0.05 * (i + 1), kTilt);
+    const Eigen::Matrix3Xd x = buffered.cutter.restVertices();
+    const Eigen::Index n = x.cols();
+    Eigen::Matrix3Xd buffer = Eigen::Matrix3Xd::Constant(3, 2 * n + 5, std::nan(""));
+    buffer.leftCols(n) = x;
+    const EfgSurfaceCutStep a = plain.step(sweep);
+    const EfgSurfaceCutStep b = buffered.cutter.cut(sweep, buffer.leftCols(n), buffer.leftCols(n));
+    ASSERT_EQ(a.crossed_edges, b.crossed_edges) << "step " << i;
+    ASSERT_EQ(a.remapped, b.remapped) << "step " << i;
+  }
+  EXPECT_EQ(plain.cutter.triangles(), buffered.cutter.triangles());
+  expectCutInTwoAtCutX(buffered.cutter);
+  const Eigen::Matrix3Xd x = buffered.cutter.restVertices();
+  Eigen::Matrix3Xd buffer(3, x.cols() + 1);
+  buffer.leftCols(x.cols()) = x;
+  buffer(2, 0) = std::nan("");
+  const Eigen::Index n = x.cols();
+  EXPECT_THROW(buffered.cutter.cut(verticalSweep(0.5, -0.5, 1.5, 2.0, -1.0, kTilt),
+                                   buffer.leftCols(n), buffer.leftCols(n)),
+               std::invalid_argument);
+}
+
 TEST(EfgSurfaceCutter, PrintsTheUpdateTimeOnA300kTriangleSphere) {
   const TriMesh sphere = makeIcosphere(7);                                      // 327,680 triangles
   GridSource source(V::Constant(-1.0), Eigen::Vector3i(27, 27, 27), 2.0 / 27);  // 19,683 IPs
