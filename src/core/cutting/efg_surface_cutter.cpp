@@ -757,27 +757,60 @@ void EfgSurfaceCutter::updateFront(std::vector<int>& created) {
   // A row needs distinct chain ends to attach to (a path of one crossing has one).
   if (farthest <= w || path_.size() < 2) return;
   std::vector<int> row;
-  for (int t : front_) {
-    const int a = newVertex(at(verts_, t).rest), b = newVertex(at(verts_, t).rest);
-    at(verts_, a).twin = b;
-    at(verts_, b).twin = a;
-    row.push_back(a);
-    created.push_back(a);
-    created.push_back(b);
-  }
+  for (int t : front_) row.push_back(newPair(at(verts_, t).rest, created));
   std::vector<int> ahead = {behind.front()};
   ahead.insert(ahead.end(), row.begin(), row.end());
   ahead.push_back(behind.back());
-  appendStrip(behind, ahead, restOf(), fixed_sheet_);
+  gradedStrip(behind, ahead, created, fixed_sheet_);
   row_ = std::move(row);
   row_attach_ = {path_.front(), path_.back()};
+}
+
+int EfgSurfaceCutter::newPair(const Eigen::Vector3d& rest, std::vector<int>& created) {
+  const int a = newVertex(rest), b = newVertex(rest);
+  at(verts_, a).twin = b;
+  at(verts_, b).twin = a;
+  created.push_back(a);
+  created.push_back(b);
+  return a;
+}
+
+void EfgSurfaceCutter::gradedStrip(std::vector<int> behind, std::vector<int> ahead,
+                                   std::vector<int>& created,
+                                   std::vector<std::array<int, 3>>& out) {
+  // The denser chain is halved towards the other; with the roles swapped the strip is built
+  // about the opposite normal and its triangles are turned back.
+  const bool swapped = ahead.size() > behind.size();
+  if (swapped) std::swap(behind, ahead);
+  const std::size_t first = out.size();
+  const int levels = gradingLevels(behind.size(), ahead.size());
+  for (int level = 0; level < levels; ++level) {
+    // Rows evenly spaced from the dense chain to the sparse one.
+    const double f = 1.0 / (levels - level + 1);
+    // Row vertex k stands over behind's vertex 2k (the last over behind's last); the strip
+    // between them is made piece by piece, so each row vertex takes at most three behind
+    // vertices.
+    std::vector<int> row = {behind.front()};
+    for (const Eigen::Vector3d& p : halvingRow(behind, ahead, restOf(), f))
+      row.push_back(newPair(p, created));
+    row.push_back(behind.back());
+    for (std::size_t k = 0; k + 1 < row.size(); ++k) {
+      const auto from = behind.begin() + static_cast<long>(2 * k);
+      const auto to = k + 2 == row.size() ? behind.end() : from + 3;
+      appendStrip({from, to}, {row[k], row[k + 1]}, restOf(), out);
+    }
+    behind = std::move(row);
+  }
+  appendStrip(behind, ahead, restOf(), out);
+  if (swapped)
+    for (std::size_t k = first; k < out.size(); ++k) std::swap(out[k][1], out[k][2]);
 }
 
 std::function<Eigen::Vector3d(int)> EfgSurfaceCutter::restOf() const {
   return [this](int v) { return at(verts_, v).rest; };
 }
 
-void EfgSurfaceCutter::rebuild() {
+void EfgSurfaceCutter::rebuild(bool crack, std::vector<int>& created) {
   generated_.clear();
   for (int t : cut_tris_) {
     const auto& tri = at(tris_, t);
@@ -822,12 +855,15 @@ void EfgSurfaceCutter::rebuild() {
       lower.assign(behind.rend() - m - 1, behind.rend());
       lower.insert(lower.end(), behind.rbegin(), behind.rend() - end);
     }
-    appendStrip(upper, lower, restOf(), sheet);
+    gradedStrip(upper, lower, created, sheet);
   } else {
     std::vector<int> ahead = {tip_vertex_[0]};
     ahead.insert(ahead.end(), front_.begin(), front_.end());
     ahead.push_back(tip_vertex_[1]);
-    appendStrip(behind, ahead, restOf(), sheet);
+    if (crack)
+      gradedStrip(behind, ahead, created, sheet);
+    else
+      appendStrip(behind, ahead, restOf(), sheet);
   }
   // Orientation: the sheet must use each slit edge against the split triangles' direction.
   std::vector<std::pair<int, int>> split_edges;
@@ -1201,9 +1237,10 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Positions
       const bool left = placeTip(0, sweep, x_end), right = placeTip(1, sweep, x_end);
       pierced = left || right;
     }
+    // New fixed vertices (rows, graded strips) and transient ones.
     std::vector<int> row;
     if (!completed_) updateFront(row);
-    rebuild();
+    rebuild(!completed_ && !pierced, row);
     // Planes with the cut's normal: each endpoint and copy of a new crossing, through it.
     for (int c = first_crossing; c < intSize(crossings_); ++c) {
       const Crossing& x = at(crossings_, c);

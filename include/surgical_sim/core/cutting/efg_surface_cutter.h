@@ -86,6 +86,12 @@ struct EfgParticleMotion {
 ///   interior transient vertex is farther than w from the chain, a row of fixed vertices is
 ///   dropped at the transient positions and the strip behind it is fixed. Each side has its own
 ///   sheet with its own vertices (crossing copies, fixed rows), oppositely oriented.
+/// - Every strip that stays (a fixed row's, a crack's, a completed cut's fill) is graded: while
+///   one of its chains has more than twice the other's vertices plus two, a row of new vertex
+///   pairs halves it (gradedStrip), so a long chain of crossings facing a short front gets no
+///   fan, and no vertex of a committed sheet has more than a few triangles. (Fans made later
+///   cuts cross thousands of thin triangles at one spot: each crossing then ends in a longer
+///   chain and a larger fan, and the surface of a region cut over and over ran away.)
 /// - Transient rest positions interpolate linearly between the two tips' rest positions (exact
 ///   for a straight blade under a locally affine deformation).
 /// - Completion: the last chain closes into a polygon, filled by a strip from the last fixed row
@@ -234,7 +240,18 @@ class EfgSurfaceCutter {
   bool placeTip(int end, const BladeSweep& sweep, const Positions& x_end);
   /// Resamples the front, drops a fixed row when due; appends the new vertices to `created`.
   void updateFront(std::vector<int>& created);
-  void rebuild();
+  /// Rebuilds the running cut's triangles; a crack's or a completed cut's sheet is graded
+  /// (gradedStrip), its new vertices appended to `created`.
+  void rebuild(bool crack, std::vector<int>& created);
+  /// A new pair of fixed sheet vertices at `rest`, twins of each other, both appended to
+  /// `created`. @return the side A vertex.
+  int newPair(const Eigen::Vector3d& rest, std::vector<int>& created);
+  /// Appends the sheet strip between `behind` and `ahead` (appendStrip's conventions, side A
+  /// vertices) to `out`, first halving the denser chain towards the other with rows of new
+  /// vertex pairs (halvingRow, gradingLevels), so a long chain of crossings facing a short front
+  /// or row makes no fan at one vertex.
+  void gradedStrip(std::vector<int> behind, std::vector<int> ahead, std::vector<int>& created,
+                   std::vector<std::array<int, 3>>& out);
   std::function<Eigen::Vector3d(int)> restOf() const;
   /// Orders generated_of_ entries by vertex (for equal_range on a vertex id).
   struct GeneratedOrder {
