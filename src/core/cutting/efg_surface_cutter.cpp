@@ -766,7 +766,8 @@ void EfgSurfaceCutter::updateFront(std::vector<int>& created) {
   row_attach_ = {path_.front(), path_.back()};
 }
 
-int EfgSurfaceCutter::newPair(const Eigen::Vector3d& rest, std::vector<int>& created) {
+int EfgSurfaceCutter::newPair(Eigen::Vector3d rest,
+                              std::vector<int>& created) {  // by value: verts_ may reallocate
   const int a = newVertex(rest), b = newVertex(rest);
   at(verts_, a).twin = b;
   at(verts_, b).twin = a;

@@ -245,7 +245,7 @@ class EfgSurfaceCutter {
   void rebuild(bool crack, std::vector<int>& created);
   /// A new pair of fixed sheet vertices at `rest`, twins of each other, both appended to
   /// `created`. @return the side A vertex.
-  int newPair(const Eigen::Vector3d& rest, std::vector<int>& created);
+  int newPair(Eigen::Vector3d rest, std::vector<int>& created);
   /// Appends the sheet strip between `behind` and `ahead` (appendStrip's conventions, side A
   /// vertices) to `out`, first halving the denser chain towards the other with rows of new
   /// vertex pairs (halvingRow, gradingLevels), so a long chain of crossings facing a short front
