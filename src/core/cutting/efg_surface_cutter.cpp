@@ -781,7 +781,7 @@ void EfgSurfaceCutter::gradedStrip(std::vector<int> behind, std::vector<int> ahe
                                    std::vector<std::array<int, 3>>& out) {
   // The denser chain is halved towards the other; with the roles swapped the strip is built
   // about the opposite normal and its triangles are turned back.
-  const bool swapped = ahead.size() > behind.size();
+  const bool swapped = gradingLevels(ahead.size(), behind.size()) > 0;
   if (swapped) std::swap(behind, ahead);
   const std::size_t first = out.size();
   const int levels = gradingLevels(behind.size(), ahead.size());
