@@ -532,7 +532,7 @@ constexpr const char* kUsage =
     "  --cuts N    progressive cuts of --efg, >= 1 (default 1000)\n"
     "  --background N\n"
     "              cuts before the probes of the --efg independence run, >= 1 (default 100;\n"
-    "              past ~150 the surface of that half runs away: docs/benchmarks.md)\n"
+    "              300 grow that half's surface to ~390k triangles: docs/benchmarks.md)\n"
     "  --solver S  linear solver of the progressive cuts' steps (default cholmod)\n"
     "  --no-step   with --efg: progressive cuts of the body at rest, the cut update alone\n"
     "  --no-plot   CSV only\n";
