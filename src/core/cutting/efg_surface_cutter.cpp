@@ -1239,9 +1239,9 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Positions
       pierced = left || right;
     }
     // New fixed vertices (rows, graded strips) and transient ones.
-    std::vector<int> row;
-    if (!completed_) updateFront(row);
-    rebuild(!completed_ && !pierced, row);
+    std::vector<int> created;
+    if (!completed_) updateFront(created);
+    rebuild(!completed_ && !pierced, created);
     // Planes with the cut's normal: each endpoint and copy of a new crossing, through it.
     for (int c = first_crossing; c < intSize(crossings_); ++c) {
       const Crossing& x = at(crossings_, c);
@@ -1258,13 +1258,13 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Positions
       addPlane(x.copy[1 - x.a_end], X, -n);
       to_remap.insert(to_remap.end(), {a, b, x.copy[0], x.copy[1]});
     }
-    for (int v : row) {
+    for (int v : created) {
       const int t = at(verts_, v).twin;
       if (t < 0) continue;  // new transient vertex
       const Eigen::Vector3d n = sheetNormal(v);
       addPlane(v, at(verts_, v).rest, n.squaredNorm() > 0.0 ? n : Eigen::Vector3d(-sheetNormal(t)));
     }
-    to_remap.insert(to_remap.end(), row.begin(), row.end());
+    to_remap.insert(to_remap.end(), created.begin(), created.end());
     if (completed_) {
       for (int v : front_) freeVertex(v);
       freeVertex(tip_vertex_[0]);
