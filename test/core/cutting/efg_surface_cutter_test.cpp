@@ -565,6 +565,68 @@ TEST(EfgSurfaceCutter, OverlappingCracksKeepTheSurfaceBounded) {
   EXPECT_LE(box.cutter.numTriangles(), 150000);
 }
 
+TEST(EfgSurfaceCutter, DegenerateHugeAndTinySweepsKeepTheSurfaceClosedAndMapped) {
+  // 160 hostile sweeps on the 16 x 16 box, four kinds in turn: a blade exactly on a grid plane
+  // (through vertices, along edges); a 2 km blade falling 10 m and twisting in one step; a
+  // 1 nm sweep at the top face's height; a short crack at random. After every sweep the surface
+  // is closed and edge-manifold and every used vertex has an IP and a finite mapping row whose
+  // weights sum to 1.
+  const GridSource source(V::Zero(), Eigen::Vector3i(4, 4, 4), 0.25);
+  EfgSurfaceCutter cutter(boxSurface(V::Zero(), V::Ones(), Eigen::Vector3i(16, 16, 16)), source,
+                          EfgSurfaceCutOptions{0.2, 1e-9});
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<int> p;
+  std::vector<double> w;
+  int cuts = 0;
+  for (int i = 0; i < 160; ++i) {
+    BladeSweep s;
+    s.start.resize(3, 2);
+    s.end.resize(3, 2);
+    const double gx = std::round(16.0 * u(rng)) / 16.0, gy = std::round(16.0 * u(rng)) / 16.0;
+    switch (i % 4) {
+      case 0:
+        s.start << gx, gx, -0.5, 1.5, 1.2, 1.2;
+        s.end << gx, gx, -0.5, 1.5, 0.5 * u(rng), 0.5 * u(rng);
+        break;
+      case 1:
+        s.start << -1e3, 1e3, gy, gy, 5.0, 5.0;
+        s.end << -1e3, 1e3, gy + 0.3, gy - 0.3, -5.0, -5.0;
+        break;
+      case 2:
+        s.start << gx, gx + 0.1, gy, gy, 1.0, 1.0;
+        s.end = s.start;
+        s.end.row(2).array() -= 1e-9;
+        break;
+      default: {
+        const double angle = 2.0 * M_PI * u(rng);
+        const V mid(0.2 + 0.6 * u(rng), 0.2 + 0.6 * u(rng), 0.0);
+        for (int k = 0; k < 2; ++k) {
+          const V q = mid + (k ? 0.15 : -0.15) * V(std::cos(angle), std::sin(angle), 0.0);
+          s.start.col(k) = V(q.x(), q.y(), 1.05);
+          s.end.col(k) = V(q.x(), q.y(), 0.9);
+        }
+      }
+    }
+    const Eigen::Matrix3Xd x = cutter.restVertices();
+    const EfgSurfaceCutStep r = cutter.cut(s, x, x);
+    cuts += r.completed || r.crack ? 1 : 0;
+    const SurfaceClosure closure = checkSurfaceClosure(cutter.triangles());
+    ASSERT_EQ(closure.open_edges, 0) << "sweep " << i;
+    ASSERT_EQ(closure.pinched_edges, 0) << "sweep " << i;
+    ASSERT_TRUE(cutter.restVertices().allFinite()) << "sweep " << i;
+    for (int v = 0; v < cutter.numVertices(); ++v) {
+      if (!cutter.vertexUsed(v)) continue;
+      ASSERT_GE(cutter.vertexIp(v), 0) << "sweep " << i << " vertex " << v;
+      cutter.mappingRow(v, p, w);
+      double sum = 0.0;
+      for (double x_w : w) sum += x_w;
+      ASSERT_NEAR(sum, 1.0, 1e-6) << "sweep " << i << " vertex " << v;
+    }
+  }
+  EXPECT_GT(cuts, 80);
+}
+
 /// Positions [m] of the cutter's vertices (its mapping rows) for particle positions x; free
 /// slots at 0.
 Eigen::Matrix3Xd mappedVertices(const EfgSurfaceCutter& cutter, const Eigen::VectorXd& x) {
