@@ -4,11 +4,13 @@ press moved to the liver's top: the tool goes as deep below the liver's top as t
 the palpation organ's (top z = 24 mm)."""
 import copy
 import sys
+import threading
 
 import rospy
 import rostest
 from visualization_msgs.msg import Marker
 
+from node_probe import wait_for_connection
 from palpation_rostest import PalpationTest
 
 BAG_ORGAN_TOP = 0.024  # [m] top of the palpation organ under the bag's press
@@ -20,11 +22,25 @@ class LiverEfgTest(PalpationTest):
     def setUpClass(cls):
         super().setUpClass()
         # One step with the tool far above publishes the surface (replays start with a reset).
+        # The subscription is connected first: the step publishes it at once, and a message
+        # published before the connection exists is lost.
+        surfaces = []
+        arrived = threading.Event()
+
+        def keep(msg):
+            surfaces.append(msg)
+            arrived.set()
+
+        subscriber = rospy.Subscriber("tissue/surface", Marker, keep, queue_size=1)
+        wait_for_connection("/tissue_simulator", "/tissue/surface", rospy.get_name())
         clear = copy.deepcopy(cls.poses[0])
         clear.pose.position.z = 1.0
         clear.header.stamp += rospy.Duration(2000.0)  # a stamp no replay uses
         cls.collector.send(clear)
-        surface = rospy.wait_for_message("tissue/surface", Marker, timeout=60.0)
+        if not arrived.wait(60.0):
+            raise AssertionError("no tissue/surface within 60 s of the step with the tool above")
+        subscriber.unregister()
+        surface = surfaces[-1]
         x0 = cls.poses[0].pose.position.x
         y0 = cls.poses[0].pose.position.y
         top = max(p.z for p in surface.points
