@@ -16,6 +16,8 @@ const char* toString(StepStatus status) {
       return "blow_up";
     case StepStatus::ContactLimited:
       return "contact_limited";
+    case StepStatus::CutRefused:
+      return "cut_refused";
   }
   return "unknown";
 }

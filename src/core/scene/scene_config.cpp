@@ -599,7 +599,7 @@ void readEfg(const KeyReader& scene, SceneBase& s) {
   if (!scene.has("efg")) return;
   const KeyReader r = scene.child("efg");
   r.onlyKeys({"spacing", "neighbours", "kernel_support", "volume_samples", "rotation",
-              "integration_point", "stabilization"});
+              "integration_point", "stabilization", "max_cut_triangles"});
   if (r.required("spacing").IsSequence()) {
     s.efg_spacings = r.numbers("spacing");
   } else {
@@ -618,6 +618,7 @@ void readEfg(const KeyReader& scene, SceneBase& s) {
   checkRange(r, "stabilization", s.efg.stabilization, 0.0, 1.0, "");
   if (r.has("integration_point"))
     s.efg.ip_at_centroid = r.choice("integration_point", {"centroid", "centre"}) == "centroid";
+  s.efg_max_cut_triangles = r.integer("max_cut_triangles", 100, 100000000, s.efg_max_cut_triangles);
 }
 
 /// The map `material` under `parent`.

@@ -1,5 +1,6 @@
 #include "surgical_sim/core/scene/tissue_simulation.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <future>
 #include <numeric>
@@ -28,7 +29,8 @@ bool isFailure(StepStatus s) {
 StepStatus combined(StepStatus integrator, StepStatus contact) {
   if (isFailure(integrator)) return integrator;
   if (isFailure(contact)) return contact;
-  for (const StepStatus s : {StepStatus::ContactLimited, StepStatus::NotConverged}) {
+  for (const StepStatus s :
+       {StepStatus::ContactLimited, StepStatus::CutRefused, StepStatus::NotConverged}) {
     if (integrator == s || contact == s) return s;
   }
   return StepStatus::Ok;
@@ -39,6 +41,23 @@ Eigen::Matrix3Xd vertexPositions(const SurfaceMapping& mapping, const Eigen::Vec
   Eigen::VectorXd flat;
   mapping.apply(x, flat);
   return Eigen::Map<const Eigen::Matrix3Xd>(flat.data(), 3, mapping.numSlots());
+}
+
+/// True when the box of `sweep` (start and end) meets that of the positions `start` and `end`
+/// [m] of the vertices `used`.
+bool sweepMeetsSurface(const BladeSweep& sweep, const std::vector<int>& used,
+                       const Eigen::Matrix3Xd& start, const Eigen::Matrix3Xd& end) {
+  Eigen::AlignedBox3d box;
+  for (int v : used) {
+    box.extend(start.col(v));
+    box.extend(end.col(v));
+  }
+  Eigen::AlignedBox3d blade;
+  for (Eigen::Index k = 0; k < sweep.start.cols(); ++k) {
+    blade.extend(sweep.start.col(k));
+    blade.extend(sweep.end.col(k));
+  }
+  return box.intersects(blade);
 }
 
 }  // namespace
@@ -119,6 +138,7 @@ void TissueSimulation::reset() {
   cutter_.reset();
   efg_cut_.reset();
   cut_error_.clear();
+  cut_status_ = StepStatus::Ok;
   pending_cuts_.clear();
   cut_faces_.clear();
   mesh_ = original_mesh_;
@@ -255,6 +275,16 @@ bool TissueSimulation::applyEfgCuts() {
     // Vertex motion over the last step with the mapping before this sweep.
     const Eigen::Matrix3Xd start = vertexPositions(mapping_, x_previous_);
     const Eigen::Matrix3Xd end = vertexPositions(mapping_, state_.x);
+    const int triangles = efg_cut_->surface.numTriangles();
+    if (!efg_cut_->surface.cutActive() && triangles >= scene_.efg_max_cut_triangles &&
+        sweepMeetsSurface(sweep, surface_.nodes, start, end)) {
+      cut_error_ = "cut refused: the cut surface has " + std::to_string(triangles) +
+                   " triangles, at its budget efg.max_cut_triangles = " +
+                   std::to_string(scene_.efg_max_cut_triangles) +
+                   "; no new cut starts (the sweep was not applied)";
+      cut_status_ = StepStatus::CutRefused;
+      continue;
+    }
     const EfgCutResult volume = efg_cut_->volume.cut(sweep, x_previous_, state_.x);
     const EfgParticleMotion motion{x_previous_, state_.x, volume.changed_ips};
     const EfgSurfaceCutStep surface = efg_cut_->surface.cut(sweep, start, end, &motion);
@@ -281,6 +311,7 @@ bool TissueSimulation::applyCuts() {
     } catch (const std::exception& e) {
       // The cutters keep a consistent model and surface after a rejected cut: follow them.
       cut_error_ = std::string("cut rejected: ") + e.what();
+      cut_status_ = StepStatus::SolverFailed;
       adoptEfgSurface();
       adoptEfgModel();
       if (!contact_settings_.tools.empty()) contact_ = makeContact(model_->restPositions());
@@ -322,6 +353,7 @@ SimulationStepStats TissueSimulation::step() {
   if (!pending_cuts_.empty()) {
     Stopwatch cut_watch;
     cut_error_.clear();
+    cut_status_ = StepStatus::Ok;
     stats.topology_changed = applyCuts();
     stats.cut_seconds = cut_watch.seconds();
   }
@@ -360,8 +392,7 @@ SimulationStepStats TissueSimulation::step() {
     restoreStart(time_previous);
     stats.report.status = StepStatus::NonFinite;
   }
-  if (!cut_error_.empty())
-    stats.report.status = combined(stats.report.status, StepStatus::SolverFailed);
+  if (!cut_error_.empty()) stats.report.status = combined(stats.report.status, cut_status_);
   mapping_.apply(state_.x, surface_x_);
   stats.step_seconds = step_watch.seconds();
   return stats;

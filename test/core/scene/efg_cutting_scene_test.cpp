@@ -4,6 +4,7 @@
 // blade that misses changes nothing.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -176,6 +177,77 @@ TEST(EfgCuttingScene, BladeThatMissesChangesNothing) {
   EXPECT_EQ(cut.model().lumpedMass().sum(), mass);
   EXPECT_EQ(cut.state().x, uncut.state().x);
   for (bool c : cut.cutFaces()) EXPECT_FALSE(c);
+}
+
+TEST(EfgCuttingScene, NoNewCutStartsOnceTheSurfaceIsAtItsBudget) {
+  // A budget just above the uncut surface: the first cut runs to its end (it started below the
+  // budget), then a second blade through the box is refused step by step, by name, changing
+  // nothing, while a blade away from the body still steps ok.
+  RuntimeScene scene = boxScene();
+  const int uncut = static_cast<int>(TissueSimulation(scene).surface().triangles.cols());
+  scene.efg_max_cut_triangles = uncut + 1;
+  TissueSimulation sim(scene);
+  for (int k = 0; k < 4; ++k) {
+    sim.requestCut(bladeDown(0.025 - 0.008 * k, 0.017 - 0.008 * k));
+    EXPECT_NE(sim.step().report.status, StepStatus::CutRefused) << sim.cutError();
+  }
+  ASSERT_EQ(sim.numComponents(), 2);
+  const Eigen::Index triangles = sim.surface().triangles.cols();
+  ASSERT_GT(triangles, uncut);
+  const double mass = sim.model().lumpedMass().sum();
+  for (int k = 0; k < 4; ++k) {
+    sim.requestCut(test::bladeDown(0.0151, 0.025 - 0.008 * k, 0.017 - 0.008 * k));
+    const SimulationStepStats s = sim.step();
+    EXPECT_EQ(s.report.status, StepStatus::CutRefused) << "step " << k;
+    EXPECT_FALSE(s.topology_changed);
+    EXPECT_NE(sim.cutError().find("efg.max_cut_triangles = " + std::to_string(uncut + 1)),
+              std::string::npos)
+        << sim.cutError();
+    EXPECT_NE(sim.cutError().find(std::to_string(triangles) + " triangles"), std::string::npos)
+        << sim.cutError();
+  }
+  EXPECT_EQ(sim.numComponents(), 2);
+  EXPECT_EQ(sim.surface().triangles.cols(), triangles);
+  EXPECT_EQ(sim.model().lumpedMass().sum(), mass);
+  ASSERT_TRUE(sim.state().x.allFinite());
+  sim.requestCut(bladeDown(0.5, 0.4));  // far above the box
+  const SimulationStepStats away = sim.step();
+  EXPECT_NE(away.report.status, StepStatus::CutRefused);
+  EXPECT_TRUE(sim.cutError().empty()) << sim.cutError();
+  EXPECT_STREQ(toString(StepStatus::CutRefused), "cut_refused");
+}
+
+TEST(EfgCuttingScene, AStarOfCracksThroughOnePointStaysWithinTheBudget) {
+  // Cracks through one point of the top face at golden angles, each entering the top and ending
+  // under it within one step, refine the surface around that point more with every cut. With a
+  // budget, the cuts stop starting once it is reached: the surface stays closed and bounded, and
+  // every step is ok or says why it did not cut.
+  RuntimeScene scene = boxScene();
+  scene.efg_max_cut_triangles = 2000;  // reached after about 40 cuts
+  scene.gravity.setZero();
+  TissueSimulation sim(scene);
+  const Eigen::Vector3d centre(0.021, 0.0101, kHeight);
+  int refused = 0, largest = 0;
+  for (int k = 0; k < 60; ++k) {
+    const double angle = 2.399963 * k;
+    const Eigen::Vector3d half = 0.015 * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0.0);
+    BladeSweep sweep;
+    sweep.start.resize(3, 2);
+    sweep.start << centre - half, centre + half;
+    sweep.start.row(2).array() += 0.001;
+    sweep.end = sweep.start;
+    sweep.end.row(2).array() -= 0.002;
+    sim.requestCut(sweep);
+    const StepStatus status = sim.step().report.status;
+    refused += status == StepStatus::CutRefused;
+    EXPECT_TRUE(status == StepStatus::Ok || status == StepStatus::CutRefused) << toString(status);
+    largest = std::max(largest, static_cast<int>(sim.surface().triangles.cols()));
+  }
+  EXPECT_GT(refused, 10);
+  EXPECT_LT(largest, 2 * scene.efg_max_cut_triangles);
+  const SurfaceClosure closure = checkSurfaceClosure(sim.surface().triangles);
+  EXPECT_EQ(closure.open_edges, 0);
+  EXPECT_EQ(closure.pinched_edges, 0);
 }
 
 TEST(EfgCuttingScene, ResetRestoresTheUncutBody) {

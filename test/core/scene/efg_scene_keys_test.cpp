@@ -54,6 +54,10 @@ TEST(EfgSceneKeys, ParsedWithDefaults) {
   const BenchmarkScene per_resolution = parseBenchmarkScene(
       replaced(kEfgBench, "spacing: 0.0025", "spacing: [0.005, 0.0025]"), "efg.yaml");
   EXPECT_EQ(per_resolution.efg_spacings, (std::vector<double>{0.005, 0.0025}));
+  EXPECT_EQ(d.efg_max_cut_triangles, 1000000);
+  const BenchmarkScene budget = parseBenchmarkScene(
+      replaced(kEfgBench, "rotation: polar", "max_cut_triangles: 5000"), "efg.yaml");
+  EXPECT_EQ(budget.efg_max_cut_triangles, 5000);
 }
 
 TEST(EfgSceneKeys, EveryKeyRejectsBadValuesNamingIt) {
@@ -78,6 +82,12 @@ TEST(EfgSceneKeys, EveryKeyRejectsBadValuesNamingIt) {
                  {"efg.stabilization", "[0, 1]"});
   expectRejected(replaced(kEfgBench, "rotation: polar", "stabilization: -0.1"),
                  {"efg.stabilization"});
+  expectRejected(replaced(kEfgBench, "rotation: polar", "max_cut_triangles: 99"),
+                 {"efg.max_cut_triangles"});
+  expectRejected(replaced(kEfgBench, "rotation: polar", "max_cut_triangles: 2.5e8"),
+                 {"efg.max_cut_triangles"});
+  expectRejected(replaced(kEfgBench, "rotation: polar", "max_cut_triangles: many"),
+                 {"efg.max_cut_triangles"});
   expectRejected(replaced(kEfgBench, "rotation: polar", "rotation: polar\n  grid: 3"),
                  {"efg", "grid"});
   // Model efg without the efg map.

@@ -14,6 +14,10 @@ enum class StepStatus {
   /// A tool's contact or grasp force reached its limit (ToolSpec::max_force): the force was
   /// capped (a grasp slipped); the state is finite and bounded but the tool pose is not honoured.
   ContactLimited,
+  /// A blade sweep was not applied because the cut would pass a limit (the meshless cut
+  /// surface's triangle budget): nothing was cut along it, and the state, model and surface are
+  /// consistent and as before the sweep.
+  CutRefused,
 };
 
 /// Lower-case name of a status, e.g. "not_converged".

@@ -211,6 +211,9 @@ struct SceneBase {
   EfgOptions efg;
   /// efg.spacing [m]: empty without an 'efg' key; a benchmark file may give one per resolution.
   std::vector<double> efg_spacings;
+  /// efg.max_cut_triangles [-]: no new cut starts on a meshless body whose cut surface has
+  /// this many triangles (the step reports CutRefused); range [100, 1e8].
+  int efg_max_cut_triangles = 1000000;
 };
 
 /// The simulation a node runs: one mesh resolution, element type, model, integrator and solver,

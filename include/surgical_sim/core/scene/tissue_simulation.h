@@ -80,12 +80,15 @@ class TissueSimulation {
   /// conditions (particles no IP with volume uses any more are fixed where they are) and the
   /// contact structures are rebuilt and the solver re-analyses. A sweep a cutter rejects (it
   /// throws) keeps the positions and velocities, the model, surface and mapping follow what the
-  /// cutters kept, and the step reports SolverFailed (cutError() says why).
+  /// cutters kept, and the step reports SolverFailed (cutError() says why). On an efg body whose
+  /// cut surface has scene().efg_max_cut_triangles triangles, a sweep that would start a new cut
+  /// (its box meets the surface's) is not applied and the step reports CutRefused (cutError()
+  /// says why); a running cut goes on to its end.
   /// @throws std::invalid_argument for an invalid sweep or a tet scene mesh that is not tet4.
   void requestCut(const BladeSweep& sweep);
   /// Connected pieces of the tissue holding material (1 before any cut).
   int numComponents() const;
-  /// Why the last step's cut failed (empty if it did not).
+  /// Why the last step's cut failed or was refused (empty if it was not).
   const std::string& cutError() const { return cut_error_; }
   /// Per surface triangle: true on a cut (empty before any cut request; all false after an efg
   /// request that has not cut yet).
@@ -172,6 +175,7 @@ class TissueSimulation {
   std::unique_ptr<EfgCutting> efg_cut_;
   int efg_original_vertices_ = 0;  ///< surface vertices before any efg cut (cut faces: the rest)
   std::string cut_error_;
+  StepStatus cut_status_ = StepStatus::Ok;  ///< with a cut_error_: SolverFailed or CutRefused
   std::vector<BladeSweep> pending_cuts_;
   Eigen::VectorXd x_previous_;  ///< positions at the start of the last step [m]
   Eigen::VectorXd v_previous_;  ///< velocities at the start of the last step [m/s]
