@@ -2,14 +2,15 @@
 """Plots the meshless (EFG) cutting benchmark (cutting_bench --efg) CSVs of a report directory.
 
 usage: plot_efg_cutting.py DIR
-Reads those of DIR/efg_cut_update.csv, DIR/efg_cut_progressive.csv, DIR/efg_cut_independence.csv
-and DIR/cutting_t3c.csv that exist and writes DIR/efg_cut_update.png (crossing detection and
-topology update per blade sweep that cut, ~20k IPs, for the scalpel and the spanning blade),
-DIR/efg_cut_progressive.png (cut update and implicit step time per sweep over the progressive
-cuts, raw and as a moving mean over 50 sweeps), DIR/efg_cut_independence.png (cut update of the
-same probe sweeps on a fresh body and on one cut elsewhere before) and DIR/cutting_t3c.png (T3(c)
-tip error of the cut beams against the fine duplicated-node reference, against ms per step, per
-cutter and load).
+Reads those of DIR/efg_cut_update.csv, DIR/efg_cut_progressive.csv, DIR/efg_cut_independence.csv,
+DIR/efg_cut_node.csv and DIR/cutting_t3c.csv that exist and writes DIR/efg_cut_update.png
+(crossing detection and topology update per blade sweep that cut, ~20k IPs, for the scalpel and
+the spanning blade), DIR/efg_cut_progressive.png (cut update and implicit step time per sweep
+over the progressive cuts, raw and as a moving mean over 50 sweeps), DIR/efg_cut_independence.png
+(cut update of the same probe sweeps on a fresh body and on one cut elsewhere before),
+DIR/efg_cut_node.png (step and cut time per step of the node's path) and DIR/cutting_t3c.png
+(T3(c) tip error of the cut beams against the fine duplicated-node reference, against ms per
+step, per cutter and load).
 """
 import csv
 import os
@@ -119,6 +120,18 @@ def plot_t3c(d):
            "T3(c) hexagonal beam cut through half the width at mid-length")
 
 
+def plot_node(d):
+    data = rows(os.path.join(d, "efg_cut_node.csv"))
+    fig, ax = plt.subplots(figsize=(7.5, 5))
+    index = [int(r["step"]) for r in data]
+    for key, label, style in (("step_ms", "step", "-"), ("cut_ms", "cut (in the step)", ".")):
+        ax.plot(index, [float(r[key]) for r in data], style, label=label)
+    title = "EFG cutting in the node's path (liver_efg.yaml)"
+    if data:
+        title += ": %s -> %s triangles" % (data[0]["triangles"], data[-1]["triangles"])
+    finish(fig, ax, d, "efg_cut_node.png", "step", "time [ms]", title)
+
+
 def main():
     if len(sys.argv) != 2:
         print(__doc__)
@@ -127,6 +140,7 @@ def main():
     for name, plot in (("efg_cut_update.csv", plot_update),
                        ("efg_cut_progressive.csv", plot_progressive),
                        ("efg_cut_independence.csv", plot_independence),
+                       ("efg_cut_node.csv", plot_node),
                        ("cutting_t3c.csv", plot_t3c)):
         if os.path.exists(os.path.join(d, name)):
             plot(d)

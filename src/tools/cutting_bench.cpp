@@ -31,6 +31,9 @@
 //                            one that first took N cuts (--background) in its other half: the
 //                            phase times of each (column body: fresh, after)
 //   cutting_t3c.csv          as above
+//   efg_cut_node.csv         per step of the node's path (TissueSimulation) on
+//                            config/scenes/liver_efg.yaml: 10 scalpel cuts between settled
+//                            steps; step, cut and integration times [ms], triangles, pieces
 //   efg_cut_fuzz.csv         the EFG fuzz campaign (N random sweeps, both cutters)
 //   efg_cut_*.png            plots (scripts/plot_efg_cutting.py) unless --no-plot
 // Prints a summary. Exit code 1 if the fuzz campaign fails.
@@ -470,6 +473,61 @@ bool efgFuzz(const std::string& dir, int sweeps) {
   return r.failure.empty();
 }
 
+/// The node's path (TissueSimulation, as tissue_simulator runs it) on config/scenes/liver_efg.yaml
+/// (20,480-triangle surface; its tool posed 20 cm above, touching nothing): 40 steps to settle,
+/// 10 parallel scalpel cuts (a 6 cm blade along x descending 6 mm a step from 6 cm above the
+/// organ's centre to its clamp, 12 steps each), then 20 steps. Per step: step, cut (both cutters,
+/// surface and mapping adoption, model and contact update) and integration times.
+void efgNode(const std::string& dir) {
+  surgical_sim::tools::progress("cutting_bench", "EFG node path, liver_efg.yaml");
+  ss::TissueSimulation sim(
+      ss::loadRuntimeScene(surgical_sim::tools::configDir() + "/scenes/liver_efg.yaml"));
+  Eigen::Isometry3d above = Eigen::Isometry3d::Identity();
+  above.translation().z() = 0.2;
+  for (int t = 0; t < sim.numTools(); ++t) sim.setToolPose(t, above);
+  FILE* csv = openCsv(dir, "efg_cut_node.csv",
+                      "step,phase,topology_changed,step_ms,cut_ms,integrate_ms,triangles,pieces,"
+                      "status");
+  const int triangles = static_cast<int>(sim.surface().triangles.cols());
+  std::vector<double> settled, cutting, cut;
+  int step = 0, not_ok = 0;
+  const auto run = [&](const char* phase, const ss::BladeSweep* sweep) {
+    if (sweep) sim.requestCut(*sweep);
+    const ss::SimulationStepStats st = sim.step();
+    not_ok += st.report.status != ss::StepStatus::Ok;
+    if (std::string(phase) == "settle" && step >= 20) settled.push_back(1e3 * st.step_seconds);
+    if (st.topology_changed) {
+      cutting.push_back(1e3 * st.step_seconds);
+      cut.push_back(1e3 * st.cut_seconds);
+    }
+    std::fprintf(csv, "%d,%s,%d,%.4f,%.4f,%.4f,%ld,%d,%s\n", step++, phase,
+                 st.topology_changed ? 1 : 0, 1e3 * st.step_seconds, 1e3 * st.cut_seconds,
+                 1e3 * st.integrate_seconds, static_cast<long>(sim.surface().triangles.cols()),
+                 sim.numComponents(), ss::toString(st.report.status));
+  };
+  for (int k = 0; k < 40; ++k) run("settle", nullptr);
+  for (int c = 0; c < 10; ++c) {
+    const double y = -0.04 + 0.009 * c + 0.0003;  // off the particle grid planes
+    for (int k = 0; k < 12; ++k) {
+      ss::BladeSweep sweep;
+      sweep.start.resize(3, 2);
+      const double z0 = 0.06 - 0.006 * k;
+      sweep.start << -0.03, 0.03, y, y, z0, z0;
+      sweep.end = sweep.start;
+      sweep.end.row(2).setConstant(z0 - 0.006);
+      run("cut", &sweep);
+    }
+  }
+  for (int k = 0; k < 20; ++k) run("after", nullptr);
+  std::fclose(csv);
+  std::printf(
+      "efg node   liver_efg.yaml: settled step %.2f ms; %zu steps that cut: step %.2f ms, of "
+      "which cut %.2f ms; %d -> %ld triangles, %d steps not ok\n",
+      mean(settled, 0, settled.size()), cutting.size(), mean(cutting, 0, cutting.size()),
+      mean(cut, 0, cut.size()), triangles, static_cast<long>(sim.surface().triangles.cols()),
+      not_ok);
+}
+
 /// Probe cuts per body of the independence run (10 sweeps each).
 constexpr int kProbeCuts = 20;
 
@@ -526,7 +584,7 @@ constexpr const char* kUsage =
     "  --efg       the meshless (EFG) cutters on the liver-like body: cut-update phase times,\n"
     "              progressive cuts with implicit steps, independence from earlier cuts, T3(c),\n"
     "              fuzz\n"
-    "  --only PART with --efg: only update, progressive, independence, t3c or fuzz\n"
+    "  --only PART with --efg: only update, progressive, independence, t3c, node or fuzz\n"
     "  --out DIR   output folder, created if missing (default ./report)\n"
     "  --fuzz N    random sweeps of the fuzz campaign, >= 1 (default 1000)\n"
     "  --cuts N    progressive cuts of --efg, >= 1 (default 1000)\n"
@@ -585,10 +643,11 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  if (!only.empty() && (!efg || (only != "update" && only != "progressive" &&
-                                 only != "independence" && only != "t3c" && only != "fuzz"))) {
+  if (!only.empty() &&
+      (!efg || (only != "update" && only != "progressive" && only != "independence" &&
+                only != "t3c" && only != "node" && only != "fuzz"))) {
     std::cerr << "cutting_bench: --only " << only
-              << " needs --efg and one of update, progressive, independence, t3c, fuzz\n";
+              << " needs --efg and one of update, progressive, independence, t3c, node, fuzz\n";
     return 2;
   }
   if (!steps && (!efg || (!only.empty() && only != "progressive"))) {
@@ -611,6 +670,7 @@ int main(int argc, char** argv) {
       if (runs("progressive")) efgProgressive(dir, cuts, solver, steps);
       if (runs("independence")) efgIndependence(dir, background);
       if (runs("t3c")) t3c(dir);
+      if (runs("node")) efgNode(dir);
       const bool ok = !runs("fuzz") || efgFuzz(dir, sweeps);
       if (plot) surgical_sim::tools::runPlotScript("cutting_bench", "plot_efg_cutting.py", {dir});
       return ok ? 0 : 1;

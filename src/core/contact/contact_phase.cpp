@@ -64,7 +64,8 @@ int checkedToolCount(const ContactPhaseSettings& settings) {
 ContactPhase::ContactPhase(const SurfaceMesh& surface, SurfaceMapping mapping,
                            const Eigen::VectorXd& rest, const ContactPhaseSettings& settings,
                            bool update_velocity)
-    : triangles_(surface.triangles),
+    : settings_(settings),
+      triangles_(surface.triangles),
       mapping_(std::move(mapping)),
       surface_x_(mappedRest(mapping_, rest)),
       update_velocity_(update_velocity),
@@ -72,7 +73,17 @@ ContactPhase::ContactPhase(const SurfaceMesh& surface, SurfaceMapping mapping,
            kFatMarginPerEdge * meanEdgeLength(surface.triangles, surface_x_)),
       detector_(settings.detector),
       solver_(settings.solver, checkedToolCount(settings) * settings.detector.max_contacts,
-              toolCouplings(settings)) {
+              toolCouplings(settings)),
+      tools_(makeTools(settings)) {
+  contacts_.reserve(static_cast<size_t>(numTools() * settings.detector.max_contacts));
+  fixed_mask_.assign(static_cast<size_t>(rest.size()), 0);
+  applied_force_.setZero(rest.size());
+  proxy_force_.setZero(rest.size());
+  internal_force_.setZero(rest.size());
+}
+
+std::vector<ContactPhase::Tool> ContactPhase::makeTools(const ContactPhaseSettings& settings) {
+  std::vector<Tool> tools;
   for (const ToolSettings& tool : settings.tools) {
     Tool entry{
         ToolCapsule(tool.radius, tool.shaft_length),
@@ -87,13 +98,40 @@ ContactPhase::ContactPhase(const SurfaceMesh& surface, SurfaceMapping mapping,
     if (tool.response == ContactResponse::Proxy) {
       entry.proxy.emplace(tool.proxy_stiffness, tool.max_force);
     }
-    tools_.push_back(std::move(entry));
+    tools.push_back(std::move(entry));
   }
-  contacts_.reserve(static_cast<size_t>(numTools() * settings.detector.max_contacts));
-  fixed_mask_.assign(static_cast<size_t>(rest.size()), 0);
-  applied_force_.setZero(rest.size());
-  proxy_force_.setZero(rest.size());
-  internal_force_.setZero(rest.size());
+  return tools;
+}
+
+void ContactPhase::setSurface(const SurfaceMesh& surface, SurfaceMapping mapping,
+                              const Eigen::VectorXd& x) {
+  if (mapping.numNodes() != mapping_.numNodes()) {
+    throw std::invalid_argument("contact.mapping: " + std::to_string(mapping.numNodes()) +
+                                " model nodes, the contact phase has " +
+                                std::to_string(mapping_.numNodes()));
+  }
+  if (x.size() != 3 * mapping.numNodes()) {
+    throw std::invalid_argument("contact.x: " + std::to_string(x.size()) +
+                                " coordinates for a surface mapping of " +
+                                std::to_string(mapping.numNodes()) + " model nodes");
+  }
+  Eigen::VectorXd surface_x;
+  mapping.apply(x, surface_x);
+  bvh_.setTriangles(surface.triangles, surface_x);
+  triangles_ = surface.triangles;
+  mapping_ = std::move(mapping);
+  surface_x_ = std::move(surface_x);
+  solver_ = ContactSolver(settings_.solver, numTools() * settings_.detector.max_contacts,
+                          toolCouplings(settings_));
+  std::vector<Tool> tools = makeTools(settings_);
+  for (std::size_t t = 0; t < tools.size(); ++t) {
+    tools[t].capsule = tools_[t].capsule;
+    tools[t].posed = tools_[t].posed;
+  }
+  tools_ = std::move(tools);
+  contacts_.clear();
+  applied_force_.setZero();
+  proxy_force_.setZero();
 }
 
 bool ContactPhase::setToolPose(int tool, const Eigen::Isometry3d& X_ST) {

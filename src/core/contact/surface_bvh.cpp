@@ -2,11 +2,14 @@
 
 #include <BulletCollision/BroadphaseCollision/btDbvt.h>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
+#include <utility>
 
 #include "surgical_sim/core/common/validate.h"
 
@@ -38,6 +41,29 @@ btDbvtVolume fatVolume(const Eigen::AlignedBox3d& box, double margin) {
   return btDbvtVolume::FromMM(lower, upper);
 }
 
+using TriangleKey = std::array<int, 3>;
+
+TriangleKey key(const Eigen::Matrix3Xi& triangles, int i) {
+  return {triangles(0, i), triangles(1, i), triangles(2, i)};
+}
+
+struct TriangleKeyHash {
+  std::size_t operator()(const TriangleKey& k) const {
+    std::uint64_t h = 1469598103934665603ULL;  // FNV-1a over the three indices
+    for (const int v : k) h = (h ^ static_cast<std::uint32_t>(v)) * 1099511628211ULL;
+    return static_cast<std::size_t>(h);
+  }
+};
+
+/// @throws std::invalid_argument naming "bvh.triangles" for an index outside [0, x.size() / 3)
+void checkIndices(const Eigen::Matrix3Xi& triangles, const Eigen::VectorXd& x) {
+  const auto nodes = static_cast<int>(x.size() / 3);
+  if (triangles.size() > 0 && (triangles.minCoeff() < 0 || triangles.maxCoeff() >= nodes)) {
+    throw std::invalid_argument("bvh.triangles: node index out of range [0, " +
+                                std::to_string(nodes) + ")");
+  }
+}
+
 }  // namespace
 
 /// Traversal stack and policy collecting leaves whose tight box overlaps the query box.
@@ -56,22 +82,52 @@ SurfaceBvh::SurfaceBvh(const Eigen::Matrix3Xi& triangles, const Eigen::VectorXd&
                        double fat_margin)
     : triangles_(triangles), fat_margin_(fat_margin), tree_(std::make_unique<btDbvt>()) {
   requireNonNegative("bvh.fat_margin", fat_margin, "m");
-  const auto nodes = static_cast<int>(x.size() / 3);
-  if (triangles.size() > 0 && (triangles.minCoeff() < 0 || triangles.maxCoeff() >= nodes)) {
-    throw std::invalid_argument("bvh.triangles: node index out of range [0, " +
-                                std::to_string(nodes) + ")");
-  }
+  checkIndices(triangles, x);
   const auto count = static_cast<size_t>(triangles.cols());
   boxes_.resize(count);
   leaves_.resize(count);
   traversal_ = std::make_unique<Traversal>();
   for (int i = 0; i < static_cast<int>(count); ++i) {
     computeTightBox(i, x);
-    leaves_[static_cast<size_t>(i)] =
-        tree_->insert(fatVolume(boxes_[static_cast<size_t>(i)], fat_margin_),
-                      reinterpret_cast<void*>(static_cast<std::intptr_t>(i)));
+    insertLeaf(i);
   }
   tree_->optimizeTopDown(kBottomUpLeaves);
+}
+
+void SurfaceBvh::insertLeaf(int i) {
+  leaves_[static_cast<size_t>(i)] =
+      tree_->insert(fatVolume(boxes_[static_cast<size_t>(i)], fat_margin_),
+                    reinterpret_cast<void*>(static_cast<std::intptr_t>(i)));
+}
+
+void SurfaceBvh::setTriangles(const Eigen::Matrix3Xi& triangles, const Eigen::VectorXd& x) {
+  checkIndices(triangles, x);
+  std::unordered_map<TriangleKey, int, TriangleKeyHash> old;  // vertices -> old index
+  old.reserve(static_cast<size_t>(triangles_.cols()));
+  std::vector<btDbvtNode*> stale;  // leaves of repeated triangles
+  for (int i = 0; i < numTriangles(); ++i)
+    if (!old.emplace(key(triangles_, i), i).second)
+      stale.push_back(leaves_[static_cast<size_t>(i)]);
+  triangles_ = triangles;
+  const auto count = static_cast<size_t>(triangles.cols());
+  std::vector<btDbvtNode*> leaves(count, nullptr);
+  boxes_.resize(count);
+  for (int i = 0; i < static_cast<int>(count); ++i) {
+    computeTightBox(i, x);
+    const auto found = old.find(key(triangles_, i));
+    if (found == old.end()) continue;
+    btDbvtNode* leaf = leaves_[static_cast<size_t>(found->second)];
+    old.erase(found);
+    leaf->data = reinterpret_cast<void*>(static_cast<std::intptr_t>(i));
+    btDbvtVolume volume = fatVolume(boxes_[static_cast<size_t>(i)], 0.0);
+    tree_->update(leaf, volume, static_cast<btScalar>(fat_margin_));
+    leaves[static_cast<size_t>(i)] = leaf;
+  }
+  for (const auto& entry : old) stale.push_back(leaves_[static_cast<size_t>(entry.second)]);
+  for (btDbvtNode* leaf : stale) tree_->remove(leaf);
+  leaves_ = std::move(leaves);
+  for (int i = 0; i < static_cast<int>(count); ++i)
+    if (!leaves_[static_cast<size_t>(i)]) insertLeaf(i);
 }
 
 SurfaceBvh::~SurfaceBvh() = default;

@@ -299,7 +299,8 @@ bool TissueSimulation::applyEfgCuts() {
   }
   if (model_changed) adoptEfgModel();
   const bool changed = surface_changed || model_changed;
-  if (changed && !contact_settings_.tools.empty()) contact_ = makeContact(model_->restPositions());
+  // The contact phase follows the new surface; its BVH keeps the unchanged triangles' leaves.
+  if (changed && contact_) contact_->setSurface(surface_, mapping_, state_.x);
   return changed;
 }
 

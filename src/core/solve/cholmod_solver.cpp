@@ -57,7 +57,7 @@ void CholmodSolver::analyzePattern(const Eigen::SparseMatrix<double>& A) {
   analyzeWithOrdering(A, nullptr);
 }
 
-void CholmodSolver::reanalyzeChangedPattern(const Eigen::SparseMatrix<double>& A) {
+void CholmodSolver::analyzeChangedPattern(const Eigen::SparseMatrix<double>& A) {
   if (factor_ == nullptr || static_cast<Eigen::Index>(factor_->n) != A.rows() ||
       A.rows() != A.cols()) {
     analyzePattern(A);

@@ -32,18 +32,22 @@ void ImplicitIntegratorBase::modelChanged() {
 void ImplicitIntegratorBase::setUp(const TissueModel& model) {
   const Eigen::Index size = model.stiffnessPattern().rows();
   model_ = &model;
-  adoptPattern(model);
+  adoptPattern(model, false);
   mask_.assign(static_cast<size_t>(size), 0);
   x0_.setZero(size);
   v0_.setZero(size);
   resizeWorkspace(size);
 }
 
-void ImplicitIntegratorBase::adoptPattern(const TissueModel& model) {
+void ImplicitIntegratorBase::adoptPattern(const TissueModel& model, bool changed) {
   stiffness_ = model.stiffnessPattern();
   stiffness_.makeCompressed();
   system_.setPattern(stiffness_);
-  solver_->analyzePattern(system_.matrix());
+  if (changed) {
+    solver_->analyzeChangedPattern(system_.matrix());
+  } else {
+    solver_->analyzePattern(system_.matrix());
+  }
   patternAdopted();
 }
 
@@ -59,7 +63,7 @@ bool ImplicitIntegratorBase::beginStep(const DynamicsProblem& problem, double dt
   if (model_ != &model || pattern.rows() != stiffness_.rows()) {
     setUp(model);
   } else if (model_changed_) {
-    if (!samePattern(pattern, stiffness_)) adoptPattern(model);
+    if (!samePattern(pattern, stiffness_)) adoptPattern(model, true);
   } else if (!system_.matchesPattern(pattern)) {
     setUp(model);
   }

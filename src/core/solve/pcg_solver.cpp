@@ -182,7 +182,7 @@ bool PcgSolver::refreshDue() {
 
 void PcgSolver::refactorizeCholesky(bool rotations) {
   if (stale_pattern_ || cholesky_.analysedMatrix().rows() != matrix_.rows()) {
-    cholesky_.reanalyzeChangedPattern(matrix_);
+    cholesky_.analyzeChangedPattern(matrix_);
     ++cholesky_analyses_;
     stale_pattern_ = false;
     local_.setUnknowns(matrix_, {});

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -325,6 +326,60 @@ TEST(ContactPhase, GraspMovesAttachedNodesWithTheTool) {
   p.contact->setGrasp(0, false);
   ASSERT_EQ(p.step(Palpation::pose(-0.01)), StepStatus::Ok);
   EXPECT_EQ(p.problem.dirichlet.dofs.size(), p.base_bc.dofs.size());
+}
+
+TEST(ContactPhase, NewSurfaceActsAsAFreshPhaseWithThePosesKept) {
+  // A cut's new surface (here: the top face's triangles kept, the others given in another
+  // order, a few dropped) on a pressed box: setSurface gives what a phase built anew on it
+  // gives, step for step, without setting the pose again; the jaws let go.
+  Palpation kept(ContactResponse::Constraint, "implicit_euler_linearized");
+  Palpation fresh(ContactResponse::Constraint, "implicit_euler_linearized");
+  for (int s = 1; s <= 5; ++s) {
+    ASSERT_EQ(kept.step(Palpation::pose(4e-4 * s)), StepStatus::Ok);
+    ASSERT_EQ(fresh.step(Palpation::pose(4e-4 * s)), StepStatus::Ok);
+  }
+  kept.contact->setGrasp(0, true);
+  ASSERT_EQ(kept.step(Palpation::pose(2e-3)), StepStatus::Ok);
+  ASSERT_GT(kept.problem.dirichlet.dofs.size(), kept.base_bc.dofs.size());
+  fresh.state = kept.state;
+  SurfaceMesh cut = kept.surface;
+  std::vector<Eigen::Index> top, other;
+  for (Eigen::Index t = 0; t < cut.triangles.cols(); ++t) {
+    bool on_top = true;
+    for (int k = 0; k < 3; ++k)
+      on_top =
+          on_top && kept.mesh.nodes(2, kept.surface.nodes[cut.triangles(k, t)]) > kHeight - 1e-9;
+    (on_top ? top : other).push_back(t);
+  }
+  std::reverse(other.begin(), other.end());
+  other.resize(other.size() - 5);
+  Eigen::Matrix3Xi triangles(3, static_cast<Eigen::Index>(top.size() + other.size()));
+  Eigen::Index column = 0;
+  for (const auto& part : {other, top})
+    for (const Eigen::Index t : part) triangles.col(column++) = kept.surface.triangles.col(t);
+  cut.triangles = triangles;
+  const SurfaceMapping mapping = SurfaceMapping::selection(kept.mesh.numNodes(), cut.nodes);
+  EXPECT_THROW(kept.contact->setSurface(cut, mapping, Eigen::VectorXd::Zero(6)),
+               std::invalid_argument);
+  kept.contact->setSurface(cut, mapping, kept.state.x);
+  fresh.contact = std::make_unique<ContactPhase>(cut, mapping, fresh.model->restPositions(),
+                                                 fresh.settings, true);
+  fresh.contact->setToolPose(0, Palpation::pose(2e-3));
+  for (int s = 0; s < 4; ++s) {
+    for (Palpation* p : {&kept, &fresh}) {
+      p->contact->prepareStep(p->state.x, p->base_force, p->base_bc, p->problem.external_force,
+                              p->problem.dirichlet);
+      EXPECT_EQ(p->problem.dirichlet.dofs.size(), p->base_bc.dofs.size());  // released
+      ASSERT_EQ(p->integrator->step(p->problem, 0.01, p->state).status, StepStatus::Ok);
+      ASSERT_EQ(p->contact->finishStep(*p->integrator, *p->model, 0.01, p->state), StepStatus::Ok);
+    }
+    ASSERT_TRUE(kept.contact->linearization(0).in_contact) << "step " << s;
+    EXPECT_EQ(kept.contact->contacts().size(), fresh.contact->contacts().size()) << "step " << s;
+    EXPECT_LT((kept.state.x - fresh.state.x).norm(), 1e-12 * fresh.state.x.norm()) << "step " << s;
+    EXPECT_LT((kept.contact->linearization(0).f0_S - fresh.contact->linearization(0).f0_S).norm(),
+              1e-9 * fresh.contact->linearization(0).f0_S.norm())
+        << "step " << s;
+  }
 }
 
 TEST(ContactPhase, JawsClosedOnNothingStillCollide) {

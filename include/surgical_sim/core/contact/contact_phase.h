@@ -93,6 +93,15 @@ class ContactPhase {
   ContactPhase(const SurfaceMesh& surface, SurfaceMapping mapping, const Eigen::VectorXd& rest,
                const ContactPhaseSettings& settings, bool update_velocity);
 
+  /// A cut changed the surface and its mapping onto the same model nodes: afterwards the phase
+  /// is as a new one on them (grasps released, proxies, carried force and contacts cleared), with
+  /// the tool poses kept. The BVH keeps the leaves of the unchanged triangles
+  /// (SurfaceBvh::setTriangles at the vertex positions of model positions x [m]) instead of being
+  /// built anew.
+  /// @throws std::invalid_argument when mapping has another node count or x another size
+  ///         ("contact.mapping", "contact.x"), or for a triangle index out of range
+  ///         ("bvh.triangles"); nothing changes then
+  void setSurface(const SurfaceMesh& surface, SurfaceMapping mapping, const Eigen::VectorXd& x);
   int numTools() const { return static_cast<int>(tools_.size()); }
   /// Sets tool `tool`'s tip pose X_ST. Returns false (pose kept) for a bad index or NaN/Inf.
   /// A tool whose pose was never set touches and grasps nothing.
@@ -147,6 +156,10 @@ class ContactPhase {
     bool grasping() const { return grasp && grasp->active(); }
   };
 
+  /// The tools as the settings give them: no pose, jaws open, no proxy contact.
+  static std::vector<Tool> makeTools(const ContactPhaseSettings& settings);
+
+  ContactPhaseSettings settings_;
   Eigen::Matrix3Xi triangles_;
   SurfaceMapping mapping_;
   Eigen::VectorXd surface_x_;  ///< vertex positions [m], 3 mapping_.numSlots()

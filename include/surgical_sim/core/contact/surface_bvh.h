@@ -36,6 +36,14 @@ class SurfaceBvh {
   /// Allocation-free (btDbvt reuses its freed node). Never throws.
   void refit(const Eigen::VectorXd& x);
 
+  /// Replaces the triangles (a surface changed by a cut) with positions x [m] (size 3n, in S):
+  /// a triangle whose vertices (in order) were a triangle before keeps its leaf, refitted to x;
+  /// the others' leaves are removed and the new ones inserted, so the tree is not rebuilt. The
+  /// fat margin stays. O(t) hashing plus O(log t) per changed triangle.
+  /// @throws std::invalid_argument naming "bvh.triangles" for an index out of range (nothing
+  ///         changes then)
+  void setTriangles(const Eigen::Matrix3Xi& triangles, const Eigen::VectorXd& x);
+
   /// Writes into out (cleared first; keeps its capacity) the indices of the triangles whose tight
   /// box overlaps box [m] (in S), in no particular order. Allocation-free once out and the
   /// traversal stack have grown to their working sizes. Never throws.
@@ -48,6 +56,8 @@ class SurfaceBvh {
  private:
   struct Traversal;
   void computeTightBox(int i, const Eigen::VectorXd& x);
+  /// Inserts the leaf of triangle i from its tight box (computeTightBox first).
+  void insertLeaf(int i);
 
   Eigen::Matrix3Xi triangles_;
   double fat_margin_;

@@ -57,9 +57,9 @@ class CholmodSolver final : public LinearSolver {
   /// analysis's cost, stays good). Orders afresh without a current analysis of the same size, or
   /// when the kept ordering's factor entries per matrix entry exceed kMaxKeptOrderingFill times
   /// those of the last fresh ordering.
-  void reanalyzeChangedPattern(const Eigen::SparseMatrix<double>& A);
+  void analyzeChangedPattern(const Eigen::SparseMatrix<double>& A) override;
   /// Factor fill growth (entries of L per entry of A, relative to the last fresh ordering) up to
-  /// which reanalyzeChangedPattern() keeps the ordering. On the progressive EFG scalpel cuts a
+  /// which analyzeChangedPattern() keeps the ordering. On the progressive EFG scalpel cuts a
   /// kept ordering fills 1.0-1.4 times as much; 1.1 gave the fastest steps (1.2: more fill costs
   /// more than the orderings it saves).
   static constexpr double kMaxKeptOrderingFill = 1.1;

@@ -79,9 +79,10 @@ class ImplicitIntegratorBase : public Integrator {
 
  private:
   void setUp(const TissueModel& model);
-  /// The model's new pattern of the set-up's size: stiffness_, system_ and the solver's analysis
-  /// (which may keep its factor); buffers and the Dirichlet mask stay.
-  void adoptPattern(const TissueModel& model);
+  /// The model's pattern: stiffness_, system_ and the solver's analysis (changed: a new pattern of
+  /// the set-up's size after modelChanged(), LinearSolver::analyzeChangedPattern, which may keep
+  /// the ordering or factor); buffers and the Dirichlet mask stay.
+  void adoptPattern(const TissueModel& model, bool changed);
 
   bool model_changed_ = false;  ///< modelChanged() since the last beginStep
 

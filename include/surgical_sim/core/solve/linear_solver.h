@@ -28,6 +28,10 @@ class LinearSolver {
   virtual std::string name() const = 0;
   /// Symbolic analysis for A's pattern. Call again only when the pattern changes (topology).
   virtual void analyzePattern(const Eigen::SparseMatrix<double>& A) = 0;
+  /// analyzePattern() of a changed pattern of the same size (a cut added or removed couplings): a
+  /// solver may keep what still holds (CholmodSolver: the fill-reducing ordering). Default:
+  /// analyzePattern().
+  virtual void analyzeChangedPattern(const Eigen::SparseMatrix<double>& A) { analyzePattern(A); }
   /// Announces the state of the matrix the next factorize() receives: model at positions x (size
   /// 3n, the matrix 3n x 3n). Solvers whose preconditioner uses the model (pcg_cholesky_warped:
   /// node rotations) read it here; the default ignores it. Allocation-free after the first call.

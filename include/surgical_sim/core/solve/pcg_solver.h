@@ -91,7 +91,7 @@ class PcgSolver final : public LinearSolver {
   /// refresh is due (refresh_interval, adaptive_refresh) it preconditions the
   /// new pattern through a LocalSchwarzCorrection on the unknowns whose pattern changed
   /// (changedPatternUnknowns() with kLocalRings rings); the refresh re-analyses the new pattern,
-  /// keeping the fill-reducing ordering (CholmodSolver::reanalyzeChangedPattern).
+  /// keeping the fill-reducing ordering (CholmodSolver::analyzeChangedPattern).
   /// The same pattern, or a change on more than half the unknowns, is analysed afresh.
   void analyzePattern(const Eigen::SparseMatrix<double>& A) override;
   /// Copies A's values and builds the preconditioner. Returns false if the pattern differs, a
@@ -111,7 +111,7 @@ class PcgSolver final : public LinearSolver {
   /// CholeskyWarped; for tests and benchmarks).
   int choleskyAnalyses() const { return cholesky_analyses_; }
   /// Fresh fill-reducing orderings among them (a refresh of a changed pattern keeps the ordering:
-  /// CholmodSolver::reanalyzeChangedPattern).
+  /// CholmodSolver::analyzeChangedPattern).
   int choleskyOrderings() const { return cholesky_.orderings(); }
   /// Rings of pattern neighbours around the changed unknowns of a kept factor's correction.
   static constexpr int kLocalRings = 1;
