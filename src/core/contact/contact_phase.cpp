@@ -39,14 +39,17 @@ std::vector<ToolCoupling> toolCouplings(const ContactPhaseSettings& settings) {
   return couplings;
 }
 
-Eigen::VectorXd mappedRest(const SurfaceMapping& mapping, const Eigen::VectorXd& rest) {
-  if (rest.size() != 3 * mapping.numNodes()) {
-    throw std::invalid_argument("contact.rest: " + std::to_string(rest.size()) +
-                                " rest coordinates for a surface mapping of " +
+/// The vertex positions of model positions x [m] ("contact.<name>" in the error when x does not
+/// have the mapping's size).
+Eigen::VectorXd mappedPositions(const SurfaceMapping& mapping, const Eigen::VectorXd& x,
+                                const std::string& name) {
+  if (x.size() != 3 * mapping.numNodes()) {
+    throw std::invalid_argument("contact." + name + ": " + std::to_string(x.size()) +
+                                " coordinates for a surface mapping of " +
                                 std::to_string(mapping.numNodes()) + " model nodes");
   }
   Eigen::VectorXd x_s;
-  mapping.apply(rest, x_s);
+  mapping.apply(x, x_s);
   return x_s;
 }
 
@@ -67,7 +70,7 @@ ContactPhase::ContactPhase(const SurfaceMesh& surface, SurfaceMapping mapping,
     : settings_(settings),
       triangles_(surface.triangles),
       mapping_(std::move(mapping)),
-      surface_x_(mappedRest(mapping_, rest)),
+      surface_x_(mappedPositions(mapping_, rest, "rest")),
       update_velocity_(update_velocity),
       bvh_(surface.triangles, surface_x_,
            kFatMarginPerEdge * meanEdgeLength(surface.triangles, surface_x_)),
@@ -110,13 +113,7 @@ void ContactPhase::setSurface(const SurfaceMesh& surface, SurfaceMapping mapping
                                 " model nodes, the contact phase has " +
                                 std::to_string(mapping_.numNodes()));
   }
-  if (x.size() != 3 * mapping.numNodes()) {
-    throw std::invalid_argument("contact.x: " + std::to_string(x.size()) +
-                                " coordinates for a surface mapping of " +
-                                std::to_string(mapping.numNodes()) + " model nodes");
-  }
-  Eigen::VectorXd surface_x;
-  mapping.apply(x, surface_x);
+  Eigen::VectorXd surface_x = mappedPositions(mapping, x, "x");
   bvh_.setTriangles(surface.triangles, surface_x);
   triangles_ = surface.triangles;
   mapping_ = std::move(mapping);
