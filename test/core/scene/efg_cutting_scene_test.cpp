@@ -22,8 +22,9 @@ constexpr double kLength = 0.04;  // box along x [m], fixed at x = 0
 constexpr double kHeight = 0.02;  // box along y and z [m]
 constexpr double kCutX = 0.0301;  // blade plane [m], off the particle and IP grid planes
 
-/// A 40 x 20 x 20 mm efg box (2.5 mm IP cells) fixed at x = 0, under gravity, no tools.
-RuntimeScene boxScene() {
+/// A 40 x 20 x 20 mm efg box (2.5 mm IP cells) fixed at x = 0, under gravity, no tools; `extra`
+/// (YAML) is appended.
+RuntimeScene boxScene(const std::string& extra = "") {
   return parseRuntimeScene(R"(
 name: efg_cut_box
 mesh: {generator: box, size: [0.04, 0.02, 0.02], resolution: [8, 4, 4]}
@@ -37,7 +38,7 @@ gravity: [0.0, 0.0, -9.81]
 damping: {mass: 1.0, stiffness: 0.0}
 fixed:
   - region: {max: [1.0e-9, .inf, .inf]}
-)",
+)" + extra,
                            "efg_cut_box.yaml");
 }
 
@@ -154,6 +155,72 @@ TEST(EfgCuttingScene, HostileSweepsNeverReportOkWithAbsurdNumbers) {
     EXPECT_NEAR(sim.model().lumpedMass().sum(), mass, 1e-12 * mass) << "step " << k;
   }
   EXPECT_GT(ok, 50);
+  EXPECT_GT(sim.numComponents(), 1);
+  const SurfaceClosure closure = checkSurfaceClosure(sim.surface().triangles);
+  EXPECT_EQ(closure.open_edges, 0);
+  EXPECT_EQ(closure.pinched_edges, 0);
+}
+
+TEST(EfgCuttingScene, ToolPressingGraspingAndCuttingAtRandomNeverReportsOkWithAbsurdNumbers) {
+  // 200 steps of a user at their worst on a box with a grasping tool: the tool jumps around and
+  // into the box (sometimes 1 m away, sometimes a NaN pose), its jaws open and close at random,
+  // and a third of the steps also sweep a random blade, often through where the tool presses.
+  // A step that is not a failure has finite positions within a metre of rest, the tool force
+  // within its cap, the mass kept; the surface stays closed.
+  constexpr double kMaxForce = 5.0;
+  TissueSimulation sim(boxScene(R"(
+tools:
+  - name: tool
+    radius: 0.002
+    shaft_length: 0.02
+    coupling_stiffness: 1.0e4
+    max_force: 5.0
+    contact: constraint
+    grasp: {radius: 0.004}
+)"));
+  const double mass = sim.model().lumpedMass().sum();
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int ok = 0, cuts = 0, contacts = 0;
+  for (int k = 0; k < 200; ++k) {
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+    X.linear() =
+        Eigen::AngleAxisd(M_PI + 0.5 * u(rng), Eigen::Vector3d::UnitX()).toRotationMatrix();
+    const Eigen::Vector3d tip(0.02 + 0.025 * u(rng), 0.01 + 0.015 * u(rng), 0.018 + 0.006 * u(rng));
+    X.translation() = tip;
+    if (rng() % 20 == 0) X.translation().x() += 1.0;
+    if (rng() % 25 == 0) X.translation().y() = std::nan("");
+    sim.setToolPose(0, X);
+    if (rng() % 4 == 0) sim.setGrasp(0, rng() % 2 == 0);
+    if (rng() % 3 == 0) {
+      BladeSweep sweep;
+      sweep.start.resize(3, 2);
+      const Eigen::Vector3d half = 0.02 * Eigen::Vector3d(u(rng), u(rng), 0.2 * u(rng));
+      sweep.start << tip - half, tip + half;
+      sweep.start.row(2).array() += 0.01;
+      const double depth = 0.0275 + 0.0125 * u(rng);  // half of them through the whole height
+      sweep.end = sweep.start.colwise() + Eigen::Vector3d(0.005 * u(rng), 0.005 * u(rng), -depth);
+      sim.requestCut(sweep);
+      ++cuts;
+    }
+    const SimulationStepStats s = sim.step();
+    const StepStatus status = s.report.status;
+    if (status == StepStatus::SolverFailed || status == StepStatus::NonFinite ||
+        status == StepStatus::BlowUp)
+      continue;
+    ++ok;
+    const Eigen::VectorXd& x = sim.state().x;
+    ASSERT_TRUE(x.allFinite()) << "step " << k;
+    ASSERT_TRUE(sim.surfacePositions().allFinite()) << "step " << k;
+    EXPECT_LT((x - sim.model().restPositions()).cwiseAbs().maxCoeff(), 1.0) << "step " << k;
+    const ContactLinearization c = sim.toolContact(0);
+    contacts += c.in_contact;
+    EXPECT_LE(c.f0_S.norm(), kMaxForce * (1.0 + 1e-6)) << "step " << k << " " << toString(status);
+    EXPECT_NEAR(sim.model().lumpedMass().sum(), mass, 1e-12 * mass) << "step " << k;
+  }
+  EXPECT_GT(ok, 150);
+  EXPECT_GT(cuts, 50);
+  EXPECT_GT(contacts, 20);
   EXPECT_GT(sim.numComponents(), 1);
   const SurfaceClosure closure = checkSurfaceClosure(sim.surface().triangles);
   EXPECT_EQ(closure.open_edges, 0);
