@@ -8,7 +8,6 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
-#include <unordered_map>
 #include <utility>
 
 #include "surgical_sim/core/common/validate.h"
@@ -47,13 +46,12 @@ TriangleKey key(const Eigen::Matrix3Xi& triangles, int i) {
   return {triangles(0, i), triangles(1, i), triangles(2, i)};
 }
 
-struct TriangleKeyHash {
-  std::size_t operator()(const TriangleKey& k) const {
-    std::uint64_t h = 1469598103934665603ULL;  // FNV-1a over the three indices
-    for (const int v : k) h = (h ^ static_cast<std::uint32_t>(v)) * 1099511628211ULL;
-    return static_cast<std::size_t>(h);
-  }
-};
+/// FNV-1a over the three indices.
+std::size_t hashOf(const TriangleKey& k) {
+  std::uint64_t h = 1469598103934665603ULL;
+  for (const int v : k) h = (h ^ static_cast<std::uint32_t>(v)) * 1099511628211ULL;
+  return static_cast<std::size_t>(h);
+}
 
 /// @throws std::invalid_argument naming "bvh.triangles" for an index outside [0, x.size() / 3)
 void checkIndices(const Eigen::Matrix3Xi& triangles, const Eigen::VectorXd& x) {
@@ -102,32 +100,48 @@ void SurfaceBvh::insertLeaf(int i) {
 
 void SurfaceBvh::setTriangles(const Eigen::Matrix3Xi& triangles, const Eigen::VectorXd& x) {
   checkIndices(triangles, x);
-  std::unordered_map<TriangleKey, int, TriangleKeyHash> old;  // vertices -> old index
-  old.reserve(static_cast<size_t>(triangles_.cols()));
-  std::vector<btDbvtNode*> stale;  // leaves of repeated triangles
-  for (int i = 0; i < numTriangles(); ++i)
-    if (!old.emplace(key(triangles_, i), i).second)
-      stale.push_back(leaves_[static_cast<size_t>(i)]);
+  // The old triangles by their vertices: an open-addressing table of old indices (-1: empty).
+  const Eigen::Matrix3Xi previous = std::move(triangles_);
+  std::size_t mask = 1;
+  while (mask < 2 * static_cast<std::size_t>(previous.cols()) + 1) mask <<= 1;
+  --mask;
+  std::vector<int> table(mask + 1, -1);
+  const auto slot = [&](const TriangleKey& k) {  // k's slot, or the empty one it would take
+    std::size_t h = hashOf(k) & mask;
+    while (table[h] >= 0 && key(previous, table[h]) != k) h = (h + 1) & mask;
+    return h;
+  };
+  std::vector<btDbvtNode*> stale;  // leaves of repeated and of replaced triangles
+  for (int i = 0; i < static_cast<int>(previous.cols()); ++i) {
+    int& entry = table[slot(key(previous, i))];
+    if (entry >= 0) {
+      stale.push_back(leaves_[static_cast<std::size_t>(i)]);
+    } else {
+      entry = i;
+    }
+  }
   triangles_ = triangles;
-  const auto count = static_cast<size_t>(triangles.cols());
+  const auto count = static_cast<std::size_t>(triangles.cols());
   std::vector<btDbvtNode*> leaves(count, nullptr);
   boxes_.resize(count);
   for (int i = 0; i < static_cast<int>(count); ++i) {
     computeTightBox(i, x);
-    const auto found = old.find(key(triangles_, i));
-    if (found == old.end()) continue;
-    btDbvtNode* leaf = leaves_[static_cast<size_t>(found->second)];
-    old.erase(found);
+    int& entry = table[slot(key(triangles_, i))];
+    if (entry < 0 || !leaves_[static_cast<std::size_t>(entry)]) continue;
+    btDbvtNode* leaf = leaves_[static_cast<std::size_t>(entry)];
+    leaves_[static_cast<std::size_t>(entry)] = nullptr;  // taken
     leaf->data = reinterpret_cast<void*>(static_cast<std::intptr_t>(i));
-    btDbvtVolume volume = fatVolume(boxes_[static_cast<size_t>(i)], 0.0);
+    btDbvtVolume volume = fatVolume(boxes_[static_cast<std::size_t>(i)], 0.0);
     tree_->update(leaf, volume, static_cast<btScalar>(fat_margin_));
-    leaves[static_cast<size_t>(i)] = leaf;
+    leaves[static_cast<std::size_t>(i)] = leaf;
   }
-  for (const auto& entry : old) stale.push_back(leaves_[static_cast<size_t>(entry.second)]);
+  for (const int entry : table)
+    if (entry >= 0 && leaves_[static_cast<std::size_t>(entry)])
+      stale.push_back(leaves_[static_cast<std::size_t>(entry)]);
   for (btDbvtNode* leaf : stale) tree_->remove(leaf);
   leaves_ = std::move(leaves);
   for (int i = 0; i < static_cast<int>(count); ++i)
-    if (!leaves_[static_cast<size_t>(i)]) insertLeaf(i);
+    if (!leaves_[static_cast<std::size_t>(i)]) insertLeaf(i);
 }
 
 SurfaceBvh::~SurfaceBvh() = default;
