@@ -6,12 +6,14 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include "surgical_sim/core/common/status.h"
 #include "surgical_sim/core/common/stopwatch.h"
 #include "surgical_sim/core/common/tool_pose_check.h"
 #include "surgical_sim/core/common/validate.h"
+#include "surgical_sim/core/mesh/surface_closure.h"
 
 namespace surgical_sim::bench {
 namespace {
@@ -165,6 +167,7 @@ void validate(const ToolFuzzSettings& s) {
   requireNonNegative("ToolFuzzSettings.teleport_distance", s.teleport_distance, "m");
   requireInRange("ToolFuzzSettings.bad_pose_rate", s.bad_pose_rate, 0.0, 1.0, "-");
   requireInRange("ToolFuzzSettings.grasp_toggle_rate", s.grasp_toggle_rate, 0.0, 1.0, "-");
+  requireInRange("ToolFuzzSettings.cut_rate", s.cut_rate, 0.0, 1.0, "-");
   requirePositive("ToolFuzzSettings.max_tool_distance", s.max_tool_distance, "m");
 }
 
@@ -182,6 +185,23 @@ Box restBox(const MultiBodySimulation& sim) {
     box.hi = box.hi.cwiseMax(rest.rowwise().maxCoeff());
   }
   return box;
+}
+
+/// A random blade through the region of tip p [m]: 2 to 6 cm long, from 1 cm above p down by 1
+/// to 7 cm, drifting up to 1 cm sideways.
+BladeSweep randomBlade(MotionGenerator& gen, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d half =
+      gen.uniform(0.01, 0.03) *
+      Eigen::Vector3d(gen.uniform(-1.0, 1.0), gen.uniform(-1.0, 1.0), gen.uniform(-0.3, 0.3))
+          .normalized();
+  BladeSweep sweep;
+  sweep.start.resize(3, 2);
+  sweep.start << p - half, p + half;
+  sweep.start.row(2).array() += 0.01;
+  const Eigen::Vector3d motion(gen.uniform(-0.01, 0.01), gen.uniform(-0.01, 0.01),
+                               -gen.uniform(0.01, 0.07));
+  sweep.end = sweep.start.colwise() + motion;
+  return sweep;
 }
 
 /// Whether the state's positions and velocities are finite.
@@ -205,6 +225,10 @@ bool finiteState(const MultiBodySimulation& sim) {
 template <typename Simulation>
 ToolFuzzOutcome runSequence(Simulation& sim, const ToolFuzzSettings& settings, std::mt19937& rng) {
   validate(settings);
+  constexpr bool kCuts = std::is_same_v<Simulation, TissueSimulation>;
+  if (!kCuts && settings.cut_rate > 0.0)
+    throw std::invalid_argument("ToolFuzzSettings.cut_rate = " + std::to_string(settings.cut_rate) +
+                                ": a multi-body scene takes no blade sweeps");
   sim.reset();
   MotionGenerator gen(settings, restBox(sim), rng);
   const auto n_tools = static_cast<std::size_t>(sim.numTools());
@@ -214,6 +238,8 @@ ToolFuzzOutcome runSequence(Simulation& sim, const ToolFuzzSettings& settings, s
   for (ToolMotion& m : motion)
     if (gen.start(m)) ++out.teleports;
   double previous_energy = std::numeric_limits<double>::quiet_NaN();
+  double mass = 0.0;  // at the start [kg]
+  if constexpr (kCuts) mass = sim.model().lumpedMass().sum();
   for (int k = 0; k < settings.steps; ++k) {
     for (std::size_t i = 0; i < n_tools; ++i) {
       const int tool = static_cast<int>(i);
@@ -243,6 +269,13 @@ ToolFuzzOutcome runSequence(Simulation& sim, const ToolFuzzSettings& settings, s
         m.jaws_closed = !m.jaws_closed;
         sim.setGrasp(tool, m.jaws_closed);
         ++out.grasp_toggles;
+      }
+    }
+
+    if constexpr (kCuts) {
+      if (settings.cut_rate > 0.0 && n_tools > 0 && gen.chance(settings.cut_rate)) {
+        sim.requestCut(randomBlade(gen, motion[0].p));
+        ++out.cut_sweeps;
       }
     }
 
@@ -281,6 +314,16 @@ ToolFuzzOutcome runSequence(Simulation& sim, const ToolFuzzSettings& settings, s
         out.max_energy_rise = std::max(out.max_energy_rise, energy - previous_energy);
     }
     previous_energy = energy;
+    if constexpr (kCuts) {
+      out.cut_steps += stats.topology_changed ? 1 : 0;
+      out.refused_cut_steps += sim.cutError().empty() ? 0 : 1;
+      out.max_pieces = std::max(out.max_pieces, sim.numComponents());
+      out.max_mass_error =
+          std::max(out.max_mass_error, std::abs(sim.model().lumpedMass().sum() - mass) / mass);
+    }
+  }
+  if constexpr (kCuts) {
+    out.open_surfaces = checkSurfaceClosure(sim.surface().triangles).open_edges > 0 ? 1 : 0;
   }
   return out;
 }
@@ -304,6 +347,12 @@ void ToolFuzzOutcome::merge(const ToolFuzzOutcome& o) {
   max_abs_energy = std::max(max_abs_energy, o.max_abs_energy);
   max_energy_rise = std::max(max_energy_rise, o.max_energy_rise);
   wall_seconds += o.wall_seconds;
+  cut_sweeps += o.cut_sweeps;
+  cut_steps += o.cut_steps;
+  refused_cut_steps += o.refused_cut_steps;
+  max_pieces = std::max(max_pieces, o.max_pieces);
+  max_mass_error = std::max(max_mass_error, o.max_mass_error);
+  open_surfaces += o.open_surfaces;
 }
 
 std::vector<std::optional<double>> sceneForceBounds(const SceneBase& scene) {

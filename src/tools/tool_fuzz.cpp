@@ -24,7 +24,7 @@ using surgical_sim::bench::ToolFuzzOutcome;
 
 constexpr const char* kUsage =
     "usage: tool_fuzz [--scene FILE] [--sequences N] [--steps N] [--seed S] [--csv FILE]\n"
-    "                 [--max-force N] [--bad-pose-rate P]\n"
+    "                 [--max-force N] [--bad-pose-rate P] [--cut-rate P]\n"
     "  Drives the scene's tools with random hostile pose streams in lockstep with the\n"
     "  simulation (within 10 cm of the tissue, up to 2 m/s, dives through the body, 1 m\n"
     "  teleports and back, random orientations, jaw toggles, malformed poses that the node's\n"
@@ -37,7 +37,14 @@ constexpr const char* kUsage =
     "  --csv FILE         one row per sequence\n"
     "  --max-force N      force bound for every tool [N] (default: the scene's tools[].max_force\n"
     "                     when the build knows it; else forces are only reported)\n"
-    "  --bad-pose-rate P  malformed poses per step and tool (default 0.02)\n";
+    "  --bad-pose-rate P  malformed poses per step and tool (default 0.02)\n"
+    "  --cut-rate P       blade sweeps per step through the first tool's tip region (default 0;\n"
+    "                     single-body scenes): counts the sweeps, the steps they changed the\n"
+    "                     topology in, the refused ones, the pieces, the largest mass error\n"
+    "                     and the surfaces left open (a mass error or an open surface fails)\n";
+
+/// Largest relative change of the total mass that cuts may cause (they conserve it) [-].
+constexpr double kMassTolerance = 1e-12;
 
 /// Status names that always get a column, in this order; others seen are appended.
 const std::vector<std::string> kStatusColumns = {"ok",         "not_converged", "solver_failed",
@@ -51,6 +58,7 @@ struct Args {
   std::string csv;
   double max_force = 0.0;  ///< 0: from the scene
   double bad_pose_rate = 0.02;
+  double cut_rate = 0.0;
 };
 
 /// Parses argv; returns "" or what is wrong. Sets help when --help was given.
@@ -84,6 +92,8 @@ std::string parse(int argc, char** argv, Args& a, bool& help) {
       a.max_force = number;
     else if (arg == "--bad-pose-rate" && number >= 0 && number <= 1)
       a.bad_pose_rate = number;
+    else if (arg == "--cut-rate" && number >= 0 && number <= 1)
+      a.cut_rate = number;
     else
       return "unknown option or value out of range: " + arg + " " + value;
   }
@@ -126,6 +136,10 @@ void printCounts(std::ostream& out, const ToolFuzzOutcome& o,
       << "  bad_poses_accepted=" << o.bad_poses_accepted << "  teleports=" << o.teleports
       << "  grasp_toggles=" << o.grasp_toggles;
   for (const std::string& s : statuses) out << "  status_" << s << "=" << count(o, s);
+  if (o.cut_sweeps > 0)
+    out << "  cut_sweeps=" << o.cut_sweeps << "  cut_steps=" << o.cut_steps
+        << "  refused_cut_steps=" << o.refused_cut_steps << "  max_pieces=" << o.max_pieces
+        << "  max_mass_error=" << o.max_mass_error << "  open_surfaces=" << o.open_surfaces;
   out << "  ms_per_step=" << (o.steps ? 1e3 * o.wall_seconds / o.steps : 0.0) << "\n";
 }
 
@@ -143,7 +157,8 @@ void writeCsv(std::ostream& csv, const std::vector<ToolFuzzOutcome>& rows, unsig
   csv << "sequence,seed,steps,non_finite_steps,contact_steps,max_force_N,force_bound_N,over_bound_"
          "steps,"
          "limited_but_ok_steps,accepted_poses,rejected_poses,bad_poses_accepted,teleports,"
-         "grasp_toggles,max_abs_energy_J,max_energy_rise_J,ms_per_step";
+         "grasp_toggles,max_abs_energy_J,max_energy_rise_J,ms_per_step,cut_sweeps,cut_steps,"
+         "refused_cut_steps,max_pieces,max_mass_error,open_surfaces";
   for (const std::string& s : statuses) csv << ",status_" << s;
   csv << "\n" << std::setprecision(9);
   for (std::size_t i = 0; i < rows.size(); ++i) {
@@ -152,7 +167,9 @@ void writeCsv(std::ostream& csv, const std::vector<ToolFuzzOutcome>& rows, unsig
         << o.contact_steps << "," << o.max_force << "," << bound << "," << o.over_bound_steps << ","
         << o.limited_but_ok_steps << "," << o.accepted_poses << "," << o.rejected_poses << ","
         << o.bad_poses_accepted << "," << o.teleports << "," << o.grasp_toggles << ","
-        << o.max_abs_energy << "," << o.max_energy_rise << "," << 1e3 * o.wall_seconds / o.steps;
+        << o.max_abs_energy << "," << o.max_energy_rise << "," << 1e3 * o.wall_seconds / o.steps
+        << "," << o.cut_sweeps << "," << o.cut_steps << "," << o.refused_cut_steps << ","
+        << o.max_pieces << "," << o.max_mass_error << "," << o.open_surfaces;
     for (const std::string& s : statuses) csv << "," << count(o, s);
     csv << "\n";
   }
@@ -193,7 +210,8 @@ int fuzz(const Args& args, const surgical_sim::bench::ToolFuzzSettings& settings
   printCounts(std::cout, total, statuses);
   if (csv.is_open()) writeCsv(csv, rows, args.seed, statuses, bound.str());
   const bool clean = total.non_finite_steps == 0 && total.over_bound_steps == 0 &&
-                     total.limited_but_ok_steps == 0 && total.bad_poses_accepted == 0;
+                     total.limited_but_ok_steps == 0 && total.bad_poses_accepted == 0 &&
+                     total.max_mass_error <= kMassTolerance && total.open_surfaces == 0;
   return clean ? 0 : 3;
 }
 
@@ -218,6 +236,7 @@ int main(int argc, char** argv) {
     surgical_sim::bench::ToolFuzzSettings settings;
     settings.steps = args.steps;
     settings.bad_pose_rate = args.bad_pose_rate;
+    settings.cut_rate = args.cut_rate;
     settings.force_bounds = surgical_sim::bench::sceneForceBounds(scene);
     if (args.max_force > 0.0)
       for (auto& b : settings.force_bounds) b = args.max_force;

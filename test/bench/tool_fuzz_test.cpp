@@ -88,6 +88,42 @@ TEST(ToolFuzz, MultiBodySceneUnderHostileMotionStaysFiniteBoundedAndTruthful) {
   EXPECT_EQ(total.limited_but_ok_steps, 0);
 }
 
+/// Blades sweep through where the tool presses and grasps, on the tet organ (virtual-node cutter)
+/// and on the meshless organ: still finite, bounded and truthful, the mass kept, the surface
+/// closed, and the cuts changed the topology.
+TEST(ToolFuzz, CutsThroughWhereTheToolPressesKeepMassSurfaceAndBounds) {
+  for (const std::string& file : {std::string("/test/data/grasp_scene.yaml"),
+                                  std::string("/config/scenes/palpation_efg.yaml")}) {
+    RuntimeScene scene = loadRuntimeScene(std::string(SURGICAL_SIM_SOURCE_DIR) + file);
+    if (scene.model != ModelKind::Efg) scene.resolution = Eigen::Vector3i(5, 0, 0);
+    TissueSimulation sim(scene);
+    ToolFuzzSettings settings = shortSettings(scene);
+    settings.steps = 120;
+    settings.cut_rate = 0.3;
+    ToolFuzzOutcome total;
+    for (unsigned seed = 3; seed <= 5; ++seed) {
+      std::mt19937 rng(seed);
+      total.merge(runToolFuzzSequence(sim, settings, rng));
+    }
+    EXPECT_EQ(total.non_finite_steps, 0) << file;
+    EXPECT_EQ(total.over_bound_steps, 0) << file;
+    EXPECT_EQ(total.limited_but_ok_steps, 0) << file;
+    EXPECT_GT(total.cut_sweeps, 60) << file;
+    EXPECT_GT(total.cut_steps, 10) << file;
+    EXPECT_GT(total.contact_steps, 0) << file;
+    EXPECT_LE(total.max_mass_error, 1e-12) << file;
+    EXPECT_EQ(total.open_surfaces, 0) << file;
+  }
+  // A multi-body scene takes no blades.
+  const RuntimeScene two = loadRuntimeScene(std::string(SURGICAL_SIM_SOURCE_DIR) +
+                                            "/config/scenes/connective_two_organs.yaml");
+  MultiBodySimulation multi(two);
+  ToolFuzzSettings settings = shortSettings(two);
+  settings.cut_rate = 0.1;
+  std::mt19937 rng(1);
+  EXPECT_THROW(runToolFuzzSequence(multi, settings, rng), std::invalid_argument);
+}
+
 TEST(ToolFuzz, SameSeedReplaysTheSameSequence) {
   const RuntimeScene scene = smallGraspScene();
   TissueSimulation sim(scene);
@@ -130,6 +166,14 @@ TEST(ToolFuzz, RejectsOutOfRangeSettingsNamingThem) {
     FAIL() << "bad_pose_rate 1.5 accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("bad_pose_rate"), std::string::npos);
+  }
+  settings.bad_pose_rate = 0.0;
+  settings.cut_rate = -0.1;
+  try {
+    runToolFuzzSequence(sim, settings, rng);
+    FAIL() << "cut_rate -0.1 accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("cut_rate"), std::string::npos);
   }
 }
 

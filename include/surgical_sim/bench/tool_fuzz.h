@@ -27,6 +27,10 @@ struct ToolFuzzSettings {
   double bad_pose_rate = 0.02;
   /// Probability per step and tool of toggling the jaws, for tools with a grasp [-], [0, 1].
   double grasp_toggle_rate = 0.01;
+  /// Probability per step of also sweeping a random blade (2 to 6 cm long, descending 1 to 7 cm
+  /// from 1 cm above the first tool's tip, often through where it presses) [-], [0, 1];
+  /// single-body scenes only (a multi-body scene rejects blades: nonzero is an error there).
+  double cut_rate = 0.0;
   /// The pose check's distance bound, as the nodes' ~max_tool_distance [m], > 0.
   double max_tool_distance = 5.0;
   /// Per tool: bound on |force of the tissue on the tool| [N]; a missing entry or nullopt means
@@ -55,6 +59,15 @@ struct ToolFuzzOutcome {
   double max_abs_energy = 0.0;   ///< max |StepReport::energy| [J]
   double max_energy_rise = 0.0;  ///< max increase of StepReport::energy over one step [J]
   double wall_seconds = 0.0;     ///< wall time of the steps [s]
+  int cut_sweeps = 0;            ///< blade sweeps requested (ToolFuzzSettings::cut_rate)
+  int cut_steps = 0;             ///< steps whose cuts changed the tissue's topology
+  int refused_cut_steps = 0;     ///< steps whose cut was rejected or refused (cutError())
+  int max_pieces = 1;            ///< most pieces the tissue was in after a step
+  /// Largest |total lumped mass - at the start| / at the start after a step [-].
+  double max_mass_error = 0.0;
+  /// Sequences whose surface ended with an open edge, a hole (checked after the last step; the
+  /// tet cutter's crack fronts, where two lips meet, are pinched edges by design).
+  int open_surfaces = 0;
 
   /// Adds another outcome's counts (maxima are maxima).
   void merge(const ToolFuzzOutcome& other);
@@ -67,7 +80,8 @@ std::vector<std::optional<double>> sceneForceBounds(const SceneBase& scene);
 /// segments drawn from `rng`, at speeds up to settings.max_speed (biased low) with random
 /// orientations: toward targets within settings.reach of the tissue's rest bounding box, into
 /// the body, through the body to below its lowest point (through any fixed underside), holds,
-/// and teleports settings.teleport_distance away and back; jaws toggle for tools with a grasp.
+/// and teleports settings.teleport_distance away and back; jaws toggle for tools with a grasp;
+/// blades sweep through the first tool's tip region at settings.cut_rate.
 /// Every pose goes through isUsableToolPose(); only accepted poses reach setToolPose(). Never
 /// throws from the step path.
 /// @throws std::invalid_argument naming the setting when a setting is out of range.
