@@ -275,7 +275,7 @@ ToolFuzzOutcome runSequence(Simulation& sim, const ToolFuzzSettings& settings, s
     if constexpr (kCuts) {
       if (settings.cut_rate > 0.0 && n_tools > 0 && gen.chance(settings.cut_rate)) {
         sim.requestCut(randomBlade(gen, motion[0].p));
-        ++out.cut_sweeps;
+        ++out.cuts.sweeps;
       }
     }
 
@@ -315,15 +315,14 @@ ToolFuzzOutcome runSequence(Simulation& sim, const ToolFuzzSettings& settings, s
     }
     previous_energy = energy;
     if constexpr (kCuts) {
-      out.cut_steps += stats.topology_changed ? 1 : 0;
-      out.refused_cut_steps += sim.cutError().empty() ? 0 : 1;
-      out.max_pieces = std::max(out.max_pieces, sim.numComponents());
-      out.max_mass_error =
-          std::max(out.max_mass_error, std::abs(sim.model().lumpedMass().sum() - mass) / mass);
+      out.cuts.changed_steps += stats.topology_changed ? 1 : 0;
+      out.cuts.refused_steps += sim.cutError().empty() ? 0 : 1;
+      out.cuts.max_mass_error =
+          std::max(out.cuts.max_mass_error, std::abs(sim.model().lumpedMass().sum() - mass) / mass);
     }
   }
   if constexpr (kCuts) {
-    out.open_surfaces = checkSurfaceClosure(sim.surface().triangles).open_edges > 0 ? 1 : 0;
+    out.cuts.open_surfaces = checkSurfaceClosure(sim.surface().triangles).open_edges > 0 ? 1 : 0;
   }
   return out;
 }
@@ -347,10 +346,13 @@ void ToolFuzzOutcome::merge(const ToolFuzzOutcome& o) {
   max_abs_energy = std::max(max_abs_energy, o.max_abs_energy);
   max_energy_rise = std::max(max_energy_rise, o.max_energy_rise);
   wall_seconds += o.wall_seconds;
-  cut_sweeps += o.cut_sweeps;
-  cut_steps += o.cut_steps;
-  refused_cut_steps += o.refused_cut_steps;
-  max_pieces = std::max(max_pieces, o.max_pieces);
+  cuts.merge(o.cuts);
+}
+
+void ToolFuzzOutcome::Cuts::merge(const Cuts& o) {
+  sweeps += o.sweeps;
+  changed_steps += o.changed_steps;
+  refused_steps += o.refused_steps;
   max_mass_error = std::max(max_mass_error, o.max_mass_error);
   open_surfaces += o.open_surfaces;
 }

@@ -40,8 +40,8 @@ constexpr const char* kUsage =
     "  --bad-pose-rate P  malformed poses per step and tool (default 0.02)\n"
     "  --cut-rate P       blade sweeps per step through the first tool's tip region (default 0;\n"
     "                     single-body scenes): counts the sweeps, the steps they changed the\n"
-    "                     topology in, the refused ones, the pieces, the largest mass error\n"
-    "                     and the surfaces left open (a mass error or an open surface fails)\n";
+    "                     topology in, the refused ones, the largest mass error and the\n"
+    "                     surfaces left open (a mass error or an open surface fails)\n";
 
 /// Largest relative change of the total mass that cuts may cause (they conserve it) [-].
 constexpr double kMassTolerance = 1e-12;
@@ -136,10 +136,11 @@ void printCounts(std::ostream& out, const ToolFuzzOutcome& o,
       << "  bad_poses_accepted=" << o.bad_poses_accepted << "  teleports=" << o.teleports
       << "  grasp_toggles=" << o.grasp_toggles;
   for (const std::string& s : statuses) out << "  status_" << s << "=" << count(o, s);
-  if (o.cut_sweeps > 0)
-    out << "  cut_sweeps=" << o.cut_sweeps << "  cut_steps=" << o.cut_steps
-        << "  refused_cut_steps=" << o.refused_cut_steps << "  max_pieces=" << o.max_pieces
-        << "  max_mass_error=" << o.max_mass_error << "  open_surfaces=" << o.open_surfaces;
+  if (o.cuts.sweeps > 0)
+    out << "  cut_sweeps=" << o.cuts.sweeps << "  cut_steps=" << o.cuts.changed_steps
+        << "  refused_cut_steps=" << o.cuts.refused_steps
+        << "  max_mass_error=" << o.cuts.max_mass_error
+        << "  open_surfaces=" << o.cuts.open_surfaces;
   out << "  ms_per_step=" << (o.steps ? 1e3 * o.wall_seconds / o.steps : 0.0) << "\n";
 }
 
@@ -158,7 +159,7 @@ void writeCsv(std::ostream& csv, const std::vector<ToolFuzzOutcome>& rows, unsig
          "steps,"
          "limited_but_ok_steps,accepted_poses,rejected_poses,bad_poses_accepted,teleports,"
          "grasp_toggles,max_abs_energy_J,max_energy_rise_J,ms_per_step,cut_sweeps,cut_steps,"
-         "refused_cut_steps,max_pieces,max_mass_error,open_surfaces";
+         "refused_cut_steps,max_mass_error,open_surfaces";
   for (const std::string& s : statuses) csv << ",status_" << s;
   csv << "\n" << std::setprecision(9);
   for (std::size_t i = 0; i < rows.size(); ++i) {
@@ -168,8 +169,8 @@ void writeCsv(std::ostream& csv, const std::vector<ToolFuzzOutcome>& rows, unsig
         << o.limited_but_ok_steps << "," << o.accepted_poses << "," << o.rejected_poses << ","
         << o.bad_poses_accepted << "," << o.teleports << "," << o.grasp_toggles << ","
         << o.max_abs_energy << "," << o.max_energy_rise << "," << 1e3 * o.wall_seconds / o.steps
-        << "," << o.cut_sweeps << "," << o.cut_steps << "," << o.refused_cut_steps << ","
-        << o.max_pieces << "," << o.max_mass_error << "," << o.open_surfaces;
+        << "," << o.cuts.sweeps << "," << o.cuts.changed_steps << "," << o.cuts.refused_steps << ","
+        << o.cuts.max_mass_error << "," << o.cuts.open_surfaces;
     for (const std::string& s : statuses) csv << "," << count(o, s);
     csv << "\n";
   }
@@ -211,7 +212,7 @@ int fuzz(const Args& args, const surgical_sim::bench::ToolFuzzSettings& settings
   if (csv.is_open()) writeCsv(csv, rows, args.seed, statuses, bound.str());
   const bool clean = total.non_finite_steps == 0 && total.over_bound_steps == 0 &&
                      total.limited_but_ok_steps == 0 && total.bad_poses_accepted == 0 &&
-                     total.max_mass_error <= kMassTolerance && total.open_surfaces == 0;
+                     total.cuts.max_mass_error <= kMassTolerance && total.cuts.open_surfaces == 0;
   return clean ? 0 : 3;
 }
 

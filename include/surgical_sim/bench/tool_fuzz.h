@@ -59,15 +59,18 @@ struct ToolFuzzOutcome {
   double max_abs_energy = 0.0;   ///< max |StepReport::energy| [J]
   double max_energy_rise = 0.0;  ///< max increase of StepReport::energy over one step [J]
   double wall_seconds = 0.0;     ///< wall time of the steps [s]
-  int cut_sweeps = 0;            ///< blade sweeps requested (ToolFuzzSettings::cut_rate)
-  int cut_steps = 0;             ///< steps whose cuts changed the tissue's topology
-  int refused_cut_steps = 0;     ///< steps whose cut was rejected or refused (cutError())
-  int max_pieces = 1;            ///< most pieces the tissue was in after a step
-  /// Largest |total lumped mass - at the start| / at the start after a step [-].
-  double max_mass_error = 0.0;
-  /// Sequences whose surface ended with an open edge, a hole (checked after the last step; the
-  /// tet cutter's crack fronts, where two lips meet, are pinched edges by design).
-  int open_surfaces = 0;
+  /// What the blades of ToolFuzzSettings::cut_rate did.
+  struct Cuts {
+    int sweeps = 0;         ///< blade sweeps requested
+    int changed_steps = 0;  ///< steps whose cuts changed the tissue's topology
+    int refused_steps = 0;  ///< steps whose cut was rejected or refused (cutError())
+    /// Largest |total lumped mass - at the start| / at the start after a step [-].
+    double max_mass_error = 0.0;
+    /// Sequences whose surface ended with an open edge, a hole (checked after the last step; the
+    /// tet cutter's crack fronts, where two lips meet, are pinched edges by design).
+    int open_surfaces = 0;
+    void merge(const Cuts& other);
+  } cuts;
 
   /// Adds another outcome's counts (maxima are maxima).
   void merge(const ToolFuzzOutcome& other);
