@@ -131,8 +131,6 @@ void SurfaceBvh::setTriangles(const Eigen::Matrix3Xi& triangles, const Eigen::Ve
     btDbvtNode* leaf = leaves_[static_cast<std::size_t>(entry)];
     leaves_[static_cast<std::size_t>(entry)] = nullptr;  // taken
     leaf->data = reinterpret_cast<void*>(static_cast<std::intptr_t>(i));
-    btDbvtVolume volume = fatVolume(boxes_[static_cast<std::size_t>(i)], 0.0);
-    tree_->update(leaf, volume, static_cast<btScalar>(fat_margin_));
     leaves[static_cast<std::size_t>(i)] = leaf;
   }
   for (const int entry : table)
@@ -140,8 +138,13 @@ void SurfaceBvh::setTriangles(const Eigen::Matrix3Xi& triangles, const Eigen::Ve
       stale.push_back(leaves_[static_cast<std::size_t>(entry)]);
   for (btDbvtNode* leaf : stale) tree_->remove(leaf);
   leaves_ = std::move(leaves);
-  for (int i = 0; i < static_cast<int>(count); ++i)
-    if (!leaves_[static_cast<std::size_t>(i)]) insertLeaf(i);
+  for (int i = 0; i < static_cast<int>(count); ++i) {
+    if (leaves_[static_cast<std::size_t>(i)]) {
+      refitLeaf(i);
+    } else {
+      insertLeaf(i);
+    }
+  }
 }
 
 SurfaceBvh::~SurfaceBvh() = default;
@@ -154,12 +157,27 @@ void SurfaceBvh::computeTightBox(int i, const Eigen::VectorXd& x) {
   for (int k = 0; k < 3; ++k) box.extend(x.segment<3>(3 * triangles_(k, i)));
 }
 
+void SurfaceBvh::refitLeaf(int i) {
+  const Eigen::AlignedBox3d& box = boxes_[static_cast<size_t>(i)];
+  btDbvtNode* leaf = leaves_[static_cast<size_t>(i)];
+  // Still inside the stored fat box (floats): so is the box rounded outward to floats, and
+  // btDbvt::update would change nothing.
+  const btVector3& lo = leaf->volume.Mins();
+  const btVector3& hi = leaf->volume.Maxs();
+  bool inside = true;
+  for (int d = 0; d < 3; ++d)
+    inside = inside && box.min()[d] >= static_cast<double>(lo[d]) &&
+             box.max()[d] <= static_cast<double>(hi[d]);
+  if (inside) return;
+  btDbvtVolume volume = fatVolume(box, 0.0);
+  // Re-inserts with the fat margin (the tight box left the stored fat box).
+  tree_->update(leaf, volume, static_cast<btScalar>(fat_margin_));
+}
+
 void SurfaceBvh::refit(const Eigen::VectorXd& x) {
   for (int i = 0; i < numTriangles(); ++i) {
     computeTightBox(i, x);
-    btDbvtVolume volume = fatVolume(boxes_[static_cast<size_t>(i)], 0.0);
-    // Re-inserts (with the fat margin) only if the tight box left the stored fat box.
-    tree_->update(leaves_[static_cast<size_t>(i)], volume, static_cast<btScalar>(fat_margin_));
+    refitLeaf(i);
   }
 }
 

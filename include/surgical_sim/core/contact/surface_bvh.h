@@ -58,6 +58,9 @@ class SurfaceBvh {
   void computeTightBox(int i, const Eigen::VectorXd& x);
   /// Inserts the leaf of triangle i from its tight box (computeTightBox first).
   void insertLeaf(int i);
+  /// Re-inserts the leaf of triangle i if its tight box (computeTightBox first) left the leaf's
+  /// fat box.
+  void refitLeaf(int i);
 
   Eigen::Matrix3Xi triangles_;
   double fat_margin_;
