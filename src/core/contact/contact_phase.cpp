@@ -62,6 +62,12 @@ int checkedToolCount(const ContactPhaseSettings& settings) {
   return static_cast<int>(settings.tools.size());
 }
 
+/// The constraint solver of the settings' tools, with no force carried yet.
+ContactSolver makeSolver(const ContactPhaseSettings& settings) {
+  return ContactSolver(settings.solver, checkedToolCount(settings) * settings.detector.max_contacts,
+                       toolCouplings(settings));
+}
+
 }  // namespace
 
 ContactPhase::ContactPhase(const SurfaceMesh& surface, SurfaceMapping mapping,
@@ -75,8 +81,7 @@ ContactPhase::ContactPhase(const SurfaceMesh& surface, SurfaceMapping mapping,
       bvh_(surface.triangles, surface_x_,
            kFatMarginPerEdge * meanEdgeLength(surface.triangles, surface_x_)),
       detector_(settings.detector),
-      solver_(settings.solver, checkedToolCount(settings) * settings.detector.max_contacts,
-              toolCouplings(settings)),
+      solver_(makeSolver(settings)),
       tools_(makeTools(settings)) {
   contacts_.reserve(static_cast<size_t>(numTools() * settings.detector.max_contacts));
   fixed_mask_.assign(static_cast<size_t>(rest.size()), 0);
@@ -118,8 +123,7 @@ void ContactPhase::setSurface(const SurfaceMesh& surface, SurfaceMapping mapping
   triangles_ = surface.triangles;
   mapping_ = std::move(mapping);
   surface_x_ = std::move(surface_x);
-  solver_ = ContactSolver(settings_.solver, numTools() * settings_.detector.max_contacts,
-                          toolCouplings(settings_));
+  solver_ = makeSolver(settings_);
   std::vector<Tool> tools = makeTools(settings_);
   for (std::size_t t = 0; t < tools.size(); ++t) {
     tools[t].capsule = tools_[t].capsule;

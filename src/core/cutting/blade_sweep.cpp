@@ -5,6 +5,14 @@
 
 namespace surgical_sim::core {
 
+Eigen::AlignedBox3d sweepBox(const BladeSweep& sweep, double margin) {
+  const Eigen::Vector3d lo =
+      sweep.start.rowwise().minCoeff().cwiseMin(sweep.end.rowwise().minCoeff()).array() - margin;
+  const Eigen::Vector3d hi =
+      sweep.start.rowwise().maxCoeff().cwiseMax(sweep.end.rowwise().maxCoeff()).array() + margin;
+  return {lo, hi};
+}
+
 void validateBladePolyline(const std::string& name, const Eigen::Matrix3Xd& blade) {
   const Eigen::Index k = blade.cols();
   if (k < 2 || k > kMaxBladePoints)

@@ -766,8 +766,7 @@ void EfgSurfaceCutter::updateFront(std::vector<int>& created) {
   row_attach_ = {path_.front(), path_.back()};
 }
 
-int EfgSurfaceCutter::newPair(Eigen::Vector3d rest,
-                              std::vector<int>& created) {  // by value: verts_ may reallocate
+int EfgSurfaceCutter::newPair(Eigen::Vector3d rest, std::vector<int>& created) {
   const int a = newVertex(rest), b = newVertex(rest);
   at(verts_, a).twin = b;
   at(verts_, b).twin = a;
@@ -1018,10 +1017,8 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Positions
     refreshClusterBounds();
   }
   const double tol = options_.tolerance;
-  const Eigen::Vector3d blade_lo =
-      sweep.start.rowwise().minCoeff().cwiseMin(sweep.end.rowwise().minCoeff()).array() - tol;
-  const Eigen::Vector3d blade_hi =
-      sweep.start.rowwise().maxCoeff().cwiseMax(sweep.end.rowwise().maxCoeff()).array() + tol;
+  const Eigen::AlignedBox3d blade_box = sweepBox(sweep, tol);
+  const Eigen::Vector3d blade_lo = blade_box.min(), blade_hi = blade_box.max();
   const Eigen::Index segments = sweep.start.cols() - 1;
 
   std::vector<efg_sweep_slab::SweepSlab> slabs;

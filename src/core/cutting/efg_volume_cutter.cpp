@@ -387,10 +387,8 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
   // displacement) meets the box and slab of a segment's sweep, then those of their alive links
   // whose motion box meets the sweep's box.
   const double tolerance = 1e-9 * grid.spacing;  // [m]
-  const Eigen::Vector3d sweep_lo =
-      sweep.start.rowwise().minCoeff().cwiseMin(sweep.end.rowwise().minCoeff()).array() - tolerance;
-  const Eigen::Vector3d sweep_hi =
-      sweep.start.rowwise().maxCoeff().cwiseMax(sweep.end.rowwise().maxCoeff()).array() + tolerance;
+  const Eigen::AlignedBox3d sweep_box = sweepBox(sweep, tolerance);
+  const Eigen::Vector3d sweep_lo = sweep_box.min(), sweep_hi = sweep_box.max();
   std::vector<efg_sweep_slab::SweepSlab> slabs;
   std::vector<std::array<Eigen::Vector3d, 2>> segment_boxes;  // (lower, upper corner) [m]
   for (Eigen::Index i = 0; i + 1 < sweep.start.cols(); ++i) {

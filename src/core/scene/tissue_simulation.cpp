@@ -43,21 +43,17 @@ Eigen::Matrix3Xd vertexPositions(const SurfaceMapping& mapping, const Eigen::Vec
   return Eigen::Map<const Eigen::Matrix3Xd>(flat.data(), 3, mapping.numSlots());
 }
 
-/// True when the box of `sweep` (start and end) meets that of the positions `start` and `end`
-/// [m] of the vertices `used`.
+/// True when the box of `sweep` meets that of the positions `start` and `end` [m] of the
+/// vertices `used`.
 bool sweepMeetsSurface(const BladeSweep& sweep, const std::vector<int>& used,
-                       const Eigen::Matrix3Xd& start, const Eigen::Matrix3Xd& end) {
+                       const Eigen::Ref<const Eigen::Matrix3Xd>& start,
+                       const Eigen::Ref<const Eigen::Matrix3Xd>& end) {
   Eigen::AlignedBox3d box;
   for (int v : used) {
     box.extend(start.col(v));
     box.extend(end.col(v));
   }
-  Eigen::AlignedBox3d blade;
-  for (Eigen::Index k = 0; k < sweep.start.cols(); ++k) {
-    blade.extend(sweep.start.col(k));
-    blade.extend(sweep.end.col(k));
-  }
-  return box.intersects(blade);
+  return box.intersects(sweepBox(sweep));
 }
 
 }  // namespace
@@ -272,9 +268,10 @@ bool TissueSimulation::applyEfgCuts() {
   bool surface_changed = false;
   bool model_changed = false;
   for (const BladeSweep& sweep : pending_cuts_) {
-    // Vertex motion over the last step with the mapping before this sweep.
+    // Vertex motion over the last step with the mapping before this sweep (surface_x_ is the
+    // mapping at state_.x: the last step and adoptEfgSurface keep it so).
     const Eigen::Matrix3Xd start = vertexPositions(mapping_, x_previous_);
-    const Eigen::Matrix3Xd end = vertexPositions(mapping_, state_.x);
+    const Eigen::Map<const Eigen::Matrix3Xd> end(surface_x_.data(), 3, mapping_.numSlots());
     const int triangles = efg_cut_->surface.numTriangles();
     if (!efg_cut_->surface.cutActive() && triangles >= scene_.efg_max_cut_triangles &&
         sweepMeetsSurface(sweep, surface_.nodes, start, end)) {

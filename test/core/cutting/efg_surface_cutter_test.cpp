@@ -526,8 +526,11 @@ TEST(EfgSurfaceCutter, CrackWithALongChainOfCrossingsLeavesNoFan) {
             << largestFan(box.cutter) << " triangles\n";
   EXPECT_LE(largestFan(box.cutter), 10);
   // Every new vertex is mapped.
-  for (int v = 0; v < box.cutter.numVertices(); ++v)
-    if (box.cutter.vertexUsed(v)) EXPECT_GE(box.cutter.vertexIp(v), 0) << v;
+  for (int v = 0; v < box.cutter.numVertices(); ++v) {
+    if (box.cutter.vertexUsed(v)) {
+      EXPECT_GE(box.cutter.vertexIp(v), 0) << v;
+    }
+  }
 }
 
 TEST(EfgSurfaceCutter, OverlappingCracksKeepTheSurfaceBounded) {

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <string>
 
 namespace surgical_sim::core {
@@ -18,6 +19,10 @@ struct BladeSweep {
   Eigen::Matrix3Xd start;  ///< polyline at the step start [m], shape 3 x k, 2 <= k <= 1000
   Eigen::Matrix3Xd end;    ///< polyline at the step end [m], shape 3 x k (same k)
 };
+
+/// Box of the blade's positions over the step (both polylines; linear motion stays inside it),
+/// grown by `margin` [m] on every side.
+Eigen::AlignedBox3d sweepBox(const BladeSweep& sweep, double margin = 0.0);
 
 /// Checks one blade polyline [m] (any frame).
 /// @throws std::invalid_argument naming `name` when it has fewer than 2 or more than

@@ -244,7 +244,8 @@ class EfgSurfaceCutter {
   /// (gradedStrip), its new vertices appended to `created`.
   void rebuild(bool crack, std::vector<int>& created);
   /// A new pair of fixed sheet vertices at `rest`, twins of each other, both appended to
-  /// `created`. @return the side A vertex.
+  /// `created`. @return the side A vertex. `rest` is taken by value: it may be a vertex's, and
+  /// verts_ may reallocate.
   int newPair(Eigen::Vector3d rest, std::vector<int>& created);
   /// Appends the sheet strip between `behind` and `ahead` (appendStrip's conventions, side A
   /// vertices) to `out`, first halving the denser chain towards the other with rows of new

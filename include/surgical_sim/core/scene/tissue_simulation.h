@@ -77,8 +77,9 @@ class TissueSimulation {
   /// step with cuts runs, per sweep, the volume cut (EfgVolumeCutter on the particle motion of the
   /// last step), the surface cut (EfgSurfaceCutter on the mapped vertex motion) and the remapping
   /// of the vertices on the changed IPs; then the mapping, the body force, the boundary
-  /// conditions (particles no IP with volume uses any more are fixed where they are) and the
-  /// contact structures are rebuilt and the solver re-analyses. A sweep a cutter rejects (it
+  /// conditions (particles no IP with volume uses any more are fixed where they are) are rebuilt,
+  /// the contact structures follow the new surface (ContactPhase::setSurface) and the solver
+  /// re-analyses. A sweep a cutter rejects (it
   /// throws) keeps the positions and velocities, the model, surface and mapping follow what the
   /// cutters kept, and the step reports SolverFailed (cutError() says why). On an efg body whose
   /// cut surface has scene().efg_max_cut_triangles triangles, a sweep that would start a new cut
