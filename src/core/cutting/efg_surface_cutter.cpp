@@ -192,24 +192,26 @@ void EfgSurfaceCutter::mappingRow(int v, std::vector<int>& particles,
 }
 
 SurfaceMapping EfgSurfaceCutter::mapping(int nodes) const {
-  std::vector<int> vertices;
-  std::vector<Eigen::Triplet<double>> entries;
+  std::vector<int> vertices, start(verts_.size() + 1, 0), columns;
+  std::vector<double> weights;
+  std::vector<std::pair<int, double>> row;  // a row by ascending particle
   for (int v = 0; v < numVertices(); ++v) {
     const Vertex& vert = at(verts_, v);
-    if (!vert.used) continue;
-    const int row = intSize(vertices);
-    vertices.push_back(v);
-    for (std::size_t k = 0; k < vert.particles.size(); ++k) {
-      if (vert.particles[k] < 0 || vert.particles[k] >= nodes)
-        throw std::invalid_argument("EfgSurfaceCutter::mapping: vertex " + std::to_string(v) +
-                                    " maps to particle " + std::to_string(vert.particles[k]) +
-                                    ", nodes = " + std::to_string(nodes));
-      entries.emplace_back(row, vert.particles[k], vert.weights[k]);
+    if (vert.used) {
+      vertices.push_back(v);
+      row.clear();
+      for (std::size_t k = 0; k < vert.particles.size(); ++k)
+        row.emplace_back(vert.particles[k], vert.weights[k]);
+      std::sort(row.begin(), row.end());
+      for (const auto& [particle, weight] : row) {
+        columns.push_back(particle);
+        weights.push_back(weight);
+      }
     }
+    at(start, v + 1) = intSize(columns);
   }
-  Eigen::SparseMatrix<double, Eigen::RowMajor> W(intSize(vertices), nodes);
-  W.setFromTriplets(entries.begin(), entries.end());
-  return SurfaceMapping(numVertices(), std::move(vertices), W);
+  return SurfaceMapping::fromRows(nodes, std::move(vertices), std::move(start), std::move(columns),
+                                  std::move(weights));
 }
 
 // ---------------------------------------------------------------------------------------------

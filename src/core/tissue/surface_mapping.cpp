@@ -18,30 +18,73 @@ SurfaceMapping::SurfaceMapping(int slots, std::vector<int> vertices,
                                 " weight rows for " + std::to_string(vertices_.size()) +
                                 " vertices");
   }
+  // Row k of W goes to slot vertices_[k]; an unlisted or bad slot is named by check().
   std::vector<int> row_of(static_cast<size_t>(std::max(slots, 0)), -1);
   for (size_t k = 0; k < vertices_.size(); ++k) {
     const int v = vertices_[k];
-    if (v < 0 || v >= slots || row_of[static_cast<size_t>(v)] >= 0) {
-      throw std::invalid_argument("SurfaceMapping: vertex " + std::to_string(v) +
-                                  " is repeated or outside the " + std::to_string(slots) +
-                                  " slots");
-    }
-    row_of[static_cast<size_t>(v)] = static_cast<int>(k);
+    if (v >= 0 && v < slots && row_of[static_cast<size_t>(v)] < 0)
+      row_of[static_cast<size_t>(v)] = static_cast<int>(k);
   }
-  start_.assign(static_cast<size_t>(slots) + 1, 0);
+  start_.assign(static_cast<size_t>(std::max(slots, 0)) + 1, 0);
   for (int s = 0; s < slots; ++s) {
     const int k = row_of[static_cast<size_t>(s)];
     if (k >= 0) {
       for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(weights, k); it; ++it) {
-        if (!std::isfinite(it.value())) {
-          throw std::invalid_argument("SurfaceMapping: weight of vertex " + std::to_string(s) +
-                                      " on node " + std::to_string(it.col()) + " is not finite");
-        }
         columns_.push_back(static_cast<int>(it.col()));
         weights_.push_back(it.value());
       }
     }
     start_[static_cast<size_t>(s) + 1] = static_cast<int>(columns_.size());
+  }
+  check(slots);
+}
+
+SurfaceMapping SurfaceMapping::fromRows(int nodes, std::vector<int> vertices,
+                                        std::vector<int> start, std::vector<int> columns,
+                                        std::vector<double> weights) {
+  SurfaceMapping mapping;
+  mapping.nodes_ = nodes;
+  mapping.vertices_ = std::move(vertices);
+  mapping.start_ = std::move(start);
+  mapping.columns_ = std::move(columns);
+  mapping.weights_ = std::move(weights);
+  if (mapping.start_.empty() || mapping.start_.front() != 0 ||
+      mapping.start_.back() != static_cast<int>(mapping.columns_.size()) ||
+      mapping.weights_.size() != mapping.columns_.size() ||
+      !std::is_sorted(mapping.start_.begin(), mapping.start_.end())) {
+    throw std::invalid_argument("SurfaceMapping: the row ranges do not cover the " +
+                                std::to_string(mapping.columns_.size()) + " entries (" +
+                                std::to_string(mapping.weights_.size()) + " weights) in order");
+  }
+  mapping.check(mapping.numSlots());
+  return mapping;
+}
+
+void SurfaceMapping::check(int slots) const {
+  std::vector<char> listed(static_cast<size_t>(std::max(slots, 0)), 0);
+  for (const int v : vertices_) {
+    if (v < 0 || v >= slots || listed[static_cast<size_t>(v)]) {
+      throw std::invalid_argument("SurfaceMapping: vertex " + std::to_string(v) +
+                                  " is repeated or outside the " + std::to_string(slots) +
+                                  " slots");
+    }
+    listed[static_cast<size_t>(v)] = 1;
+  }
+  for (int s = 0; s < slots; ++s) {
+    const int begin = start_[static_cast<size_t>(s)], end = start_[static_cast<size_t>(s) + 1];
+    if (end > begin && !listed[static_cast<size_t>(s)])
+      throw std::invalid_argument("SurfaceMapping: slot " + std::to_string(s) +
+                                  " has a row but is not a vertex");
+    for (int k = begin; k < end; ++k) {
+      const int node = columns_[static_cast<size_t>(k)];
+      if (node < 0 || node >= nodes_)
+        throw std::invalid_argument("SurfaceMapping: vertex " + std::to_string(s) +
+                                    " maps to node " + std::to_string(node) +
+                                    ", nodes = " + std::to_string(nodes_));
+      if (!std::isfinite(weights_[static_cast<size_t>(k)]))
+        throw std::invalid_argument("SurfaceMapping: weight of vertex " + std::to_string(s) +
+                                    " on node " + std::to_string(node) + " is not finite");
+    }
   }
 }
 

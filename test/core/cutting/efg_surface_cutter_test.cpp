@@ -207,8 +207,29 @@ TEST(EfgSurfaceCutter, EveryVertexMapsToAnIpOnItsOwnSideAndPairsSplitAcrossTheCu
       for (double x : w) sum += x;
       EXPECT_NEAR(sum, 1.0, 1e-12);
     }
+  // The mapping holds each used vertex's row, by ascending particle, and nothing else.
   const SurfaceMapping m = box.cutter.mapping(box.source.numParticles());
   EXPECT_EQ(m.numSlots(), box.cutter.numVertices());
+  std::vector<int> used;
+  for (int v = 0; v < box.cutter.numVertices(); ++v) {
+    const SurfaceMapping::Row row = m.row(v);
+    if (!box.cutter.vertexUsed(v)) {
+      EXPECT_EQ(row.size, 0) << v;
+      continue;
+    }
+    used.push_back(v);
+    box.cutter.mappingRow(v, p, w);
+    std::vector<std::pair<int, double>> expected;
+    for (std::size_t k = 0; k < p.size(); ++k) expected.emplace_back(p[k], w[k]);
+    std::sort(expected.begin(), expected.end());
+    ASSERT_EQ(row.size, static_cast<int>(expected.size())) << v;
+    for (int k = 0; k < row.size; ++k) {
+      EXPECT_EQ(row.nodes[k], expected[static_cast<std::size_t>(k)].first);
+      EXPECT_EQ(row.weights[k], expected[static_cast<std::size_t>(k)].second);
+    }
+  }
+  EXPECT_EQ(m.vertices(), used);
+  EXPECT_THROW(box.cutter.mapping(1), std::invalid_argument);
 }
 
 TEST(EfgSurfaceCutter, CrossingsFollowThePiecesWhereTheyAreNotWhereTheyRest) {

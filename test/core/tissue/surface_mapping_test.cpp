@@ -126,6 +126,25 @@ TEST(SurfaceMapping, TransposeKeepsTheVirtualWork) {
   EXPECT_LT((total - Eigen::Vector3d(0.0, 0.0, -2.0)).norm(), 1e-12);
 }
 
+TEST(SurfaceMapping, RowTablesGiveTheSameMappingAsTheMatrix) {
+  // Slots 0 and 3 have rows, 1 and 2 none; a 4 x 3 matrix's rows, in its order 3, 0.
+  Eigen::SparseMatrix<double, Eigen::RowMajor> W(2, 3);
+  W.insert(0, 1) = 0.25;
+  W.insert(0, 2) = 0.75;
+  W.insert(1, 0) = 1.0;
+  const SurfaceMapping from_matrix(4, {3, 0}, W);
+  const SurfaceMapping from_rows =
+      SurfaceMapping::fromRows(3, {0, 3}, {0, 1, 1, 1, 3}, {0, 1, 2}, {1.0, 0.25, 0.75});
+  EXPECT_EQ(from_rows.numSlots(), 4);
+  EXPECT_EQ(from_rows.numNodes(), 3);
+  EXPECT_EQ(from_rows.vertices(), (std::vector<int>{0, 3}));
+  EXPECT_EQ(Eigen::MatrixXd(from_rows.matrix()), Eigen::MatrixXd(from_matrix.matrix()));
+  const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(9, 1.0, 9.0);
+  EXPECT_EQ(from_rows.vertexValue(3, x),
+            Eigen::Vector3d(0.25 * 4 + 0.75 * 7, 0.25 * 5 + 0.75 * 8, 0.25 * 6 + 0.75 * 9));
+  EXPECT_EQ(from_rows.row(1).size, 0);
+}
+
 TEST(SurfaceMapping, RejectsBadInputNamingIt) {
   Eigen::SparseMatrix<double, Eigen::RowMajor> one(1, 2);
   one.insert(0, 1) = 1.0;
@@ -144,6 +163,19 @@ TEST(SurfaceMapping, RejectsBadInputNamingIt) {
   Eigen::SparseMatrix<double, Eigen::RowMajor> nan(1, 2);
   nan.insert(0, 0) = std::nan("");
   rejects([&] { SurfaceMapping(3, {0}, nan); }, "not finite");
+  // Row tables: ranges that skip, overlap or overrun the entries, an unlisted slot with a row,
+  // a node outside the model.
+  rejects([&] { SurfaceMapping::fromRows(2, {0}, {0, 1, 2}, {1}, {1.0}); }, "row ranges");
+  rejects([&] { SurfaceMapping::fromRows(2, {0}, {0, 2, 1}, {1, 0}, {1.0, 0.0}); }, "row ranges");
+  rejects([&] { SurfaceMapping::fromRows(2, {0}, {0, 1}, {1}, {}); }, "row ranges");
+  rejects(
+      [&] {
+        SurfaceMapping::fromRows(2, {0}, {0, 1, 2}, {1, 0}, {1.0, 1.0});
+      },
+      "slot 1 has a row");
+  rejects([&] { SurfaceMapping::fromRows(2, {0, 0}, {0, 1}, {1}, {1.0}); }, "repeated");
+  rejects([&] { SurfaceMapping::fromRows(2, {0}, {0, 1}, {2}, {1.0}); }, "maps to node 2");
+  rejects([&] { SurfaceMapping::fromRows(2, {0}, {0, 1}, {1}, {std::nan("")}); }, "not finite");
   const Body body;
   const TetMesh other = makeBox(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(),
                                 Eigen::Vector3i::Ones(), ElementType::Tet4);

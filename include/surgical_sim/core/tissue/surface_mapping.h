@@ -35,6 +35,15 @@ class SurfaceMapping {
   ///         other than vertices.size() or a non-finite weight.
   SurfaceMapping(int slots, std::vector<int> vertices,
                  const Eigen::SparseMatrix<double, Eigen::RowMajor>& weights);
+  /// W from rows already laid out per slot: slot s's entries are columns[k], weights[k] for k in
+  /// [start[s], start[s + 1]), start.size() - 1 slots; `vertices` lists the slots with a row, and
+  /// every other slot's range is empty. Linear in the slots and entries, no sort (a cut surface's
+  /// mapping, rebuilt at each cut).
+  /// @throws std::invalid_argument for a slot outside [0, slots), a repeated slot, a row of a slot
+  ///         not listed, ranges that do not cover the entries in order, a node outside
+  ///         [0, nodes) or a non-finite weight.
+  static SurfaceMapping fromRows(int nodes, std::vector<int> vertices, std::vector<int> start,
+                                 std::vector<int> columns, std::vector<double> weights);
   /// The identity on `vertices` of a model whose nodes are the mesh's nodes (slot i = node i,
   /// weight 1): x_s = x on the vertices, bit for bit.
   /// @throws std::invalid_argument for a vertex outside [0, nodes).
@@ -58,6 +67,9 @@ class SurfaceMapping {
   Eigen::SparseMatrix<double> matrix() const;
 
  private:
+  /// Checks the tables set by the constructor or fromRows() (see there) for `slots` slots.
+  void check(int slots) const;
+
   int nodes_ = 0;
   std::vector<int> vertices_;
   std::vector<int> start_ = {0};  ///< per slot, its first entry; size numSlots() + 1
