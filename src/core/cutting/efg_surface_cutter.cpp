@@ -135,6 +135,7 @@ EfgSurfaceCutter::EfgSurfaceCutter(const TriMesh& surface, const EfgMappingSourc
   }
   cluster_bounds_.clear();  // every row is new
   group_bounds_.clear();
+  super_bounds_.clear();
   // The reference configuration starts at rest; the mean particle spacing sets the refit
   // distance.
   const int particles = source_.numParticles();
@@ -322,6 +323,7 @@ void EfgSurfaceCutter::buildTables() {
   vertex_clusters_.assign(verts_.size(), {});
   cluster_bounds_.clear();
   group_bounds_.clear();
+  super_bounds_.clear();
   touched_.clear();
   addClusters(all);
 }
@@ -437,6 +439,7 @@ void EfgSurfaceCutter::touch(int v) {
   if (touched_.size() > verts_.size()) {  // cheaper to recompute every bound
     cluster_bounds_.clear();
     group_bounds_.clear();
+    super_bounds_.clear();
     touched_.clear();
   }
 }
@@ -500,6 +503,7 @@ void EfgSurfaceCutter::refreshClusterBounds() {
   stale.erase(std::unique(stale.begin(), stale.end()), stale.end());
   group_bounds_.resize((cluster_bounds_.size() + kGroupClusters - 1) / kGroupClusters,
                        emptyBound());
+  super_bounds_.resize((group_bounds_.size() + kGroupClusters - 1) / kGroupClusters, emptyBound());
   for (int c : stale) {
     ClusterBound b;
     clusterBox(c, b);
@@ -511,8 +515,9 @@ void EfgSurfaceCutter::refreshClusterBounds() {
       b.row_norm = std::max(b.row_norm, norm);
       if (vert.ip >= 0) b.row_norm = std::max(b.row_norm, source_.ipWeightNorm(vert.ip));
     }
-    // Its group grows to hold it (the group's bound is exact again after the next refit).
+    // Its group and super-group grow to hold it (exact again after the next refit).
     unite(at(group_bounds_, c / kGroupClusters), b);
+    unite(at(super_bounds_, c / (kGroupClusters * kGroupClusters)), b);
     at(cluster_bounds_, c) = std::move(b);
   }
 }
@@ -520,10 +525,16 @@ void EfgSurfaceCutter::refreshClusterBounds() {
 void EfgSurfaceCutter::refit(const Eigen::VectorXd& x) {
   ref_x_ = x;
   for (int c = 0; c < intSize(cluster_bounds_); ++c) clusterBox(c, at(cluster_bounds_, c));
-  for (int g = 0; g < intSize(group_bounds_); ++g) {
-    ClusterBound& group = at(group_bounds_, g) = emptyBound();
-    const int end = std::min(intSize(cluster_bounds_), (g + 1) * kGroupClusters);
-    for (int c = g * kGroupClusters; c < end; ++c) unite(group, at(cluster_bounds_, c));
+  uniteGroups(cluster_bounds_, group_bounds_);
+  uniteGroups(group_bounds_, super_bounds_);
+}
+
+void EfgSurfaceCutter::uniteGroups(const std::vector<ClusterBound>& members,
+                                   std::vector<ClusterBound>& groups) {
+  for (int g = 0; g < intSize(groups); ++g) {
+    ClusterBound& group = at(groups, g) = emptyBound();
+    const int end = std::min(intSize(members), (g + 1) * kGroupClusters);
+    for (int m = g * kGroupClusters; m < end; ++m) unite(group, at(members, m));
   }
 }
 
@@ -1078,31 +1089,37 @@ EfgSurfaceCutStep EfgSurfaceCutter::cut(const BladeSweep& sweep, const Positions
     };
     vertex_mark_.resize(verts_.size(), 0);
     std::vector<int> marked;
-    for (int g = 0; g < intSize(group_bounds_); ++g) {
-      const ClusterBound& group = at(group_bounds_, g);
-      if (!meets(group.segment_lo, group.segment_hi, growth(group))) continue;
-      const int end = std::min(intSize(cluster_edges_), (g + 1) * kGroupClusters);
-      for (int c = g * kGroupClusters; c < end; ++c) {
-        if (at(cluster_edges_, c).empty()) continue;  // all its edges freed
-        const ClusterBound& b = at(cluster_bounds_, c);
-        const double grow = growth(b);
-        if (!meets(b.segment_lo, b.segment_hi, grow)) continue;
-        // Mark bit 1: listed in `near`; bit 2: classified.
-        const bool edges = meets(b.lo, b.hi, grow);
-        for (int k = at(cluster_vert_begin_, c); k < at(cluster_vert_begin_, c + 1); ++k) {
-          const int v = at(cluster_vert_ids_, k);
-          std::uint8_t& mark = at(vertex_mark_, v);
-          if (!mark) marked.push_back(v);
-          if (!(mark & 1) && at(segment_tested_, v)) {
-            mark |= 1;
-            near.push_back(v);
+    const auto skipped = [&](const ClusterBound& b) {
+      return !meets(b.segment_lo, b.segment_hi, growth(b));
+    };
+    for (int sg = 0; sg < intSize(super_bounds_); ++sg) {
+      if (skipped(at(super_bounds_, sg))) continue;
+      const int groups_end = std::min(intSize(group_bounds_), (sg + 1) * kGroupClusters);
+      for (int g = sg * kGroupClusters; g < groups_end; ++g) {
+        if (skipped(at(group_bounds_, g))) continue;
+        const int end = std::min(intSize(cluster_edges_), (g + 1) * kGroupClusters);
+        for (int c = g * kGroupClusters; c < end; ++c) {
+          if (at(cluster_edges_, c).empty()) continue;  // all its edges freed
+          const ClusterBound& b = at(cluster_bounds_, c);
+          const double grow = growth(b);
+          if (!meets(b.segment_lo, b.segment_hi, grow)) continue;
+          // Mark bit 1: listed in `near`; bit 2: classified.
+          const bool edges = meets(b.lo, b.hi, grow);
+          for (int k = at(cluster_vert_begin_, c); k < at(cluster_vert_begin_, c + 1); ++k) {
+            const int v = at(cluster_vert_ids_, k);
+            std::uint8_t& mark = at(vertex_mark_, v);
+            if (!mark) marked.push_back(v);
+            if (!(mark & 1) && at(segment_tested_, v)) {
+              mark |= 1;
+              near.push_back(v);
+            }
+            if (edges && !(mark & 2)) {
+              mark |= 2;
+              classify(v);
+            }
           }
-          if (edges && !(mark & 2)) {
-            mark |= 2;
-            classify(v);
-          }
+          if (edges) clusters.push_back(c);
         }
-        if (edges) clusters.push_back(c);
       }
     }
     for (int v : marked) at(vertex_mark_, v) = 0;

@@ -210,7 +210,11 @@ class EfgSurfaceCutter {
   static ClusterBound emptyBound();
   /// Grows `into` to hold b.
   static void unite(ClusterBound& into, const ClusterBound& b);
-  /// Moves the reference to particle positions x and recomputes every cluster's and group's box.
+  /// Sets each of `groups` to the union of its kGroupClusters consecutive `members`.
+  static void uniteGroups(const std::vector<ClusterBound>& members,
+                          std::vector<ClusterBound>& groups);
+  /// Moves the reference to particle positions x and recomputes every cluster's, group's and
+  /// super-group's box.
   void refit(const Eigen::VectorXd& x);
   /// The particles' largest distance from ref_x_ at the step start and end into motion_ [m]
   /// (refitting first when it exceeds refit_distance_).
@@ -306,8 +310,11 @@ class EfgSurfaceCutter {
   std::array<Eigen::Vector3d, 2> cluster_box_;     ///< box of the Morton codes [m]
   std::vector<std::vector<int>> vertex_clusters_;  ///< per vertex, the clusters listing it
   std::vector<ClusterBound> cluster_bounds_;       ///< per cluster (fewer: the rest are new)
-  /// Per group of kGroupClusters consecutive clusters, the union of their bounds.
-  std::vector<ClusterBound> group_bounds_;
+  /// Per group of kGroupClusters consecutive clusters, the union of their bounds; per
+  /// super-group of kGroupClusters consecutive groups, the union of theirs. A cut's new clusters
+  /// are appended, so a group can span cuts far apart: the detection skips whole super-groups
+  /// first, and its pass over the groups stays short on a surface of millions of triangles.
+  std::vector<ClusterBound> group_bounds_, super_bounds_;
   std::vector<int> touched_;     ///< vertices touched since the last refresh
   Eigen::VectorXd ref_x_;        ///< reference particle positions of the bounds [m], size 3n
   double refit_distance_ = 0.0;  ///< [m]
