@@ -215,9 +215,9 @@ struct EfgCutFuzzReport {
   int pieces = 0;                ///< at the end
   int triangles = 0;             ///< surface triangles at the end
   long long planes_checked = 0;  ///< (vertex, stored cut plane) pairs checked, all sweeps
-  /// Vertices whose cut planes leave no IP on their side that can place them (a sliver between
-  /// cuts thinner than the IP spacing; mapped to the nearest IP, SurfaceRemapper's last
-  /// relaxation), after the last sweep.
+  /// Vertices whose cut planes leave no IP on their side (a sliver between cuts thinner than the
+  /// IP spacing; mapped to the nearest IP, SurfaceRemapper's last relaxation), after the last
+  /// sweep.
   int sliver_vertices = 0;
   double mean_update_ms = 0.0;  ///< mean cut() time [ms]
 };
@@ -227,9 +227,8 @@ struct EfgCutFuzzReport {
 /// shifted positions). After every sweep: masses and shape values finite, total mass equal to the
 /// initial one (relative 1e-12), the surface closed and edge-manifold (checkSurfaceClosure, no
 /// open or pinched edge), and every used surface vertex's IP strictly below each of the vertex's
-/// stored cut planes (on the vertex's own side of every cut near it) whenever some IP there has
-/// weights that place the vertex where it rests (else the vertex counts in sliver_vertices), and
-/// every used vertex's mapping row placing it where it rests (within 1e-6 of the spacing).
+/// stored cut planes (on the vertex's own side of every cut near it) whenever some IP is (else
+/// the vertex counts in sliver_vertices).
 /// @throws std::invalid_argument for sweeps < 1 or spacing <= 0.
 EfgCutFuzzReport runEfgCutFuzz(const EfgCutFuzzSettings& settings);
 

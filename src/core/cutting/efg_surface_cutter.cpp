@@ -153,7 +153,6 @@ EfgSurfaceCutter::EfgSurfaceCutter(const TriMesh& surface, const EfgMappingSourc
 
 bool EfgSurfaceCutter::vertexUsed(int v) const { return at(verts_, v).used; }
 int EfgSurfaceCutter::vertexIp(int v) const { return at(verts_, v).ip; }
-bool EfgSurfaceCutter::vertexSliver(int v) const { return at(verts_, v).sliver; }
 int EfgSurfaceCutter::twin(int v) const { return at(verts_, v).twin; }
 const std::vector<CutPlane>& EfgSurfaceCutter::vertexPlanes(int v) const {
   return at(verts_, v).planes;

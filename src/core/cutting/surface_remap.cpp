@@ -16,10 +16,6 @@ namespace {
 /// Grid cells per IP (about) and search radius in cells.
 constexpr double kIpsPerCell = 4.0;
 constexpr double kSearchCells = 1.0;
-/// A row placing a vertex within this many grid cells of its rest position places it there: MLS
-/// weights reproduce a linear field to round-off where they are defined, and an IP whose
-/// particles' kernels miss the point gets its own weights, which place it at the IP.
-constexpr double kPlacedTolerance = 1e-6;
 
 /// True when X lies strictly below every plane.
 bool belowPlanes(const Eigen::Vector3d& X, const std::vector<CutPlane>& planes) {
@@ -175,19 +171,9 @@ RemapResult SurfaceRemapper::find(const Eigen::Vector3d& X, const Eigen::Vector3
   std::sort(below.begin(), below.end());
   for (int level = 0; level <= 3; ++level)
     for (const auto& [d2, ip] : below)
-      if (valid(ip, X, normal, planes, ring_ips, level) && places(ip, X))
+      if (valid(ip, X, normal, planes, ring_ips, level))
         return {ip, static_cast<RemapRelaxation>(level)};
   return {nearest(X), RemapRelaxation::kNearest};
-}
-
-bool SurfaceRemapper::places(int ip, const Eigen::Vector3d& X) const {
-  std::vector<int> particles;
-  std::vector<double> weights;
-  source_.pointWeights(ip, X, particles, weights);
-  Eigen::Vector3d mapped = Eigen::Vector3d::Zero();
-  for (std::size_t a = 0; a < particles.size(); ++a)
-    mapped += weights[a] * source_.particleRestPosition(particles[a]);
-  return (mapped - X).norm() <= kPlacedTolerance * cell_;
 }
 
 Eigen::Vector3i SurfaceRemapper::cellAt(const Eigen::Vector3d& X) const {

@@ -132,36 +132,6 @@ TEST(SurfaceRemapper, GridSearchFindsWhatAScanOverEveryIpFinds) {
   EXPECT_GT(nearest, 20);   // and the nearest-IP search
 }
 
-// A source whose weights, like an EFG model's, reach only so far: beyond one cell side of the IP
-// (along any axis) it gets the weights at itself, which place the point at the IP.
-class ReachingSource : public GridSource {
- public:
-  using GridSource::GridSource;
-  void pointWeights(int ip, const V& X, std::vector<int>& particles,
-                    std::vector<double>& weights) const override {
-    const V at = (X - ipRestPosition(ip)).cwiseAbs().maxCoeff() <= 0.25 ? X : ipRestPosition(ip);
-    GridSource::pointWeights(ip, at, particles, weights);
-  }
-};
-
-TEST(SurfaceRemapper, AFarIpThatCannotPlaceTheVertexLeavesItToTheNearest) {
-  const ReachingSource source(V::Zero(), Eigen::Vector3i(4, 4, 4), 0.25);
-  const SurfaceRemapper remapper(source);
-  // The plane admits only the IPs at x = 0.125, 0.78 m from the vertex: none places it, so it
-  // keeps the nearest IP (a sliver) rather than being shown at a far one.
-  const V X(0.9, 0.4, 0.4);
-  const RemapResult far = remapper.find(X, V::Zero(), {{V(0.3, 0, 0), V(1, 0, 0)}}, {});
-  EXPECT_EQ(far.relaxation, RemapRelaxation::kNearest);
-  EXPECT_TRUE(source.ipRestPosition(far.ip).isApprox(V(0.875, 0.375, 0.375)));
-  EXPECT_FALSE(remapper.places(source.numIntegrationPoints() / 2, X));
-  // An admitted IP within reach is taken.
-  const V near(0.85, 0.4, 0.4);
-  const RemapResult r = remapper.find(near, V::Zero(), {{V(0.8, 0, 0), V(1, 0, 0)}}, {});
-  EXPECT_EQ(r.relaxation, RemapRelaxation::kNone);
-  EXPECT_TRUE(source.ipRestPosition(r.ip).isApprox(V(0.625, 0.375, 0.375)));
-  EXPECT_TRUE(remapper.places(r.ip, near));
-}
-
 class EmptySource : public GridSource {
  public:
   EmptySource() : GridSource(V::Zero(), Eigen::Vector3i(0, 0, 0), 1.0) {}

@@ -155,10 +155,6 @@ class EfgSurfaceCutter {
   Eigen::Matrix3Xi triangles() const;
   int numTriangles() const;
   int vertexIp(int v) const;
-  /// True when v keeps the nearest IP (a sliver): when it was last searched, no IP on its side of
-  /// its cut planes had weights that place it where it rests. It keeps that IP (and its row
-  /// follows the IP's particles) while later cuts change other IPs' particles.
-  bool vertexSliver(int v) const;
   const std::vector<CutPlane>& vertexPlanes(int v) const;
   /// The other side's vertex of a crossing or fixed-row vertex, -1 for any other vertex.
   int twin(int v) const;

@@ -89,10 +89,9 @@ struct RemapResult {
 /// Among valid IPs the nearest to X wins. When none is valid the criteria are relaxed in the
 /// order of RemapRelaxation (cut planes, which keep a vertex on its own side, are dropped last),
 /// first over the IPs within one grid cell (4 IPs a cell, about 1.6 IP spacings), then over
-/// every IP below the cut planes whose weights at the vertex place it where it rests (places()).
-/// Uses a uniform grid of the IP rest positions built once (O(IPs)): the second search halves boxes
-/// of cells down to cells, skipping those wholly above a cut plane, and the nearest IP is found in
-/// cubes of cells growing about X.
+/// every IP below the cut planes. Uses a uniform grid of the IP rest positions built once
+/// (O(IPs)): the second search halves boxes of cells down to cells, skipping those wholly above
+/// a cut plane, and the nearest IP is found in cubes of cells growing about X.
 class SurfaceRemapper {
  public:
   /// @throws std::invalid_argument when the source has no IP or an IP position is not finite.
@@ -107,10 +106,6 @@ class SurfaceRemapper {
   RemapResult find(const Eigen::Vector3d& X, const Eigen::Vector3d& normal,
                    const std::vector<CutPlane>& planes, const std::vector<int>& ring_ips,
                    const std::vector<int>& near) const;
-  /// True when IP ip's weights at X place X where it rests (its particles' kernels reach X). An
-  /// IP of the second search may lie far away, beyond a cut; its weights at X are then its own,
-  /// and the vertex would be shown at the IP.
-  bool places(int ip, const Eigen::Vector3d& X) const;
   /// The IPs find() searches first for X: those within one grid cell, nearest first.
   std::vector<int> nearby(const Eigen::Vector3d& X) const;
 
