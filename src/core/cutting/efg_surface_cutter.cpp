@@ -133,9 +133,7 @@ EfgSurfaceCutter::EfgSurfaceCutter(const TriMesh& surface, const EfgMappingSourc
     setIp(v, remapper_.find(vert.rest, vertexNormal(v), vert.planes, {}).ip);
     source_.pointWeights(vert.ip, vert.rest, vert.particles, vert.weights);
   }
-  cluster_bounds_.clear();  // every row is new
-  group_bounds_.clear();
-  super_bounds_.clear();
+  forgetBounds();  // every row is new
   // The reference configuration starts at rest; the mean particle spacing sets the refit
   // distance.
   const int particles = source_.numParticles();
@@ -193,21 +191,15 @@ void EfgSurfaceCutter::mappingRow(int v, std::vector<int>& particles,
 }
 
 SurfaceMapping EfgSurfaceCutter::mapping(int nodes) const {
+  // A row is the source's pointWeights(): its IP's particles, by ascending particle.
   std::vector<int> vertices, start(verts_.size() + 1, 0), columns;
   std::vector<double> weights;
-  std::vector<std::pair<int, double>> row;  // a row by ascending particle
   for (int v = 0; v < numVertices(); ++v) {
     const Vertex& vert = at(verts_, v);
     if (vert.used) {
       vertices.push_back(v);
-      row.clear();
-      for (std::size_t k = 0; k < vert.particles.size(); ++k)
-        row.emplace_back(vert.particles[k], vert.weights[k]);
-      std::sort(row.begin(), row.end());
-      for (const auto& [particle, weight] : row) {
-        columns.push_back(particle);
-        weights.push_back(weight);
-      }
+      columns.insert(columns.end(), vert.particles.begin(), vert.particles.end());
+      weights.insert(weights.end(), vert.weights.begin(), vert.weights.end());
     }
     at(start, v + 1) = intSize(columns);
   }
@@ -321,9 +313,7 @@ void EfgSurfaceCutter::buildTables() {
   cluster_vert_ids_.clear();
   edge_cluster_.assign(edges_.size(), -1);
   vertex_clusters_.assign(verts_.size(), {});
-  cluster_bounds_.clear();
-  group_bounds_.clear();
-  super_bounds_.clear();
+  forgetBounds();
   touched_.clear();
   addClusters(all);
 }
@@ -437,11 +427,15 @@ void EfgSurfaceCutter::addClusters(const std::vector<int>& edges) {
 void EfgSurfaceCutter::touch(int v) {
   touched_.push_back(v);
   if (touched_.size() > verts_.size()) {  // cheaper to recompute every bound
-    cluster_bounds_.clear();
-    group_bounds_.clear();
-    super_bounds_.clear();
+    forgetBounds();
     touched_.clear();
   }
+}
+
+void EfgSurfaceCutter::forgetBounds() {
+  cluster_bounds_.clear();
+  group_bounds_.clear();
+  super_bounds_.clear();
 }
 
 EfgSurfaceCutter::ClusterBound EfgSurfaceCutter::emptyBound() {
@@ -501,9 +495,11 @@ void EfgSurfaceCutter::refreshClusterBounds() {
   cluster_bounds_.resize(cluster_edges_.size());
   std::sort(stale.begin(), stale.end());
   stale.erase(std::unique(stale.begin(), stale.end()), stale.end());
-  group_bounds_.resize((cluster_bounds_.size() + kGroupClusters - 1) / kGroupClusters,
-                       emptyBound());
-  super_bounds_.resize((group_bounds_.size() + kGroupClusters - 1) / kGroupClusters, emptyBound());
+  const auto groups = [](std::size_t members) {
+    return (members + kGroupClusters - 1) / kGroupClusters;
+  };
+  group_bounds_.resize(groups(cluster_bounds_.size()), emptyBound());
+  super_bounds_.resize(groups(group_bounds_.size()), emptyBound());
   for (int c : stale) {
     ClusterBound b;
     clusterBox(c, b);

@@ -89,17 +89,21 @@ void SurfaceMapping::check(int slots) const {
 }
 
 SurfaceMapping SurfaceMapping::selection(int nodes, const std::vector<int>& vertices) {
-  Eigen::SparseMatrix<double, Eigen::RowMajor> W(static_cast<Eigen::Index>(vertices.size()), nodes);
-  std::vector<Eigen::Triplet<double>> ones;
-  for (size_t k = 0; k < vertices.size(); ++k) {
-    if (vertices[k] < 0 || vertices[k] >= nodes) {
-      throw std::invalid_argument("SurfaceMapping: vertex " + std::to_string(vertices[k]) +
+  std::vector<int> start(static_cast<size_t>(std::max(nodes, 0)) + 1, 0);
+  for (const int v : vertices) {
+    if (v < 0 || v >= nodes) {
+      throw std::invalid_argument("SurfaceMapping: vertex " + std::to_string(v) +
                                   " is not one of the model's " + std::to_string(nodes) + " nodes");
     }
-    ones.emplace_back(static_cast<int>(k), vertices[k], 1.0);
+    start[static_cast<size_t>(v) + 1] = 1;  // slot v has a row (fromRows names a repeat)
   }
-  W.setFromTriplets(ones.begin(), ones.end());
-  return SurfaceMapping(nodes, vertices, W);
+  std::vector<int> columns;
+  for (int s = 0; s < nodes; ++s) {
+    if (start[static_cast<size_t>(s) + 1]) columns.push_back(s);
+    start[static_cast<size_t>(s) + 1] = static_cast<int>(columns.size());
+  }
+  std::vector<double> ones(columns.size(), 1.0);
+  return fromRows(nodes, vertices, std::move(start), std::move(columns), std::move(ones));
 }
 
 SurfaceMapping::Row SurfaceMapping::row(int slot) const {

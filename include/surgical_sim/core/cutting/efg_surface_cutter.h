@@ -202,6 +202,9 @@ class EfgSurfaceCutter {
   void setIp(int v, int ip);
   /// Notes that v's rest position or row changed: the bounds of its clusters are stale.
   void touch(int v);
+  /// Drops every cluster, group and super-group bound: the next refreshClusterBounds()
+  /// recomputes them all.
+  void forgetBounds();
   /// Recomputes the bounds of the clusters created or touched since the last call.
   void refreshClusterBounds();
   /// Sets b's box and margin: cluster c's used vertices at ref_x_.
