@@ -93,6 +93,26 @@ std::string wrongSide(const EfgCutBody& body, SliverCache& cache, long long& che
   return "";
 }
 
+/// How close [spacings] a vertex's mapping row must place it to where it rests: MLS weights
+/// reproduce a linear field to round-off, whatever the distance to the IP.
+constexpr double kPlacedTolerance = 1e-6;
+
+/// "" when every used surface vertex's mapping row places it where it rests (within `tolerance`
+/// [m]); else the first vertex shown elsewhere.
+std::string misplaced(const EfgCutBody& body, double tolerance) {
+  const EfgSurfaceCutter& surface = body.surface();
+  const Eigen::Matrix3Xd shown = body.surfacePositions(body.model().restPositions());
+  const Eigen::Matrix3Xd rest = surface.restVertices();
+  for (int v = 0; v < surface.numVertices(); ++v) {
+    if (!surface.vertexUsed(v)) continue;
+    const double d = (shown.col(v) - rest.col(v)).norm();
+    if (!(d <= tolerance))
+      return "vertex " + std::to_string(v) + " (IP " + std::to_string(surface.vertexIp(v)) +
+             ") shown " + std::to_string(d) + " m from where it rests";
+  }
+  return "";
+}
+
 Material beamMaterial(const CutBeam& beam) {
   return Material::create(beam.young, beam.poisson, beam.density);
 }
@@ -622,6 +642,10 @@ EfgCutFuzzReport runEfgCutFuzz(const EfgCutFuzzSettings& settings) {
       const std::string side =
           wrongSide(body, slivers, report.planes_checked, report.sliver_vertices);
       if (!side.empty()) fail(side);
+    }
+    if (report.failure.empty()) {
+      const std::string place = misplaced(body, kPlacedTolerance * settings.spacing);
+      if (!place.empty()) fail(place);
     }
     if (report.failure.empty() && settings.passed) settings.passed(report.sweeps);
   }

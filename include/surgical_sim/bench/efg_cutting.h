@@ -228,7 +228,8 @@ struct EfgCutFuzzReport {
 /// initial one (relative 1e-12), the surface closed and edge-manifold (checkSurfaceClosure, no
 /// open or pinched edge), and every used surface vertex's IP strictly below each of the vertex's
 /// stored cut planes (on the vertex's own side of every cut near it) whenever some IP is (else
-/// the vertex counts in sliver_vertices).
+/// the vertex counts in sliver_vertices), and every used vertex's mapping row placing it where
+/// it rests (within 1e-6 of the spacing), however far its IP.
 /// @throws std::invalid_argument for sweeps < 1 or spacing <= 0.
 EfgCutFuzzReport runEfgCutFuzz(const EfgCutFuzzSettings& settings);
 

@@ -33,6 +33,9 @@ constexpr double kRefitSpacings = 0.5;
 /// Crossing parameters are kept this far from the edge ends, and tip barycentric coordinates
 /// at least this large, so no split triangle degenerates to zero area.
 constexpr double kEdgeMargin = 0.02;
+/// Shortest edge a cut splits: this many front widths w, or half the input surface's shortest
+/// edge if less [-].
+constexpr double kMinSplitEdge = 0.1;
 constexpr double kTipMargin = 0.01;
 
 /// Inserts x into the ascending vector v (absent before).
@@ -124,6 +127,11 @@ EfgSurfaceCutter::EfgSurfaceCutter(const TriMesh& surface, const EfgMappingSourc
     tris_[static_cast<std::size_t>(t)] = {surface.triangles(0, t), surface.triangles(1, t),
                                           surface.triangles(2, t)};
   commit();
+  min_split_edge_ = kMinSplitEdge * options.front_width;
+  for (const auto& e : edges_)
+    if (e[0] >= 0)
+      min_split_edge_ =
+          std::min(min_split_edge_, 0.5 * (at(verts_, e[1]).rest - at(verts_, e[0]).rest).norm());
   // Initial mapping: nearest IP below the tangent plane (no 1-ring test: no vertex is mapped).
   ip_vertices_.resize(static_cast<std::size_t>(source_.numIntegrationPoints()));
   ip_x_call_.assign(ip_vertices_.size(), 0);
@@ -665,6 +673,7 @@ bool EfgSurfaceCutter::accept(int edge, double s) {
     tip_bary_[static_cast<std::size_t>(end)] = clampBary(b);
   };
   if (at(edge_crossing_, edge) >= 0) return false;
+  if ((at(verts_, ev[1]).rest - at(verts_, ev[0]).rest).norm() < min_split_edge_) return false;
   if (!active_) {
     active_ = true;
     path_ = {addCrossing(0)};

@@ -406,8 +406,15 @@ void EfgModel::pointWeights(int e, const Eigen::Vector3d& X, std::vector<int>& p
   Eigen::Matrix3Xd points(3, k);
   for (Eigen::Index a = 0; a < k; ++a)
     points.col(a) = grid_.particles.col(particles[static_cast<size_t>(a)]);
-  const MlsShapeFunctions mls =
+  MlsShapeFunctions mls =
       computeMlsShapeFunctions(X, points, support_[static_cast<size_t>(e)], detours(e));
+  if (mls.status == MlsStatus::IllConditioned) {
+    // X lies beyond the kernels of most of the set: a support reaching it from every particle
+    // (kernel distance |X - X_a| + detour_a) still reproduces linear fields, so X stays where it
+    // rests, where the IP's own weights would put it at the IP.
+    const Eigen::VectorXd r = (points.colwise() - X).colwise().norm().transpose() + detours(e);
+    mls = computeMlsShapeFunctions(X, points, options_.kernel_support * r.maxCoeff(), detours(e));
+  }
   const Eigen::VectorXd phi = mls.status == MlsStatus::Ok ? mls.phi : shapeValues(e);
   weights.assign(phi.data(), phi.data() + k);
 }

@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <memory>
+#include <numeric>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -314,6 +315,16 @@ TEST_P(EfgModelTest, ReplacedNeighbourhoodsStayCompleteConservativeAndConsistent
     Eigen::Vector3d y = Eigen::Vector3d::Zero();
     for (size_t a = 0; a < p.size(); ++a) y += w[a] * m.grid().particles.col(p[a]);
     EXPECT_LT((y - X).norm(), 1e-13);
+    // A point beyond every particle's kernel (a surface vertex remapped to an IP across a cut)
+    // still rests where it is, not at the IP.
+    const Eigen::Vector3d far = m.grid().integration_points.col(e) +
+                                3.0 * m.support(e) * Eigen::Vector3d(2.0, -3.0, 1.0).normalized();
+    for (const int a : p) ASSERT_GT((m.grid().particles.col(a) - far).norm(), m.support(e));
+    m.pointWeights(e, far, particles, w);
+    y.setZero();
+    for (size_t a = 0; a < p.size(); ++a) y += w[a] * m.grid().particles.col(p[a]);
+    EXPECT_LT((y - far).norm(), 1e-12 * far.norm());
+    EXPECT_NEAR(std::accumulate(w.begin(), w.end(), 0.0), 1.0, 1e-12);
   }
   // Gradients are the exact derivatives of the detoured functions.
   const Eigen::Vector3d x0 = m.grid().integration_points.col(0);

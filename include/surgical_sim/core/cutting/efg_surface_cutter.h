@@ -26,9 +26,11 @@ struct EfgSurfaceCutOptions {
 
 /// What one EfgSurfaceCutter::cut() call changed.
 struct EfgSurfaceCutStep {
-  int crossed_edges = 0;      ///< surface edges cut this step
-  int ignored_crossings = 0;  ///< crossings that would start a second front (not cut)
-  bool completed = false;     ///< the cut closed this step (its fronts met, no transient left)
+  int crossed_edges = 0;  ///< surface edges cut this step
+  /// Crossings not cut: they would start a second front, or their edge is shorter than
+  /// EfgSurfaceCutter::minSplitEdge().
+  int ignored_crossings = 0;
+  bool completed = false;  ///< the cut closed this step (its fronts met, no transient left)
   bool crack = false;  ///< the blade left a running cut without closing it: the cut is kept as a
                        ///< crack (its front and tip vertices stay, shared by both lips)
   std::vector<int> remapped;  ///< vertices whose mapping row changed or that are new, sorted
@@ -155,6 +157,10 @@ class EfgSurfaceCutter {
   Eigen::Matrix3Xi triangles() const;
   int numTriangles() const;
   int vertexIp(int v) const;
+  /// Edges shorter than this are not split: 0.1 w, or half the input surface's shortest edge if
+  /// less. Cuts through one place (crossing the sheets of earlier cuts at grazing angles) would
+  /// otherwise split ever shorter edges, and the surface would grow without bound [m].
+  double minSplitEdge() const { return min_split_edge_; }
   const std::vector<CutPlane>& vertexPlanes(int v) const;
   /// The other side's vertex of a crossing or fixed-row vertex, -1 for any other vertex.
   int twin(int v) const;
@@ -291,6 +297,9 @@ class EfgSurfaceCutter {
 
   const EfgMappingSource& source_;
   EfgSurfaceCutOptions options_;
+  /// Shorter edges are not split (their crossings are ignored): repeated cuts through one place
+  /// refine the surface down to this length and no further [m].
+  double min_split_edge_ = 0.0;
   SurfaceRemapper remapper_;
   std::vector<Vertex> verts_;  ///< per vertex id
   std::vector<int> free_;

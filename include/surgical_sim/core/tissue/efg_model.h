@@ -94,7 +94,10 @@ class EfgModel final : public GroupAssembledModel {
   /// MLS weights of the rest point X [m] with IP e's current particles, support and detours,
   /// evaluated at X: `particles` = ipParticles(e), `weights` their phi_a(X) (sum 1; a linear field
   /// of the particles is reproduced exactly). A point too far from the IP for an invertible moment
-  /// matrix gets the IP's own weights shapeValues(e). Allocates only to grow the outputs.
+  /// matrix with the IP's support (the remapping can give a surface vertex an IP beyond a cut,
+  /// cells away) gets the support kernel_support x max_a (|X - X_a| + detour_a), which reaches it
+  /// from every particle; only a coplanar set falls back to the IP's own weights shapeValues(e).
+  /// Allocates only to grow the outputs.
   /// @throws std::invalid_argument naming "ip" outside [0, m).
   void pointWeights(int e, const Eigen::Vector3d& X, std::vector<int>& particles,
                     std::vector<double>& weights) const;
