@@ -80,6 +80,9 @@ std::string parse(int argc, char** argv, Args& a, bool& help) {
       a.csv = value;
       continue;
     }
+    static const std::set<std::string> numeric = {"--sequences", "--steps",         "--seed",
+                                                  "--max-force", "--bad-pose-rate", "--cut-rate"};
+    if (!numeric.count(arg)) return "unknown option " + arg + " (see --help)";
     const double number = std::strtod(value.c_str(), &end);
     if (end == value.c_str() || *end != '\0') return arg + " needs a number, got '" + value + "'";
     if (arg == "--sequences" && number >= 1)

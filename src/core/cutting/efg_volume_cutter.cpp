@@ -463,8 +463,26 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
   const double round_off =
       kBoundRoundOff * std::max({x_start.lpNorm<Eigen::Infinity>(), x_end.lpNorm<Eigen::Infinity>(),
                                  grid.particles.lpNorm<Eigen::Infinity>()});  // [m]
+  // Every movers' box lies in the box G of all displacements (lower, upper corner): with
+  // L >= 1, c - L h = (c - h) - (L - 1) h >= G_lo - (L - 1) H (H: G's half-sides) and
+  // |c| <= C = max(|G_lo|, |G_hi|), so a block whose rest box grown by G and by
+  // (L - 1) H + u C + r misses the sweep's box is skipped before its movers are read.
+  Eigen::Vector3d all_lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d all_hi = -all_lo;  // [m]
+  for (Eigen::Index b = 0; b < static_cast<Eigen::Index>(blocks_.size()); ++b) {
+    all_lo = all_lo.cwiseMin(block_motion_.col(2 * b));
+    all_hi = all_hi.cwiseMax(block_motion_.col(2 * b + 1));
+  }
+  const Eigen::Vector3d all_half = 0.5 * (all_hi - all_lo);
+  const Eigen::Vector3d all_centre = all_lo.cwiseAbs().cwiseMax(all_hi.cwiseAbs());
   std::vector<int> candidates;
   for (const Block& block : blocks_) {
+    const Eigen::Vector3d slack = (block.gain - 1.0) * all_half.array() +
+                                  block.unity_error * all_centre.array() + block.residual +
+                                  block.gain * round_off;  // [m]
+    if (LinkBox(block.rest_lo + all_lo - slack, block.rest_hi + all_hi + slack)
+            .misses(sweep_lo, sweep_hi))
+      continue;
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
     Eigen::Vector3d hi = -lo;  // the movers' displacement box [m]
     for (const int b : block.movers) {

@@ -46,8 +46,11 @@ struct EfgCutResult {
 ///    motion box (of their ends' four positions) meet the sweep's box, against each segment whose
 ///    box and slab that motion meets. The bound holds however far a link stretches, so no
 ///    crossed link is missed; tissue at rest or translating only tests the links near the
-///    blade. A cut recomputes L, u, r and the moving particles of the blocks holding links of its
-///    changed IPs.
+///    blade. A block whose rest box, grown by the box of all the particles' displacements and by
+///    (L - 1) H + u C + r (H: that box's half-sides, C: its largest corner magnitudes), misses the
+///    sweep's box is skipped before its movers are read (static or translating tissue: all but
+///    the blocks near the blade). A cut recomputes L, u, r and the moving particles of the blocks
+///    holding links of its changed IPs.
 /// 2. Re-selection, for each IP with a severed link and each IP with indirect particles near a
 ///    severed link: a Dijkstra search from the IP over the alive links (rest lengths) lists the
 ///    visible particles by graph distance r. They are taken in that order, skipping one that would
