@@ -167,22 +167,31 @@ void EfgVolumeCutter::refreshIpBound(int e) {
   bound.residual = (reproduced - grid.integration_points.col(e)).lpNorm<Eigen::Infinity>();
 }
 
-void EfgVolumeCutter::refreshBlock(Block& block) const {
+void EfgVolumeCutter::refreshBlock(Block& block) {
+  // Each mover listed once (a block's IP ends share most of their movers), by a mark per block.
+  mover_marks_.resize(blocks_.size(), 0);
+  if (++mover_mark_ == std::numeric_limits<int>::max()) {  // restart the marks
+    std::fill(mover_marks_.begin(), mover_marks_.end(), 0);
+    mover_mark_ = 1;
+  }
   block.movers.clear();
-  for (const int p : block.particles)
-    block.movers.push_back(particle_block_[static_cast<size_t>(p)]);
+  const auto add = [&](int b) {
+    int& mark = mover_marks_[static_cast<size_t>(b)];
+    if (mark == mover_mark_) return;
+    mark = mover_mark_;
+    block.movers.push_back(b);
+  };
+  for (const int p : block.particles) add(particle_block_[static_cast<size_t>(p)]);
   block.gain = 1.0;
   block.unity_error = 0.0;
   block.residual = 0.0;
   for (const int e : block.ips) {
     const IpBound& bound = ip_bounds_[static_cast<size_t>(e)];
-    block.movers.insert(block.movers.end(), bound.movers.begin(), bound.movers.end());
+    for (const int b : bound.movers) add(b);
     block.gain = std::max(block.gain, bound.gain);
     block.unity_error = std::max(block.unity_error, bound.unity_error);
     block.residual = std::max(block.residual, bound.residual);
   }
-  std::sort(block.movers.begin(), block.movers.end());
-  block.movers.erase(std::unique(block.movers.begin(), block.movers.end()), block.movers.end());
 }
 
 void EfgVolumeCutter::addVolumeIp(int e, int change) {

@@ -129,8 +129,9 @@ class EfgVolumeCutter {
     double unity_error = 0.0;  ///< largest |sum_a phi_a - 1| of the IP ends [-]
     double residual = 0.0;     ///< largest |sum_a phi_a X_a - X_e| (max norm) of the IP ends [m]
   };
-  /// Recomputes block's movers, gain, unity error and residual from its IPs' bounds (ip_bounds_).
-  void refreshBlock(Block& block) const;
+  /// Recomputes block's movers (each once, in no particular order), gain, unity error and
+  /// residual from its IPs' bounds (ip_bounds_). Linear in its ends' movers.
+  void refreshBlock(Block& block);
   /// What an IP end adds to the bound of a block holding one of its links.
   struct IpBound {
     std::vector<int> movers;   ///< blocks of its current particles, ascending
@@ -147,6 +148,9 @@ class EfgVolumeCutter {
   std::vector<IpBound> ip_bounds_;  ///< per IP
   /// Block of each particle's rest position (a link is in the block of its end a).
   std::vector<int> particle_block_;
+  /// refreshBlock scratch: per block, the call that last listed it as a mover (mover_mark_).
+  std::vector<int> mover_marks_;
+  int mover_mark_ = 0;
   /// Broad-phase scratch: per block b, the box of its particles' displacements at the step start
   /// and end (columns 2b: lower, 2b + 1: upper corner) [m].
   Eigen::Matrix3Xd block_motion_;
