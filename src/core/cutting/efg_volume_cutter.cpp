@@ -114,6 +114,7 @@ EfgVolumeCutter::EfgVolumeCutter(EfgModel& model)
       block.rest_hi = block.rest_hi.cwiseMax(X);
     }
   }
+  mover_marks_.assign(blocks_.size(), 0);
   ip_bounds_.resize(static_cast<size_t>(model.numIntegrationPoints()));
   for (int e = 0; e < model.numIntegrationPoints(); ++e) refreshIpBound(e);
   for (Block& block : blocks_) {
@@ -169,7 +170,6 @@ void EfgVolumeCutter::refreshIpBound(int e) {
 
 void EfgVolumeCutter::refreshBlock(Block& block) {
   // Each mover listed once (a block's IP ends share most of their movers), by a mark per block.
-  mover_marks_.resize(blocks_.size(), 0);
   if (++mover_mark_ == std::numeric_limits<int>::max()) {  // restart the marks
     std::fill(mover_marks_.begin(), mover_marks_.end(), 0);
     mover_mark_ = 1;
@@ -462,26 +462,25 @@ EfgCutResult EfgVolumeCutter::cut(const BladeSweep& sweep, const Eigen::VectorXd
     block_motion_.col(2 * b).setConstant(std::numeric_limits<double>::infinity());
     block_motion_.col(2 * b + 1).setConstant(-std::numeric_limits<double>::infinity());
   }
-  for (int p = 0; p < n; ++p) {
-    const Eigen::Vector3d X = grid.particles.col(p);
-    const Eigen::Vector3d d0 = x_start.segment<3>(3 * p) - X, d1 = x_end.segment<3>(3 * p) - X;
-    const Eigen::Index b = particle_block_[static_cast<size_t>(p)];
-    block_motion_.col(2 * b) = block_motion_.col(2 * b).cwiseMin(d0.cwiseMin(d1));
-    block_motion_.col(2 * b + 1) = block_motion_.col(2 * b + 1).cwiseMax(d0.cwiseMax(d1));
-  }
-  const double round_off =
-      kBoundRoundOff * std::max({x_start.lpNorm<Eigen::Infinity>(), x_end.lpNorm<Eigen::Infinity>(),
-                                 grid.particles.lpNorm<Eigen::Infinity>()});  // [m]
   // Every movers' box lies in the box G of all displacements (lower, upper corner): with
   // L >= 1, c - L h = (c - h) - (L - 1) h >= G_lo - (L - 1) H (H: G's half-sides) and
   // |c| <= C = max(|G_lo|, |G_hi|), so a block whose rest box grown by G and by
   // (L - 1) H + u C + r misses the sweep's box is skipped before its movers are read.
   Eigen::Vector3d all_lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d all_hi = -all_lo;  // [m]
-  for (Eigen::Index b = 0; b < static_cast<Eigen::Index>(blocks_.size()); ++b) {
-    all_lo = all_lo.cwiseMin(block_motion_.col(2 * b));
-    all_hi = all_hi.cwiseMax(block_motion_.col(2 * b + 1));
+  for (int p = 0; p < n; ++p) {
+    const Eigen::Vector3d X = grid.particles.col(p);
+    const Eigen::Vector3d d0 = x_start.segment<3>(3 * p) - X, d1 = x_end.segment<3>(3 * p) - X;
+    const Eigen::Vector3d lo = d0.cwiseMin(d1), hi = d0.cwiseMax(d1);
+    const Eigen::Index b = particle_block_[static_cast<size_t>(p)];
+    block_motion_.col(2 * b) = block_motion_.col(2 * b).cwiseMin(lo);
+    block_motion_.col(2 * b + 1) = block_motion_.col(2 * b + 1).cwiseMax(hi);
+    all_lo = all_lo.cwiseMin(lo);
+    all_hi = all_hi.cwiseMax(hi);
   }
+  const double round_off =
+      kBoundRoundOff * std::max({x_start.lpNorm<Eigen::Infinity>(), x_end.lpNorm<Eigen::Infinity>(),
+                                 grid.particles.lpNorm<Eigen::Infinity>()});  // [m]
   const Eigen::Vector3d all_half = 0.5 * (all_hi - all_lo);
   const Eigen::Vector3d all_centre = all_lo.cwiseAbs().cwiseMax(all_hi.cwiseAbs());
   std::vector<int> candidates;
